@@ -1,0 +1,14 @@
+//! shadowtruth: measures how wrong shadow maps are against an exact ray-traced reference.
+//!
+//! Data flows one way: `scene` → `trace` (BVH, G-buffer, reference) and `raster` (light
+//! projection, depth layers) → `technique` (visibility per G-buffer sample) → `metrics` →
+//! `report`. `plan` expands a sweep into runs and schedules the shared work; `cli` parses
+//! arguments only.
+
+pub mod metrics;
+pub mod plan;
+pub mod raster;
+pub mod report;
+pub mod scene;
+pub mod technique;
+pub mod trace;

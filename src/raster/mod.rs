@@ -1,0 +1,12 @@
+//! The light's view: projection and frustum fitting, the CPU depth rasterizer (GPU rules),
+//! depth layers and depth formats.
+
+mod depth_format;
+mod layer;
+mod projection;
+mod rasterize;
+
+pub use depth_format::DepthFormat;
+pub use layer::DepthLayer;
+pub use projection::{LightView, Projection};
+pub use rasterize::{Culling, RasterSettings, rasterize_nearest};

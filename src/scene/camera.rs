@@ -1,0 +1,40 @@
+//! The pinhole camera of DESIGN.md: pixel centres, row 0 at the top.
+
+use glam::{DVec3, Vec3};
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Camera {
+    pub name: String,
+    pub position: Vec3,
+    pub look_at: Vec3,
+    pub up: Vec3,
+    pub fov_y_deg: f32,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Camera {
+    /// Orthonormal basis (right, up, forward), computed in f64.
+    pub fn basis(&self) -> (DVec3, DVec3, DVec3) {
+        let f = (self.look_at.as_dvec3() - self.position.as_dvec3()).normalize();
+        let r = f.cross(self.up.as_dvec3()).normalize();
+        let u = r.cross(f);
+        (r, u, f)
+    }
+
+    /// Unit direction of the ray through the centre of pixel (x, y), row 0 at the top.
+    /// Computed in f64 and rounded once, so every consumer sees the same bits.
+    pub fn pixel_direction(&self, basis: &(DVec3, DVec3, DVec3), x: u32, y: u32) -> Vec3 {
+        let (r, u, f) = *basis;
+        let (w, h) = (self.width as f64, self.height as f64);
+        let t = (self.fov_y_deg as f64).to_radians() * 0.5;
+        let t = t.tan();
+        let sx = (2.0 * (x as f64 + 0.5) / w - 1.0) * t * w / h;
+        let sy = (1.0 - 2.0 * (y as f64 + 0.5) / h) * t;
+        (f + sx * r + sy * u).normalize().as_vec3()
+    }
+
+    pub fn pixel_count(&self) -> usize {
+        self.width as usize * self.height as usize
+    }
+}

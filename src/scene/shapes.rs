@@ -1,0 +1,5 @@
+//! Procedural shapes.
+
+/// A procedural shape, in object space before its transform.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {}
