@@ -5,6 +5,7 @@
 //! `report`. `plan` expands a sweep into runs and schedules the shared work; `cli` parses
 //! arguments only.
 
+pub mod atomic_file;
 pub mod metrics;
 pub mod plan;
 pub mod raster;

@@ -1,1 +1,7 @@
-//! metrics
+//! Metrics: how a technique's visibility compares with the reference, pixel by pixel.
+
+mod classify;
+mod timing;
+
+pub use classify::{Counts, Rates, score_hard};
+pub use timing::{Stopwatch, median_ms};

@@ -1,0 +1,237 @@
+//! Command-line interface: clap definitions and the glue from arguments to library calls.
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use shadowtruth::plan::{Event, Plan, execute, read_plan};
+use shadowtruth::report::{Report, ReportWriter, write_mask_png, write_world_obj};
+use shadowtruth::scene::{Scene, load_scene};
+use shadowtruth::trace::{GBuffer, SceneBvh, trace_hard_reference};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// shadowtruth measures how wrong shadow maps are: an exact ray-traced reference decides, pixel
+/// by pixel, what is lit; every shadow-map technique is scored against it (false shadow: acne,
+/// self-shadowing; false lit: leaks, peter-panning) per resolution and bias setting.
+#[derive(Parser)]
+#[command(name = "shadowtruth", version, about, long_about)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run techniques over scenes and write OUT_DIR/report.json.
+    ///
+    /// With no arguments: every scene of `scenes/` with the default plan (no bias, constant,
+    /// slope-scaled and normal-offset biases at a few settings; shadow maps 512² to 4096²).
+    Run(RunArgs),
+    /// Write the exact hard shadow mask of one camera and light as a PNG.
+    ///
+    /// Grey levels: 255 lit, 0 shadowed, 128 background, 64 facing away from the light,
+    /// 192 outside the light.
+    Reference(ReferenceArgs),
+    /// Write the scene's world-space triangles as OBJ (one `o` group per object), with
+    /// coordinates that read back as the same f32 values.
+    ExportObj(ExportObjArgs),
+}
+
+#[derive(Args)]
+struct RunArgs {
+    /// Scene files or folders of scene files (default: scenes/).
+    scenes: Vec<PathBuf>,
+    /// A plan file (shadowtruth/plan/v1); its scenes are used when no scene is given.
+    #[arg(long)]
+    plan: Option<PathBuf>,
+    /// Output folder for report.json.
+    #[arg(short, long, default_value = "reports/latest")]
+    out: PathBuf,
+    /// Reference cache folder; masks whose inputs changed are traced again and stored.
+    #[arg(long, default_value = "references")]
+    references: PathBuf,
+    /// Trace every reference instead of reading or writing the cache.
+    #[arg(long)]
+    no_cache: bool,
+    /// Override the plan's shadow-map resolutions, e.g. --resolutions 512,1024.
+    #[arg(long, value_delimiter = ',')]
+    resolutions: Option<Vec<u32>>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// No progress bar and no table.
+    #[arg(short, long)]
+    quiet: bool,
+}
+
+#[derive(Args)]
+struct ReferenceArgs {
+    scene: PathBuf,
+    /// Camera name (default: the scene's first camera).
+    #[arg(long)]
+    camera: Option<String>,
+    /// Light name (default: the scene's first light).
+    #[arg(long)]
+    light: Option<String>,
+    #[arg(short, long)]
+    out: PathBuf,
+    #[arg(long)]
+    threads: Option<usize>,
+}
+
+#[derive(Args)]
+struct ExportObjArgs {
+    scene: PathBuf,
+    #[arg(short, long)]
+    out: PathBuf,
+}
+
+pub fn run(cli: Cli) -> Result<u8> {
+    match cli.command {
+        Command::Run(a) => run_plan(a),
+        Command::Reference(a) => reference(a),
+        Command::ExportObj(a) => {
+            let scene = load_scene(&a.scene)?;
+            write_world_obj(&scene, &a.out).with_context(|| format!("writing {}", a.out.display()))?;
+            Ok(0)
+        }
+    }
+}
+
+fn set_threads(threads: Option<usize>) -> Result<()> {
+    if let Some(n) = threads {
+        if n == 0 {
+            bail!("--threads must be at least 1");
+        }
+        rayon::ThreadPoolBuilder::new().num_threads(n).build_global().context("setting up worker threads")?;
+    }
+    Ok(())
+}
+
+/// Scene files named on the command line: files as given, folders expanded to their `*.json`
+/// files in name order.
+fn expand_scenes(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
+    let mut out = Vec::new();
+    for p in paths {
+        if p.is_dir() {
+            let mut found: Vec<PathBuf> = std::fs::read_dir(p)
+                .with_context(|| format!("reading folder {}", p.display()))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|f| f.is_file() && f.extension().is_some_and(|x| x == "json"))
+                .collect();
+            found.sort();
+            if found.is_empty() {
+                bail!("{}: no scene files (*.json) in this folder", p.display());
+            }
+            out.extend(found);
+        } else if p.is_file() {
+            out.push(p.clone());
+        } else {
+            bail!("{}: no such scene file or folder", p.display());
+        }
+    }
+    Ok(out)
+}
+
+fn run_plan(a: RunArgs) -> Result<u8> {
+    set_threads(a.threads)?;
+    let mut plan = match &a.plan {
+        Some(p) => read_plan(p).map_err(anyhow::Error::msg)?,
+        None => Plan::default_for(Vec::new()),
+    };
+    if !a.scenes.is_empty() {
+        plan.scenes = a.scenes.clone();
+    } else if plan.scenes.is_empty() {
+        plan.scenes = vec![PathBuf::from("scenes")];
+    }
+    plan.scenes = expand_scenes(&plan.scenes)?;
+    if let Some(r) = a.resolutions {
+        plan.resolutions = r;
+    }
+    let cache = (!a.no_cache).then(|| shadowtruth::trace::ReferenceCache::new(&a.references));
+    let mut writer = ReportWriter::new(&a.out);
+    let started = Instant::now();
+    let bar = if a.quiet { ProgressBar::hidden() } else { ProgressBar::new(0) };
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} runs  {msg}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    execute(&plan, &mut writer, cache.as_ref(), &mut |event| match event {
+        Event::Planned { runs } => bar.set_length(runs as u64),
+        Event::Stage(s) => bar.set_message(s),
+        Event::RunDone(_) => bar.inc(1),
+    })?;
+    bar.finish_and_clear();
+    if !a.quiet {
+        print_table(writer.report());
+        println!(
+            "{} runs in {:.1} s; report: {}",
+            writer.report().runs.len(),
+            started.elapsed().as_secs_f64(),
+            writer.path().display()
+        );
+    }
+    Ok(0)
+}
+
+/// Error rate (%) per technique setting and resolution, averaged over scenes, cameras and lights.
+fn print_table(report: &Report) {
+    let mut resolutions: Vec<u32> = report.runs.iter().map(|r| r.resolution).collect();
+    resolutions.sort_unstable();
+    resolutions.dedup();
+    let mut rows: Vec<String> = Vec::new();
+    let mut cells: BTreeMap<(String, u32), (f64, f64, usize)> = BTreeMap::new();
+    for r in &report.runs {
+        let label = if r.depth_format == "f32" { r.label.clone() } else { format!("{} [{}]", r.label, r.depth_format) };
+        if !rows.contains(&label) {
+            rows.push(label.clone());
+        }
+        let e = cells.entry((label, r.resolution)).or_default();
+        e.0 += r.rates.false_shadow;
+        e.1 += r.rates.false_lit;
+        e.2 += 1;
+    }
+    let width = rows.iter().map(|r| r.len()).max().unwrap_or(9).max(9);
+    print!("{:width$}", "technique");
+    for res in &resolutions {
+        print!("  {:>15}", format!("{res}² shd/lit %"));
+    }
+    println!();
+    for row in &rows {
+        print!("{row:width$}");
+        for res in &resolutions {
+            match cells.get(&(row.clone(), *res)) {
+                Some(&(fs, fl, n)) => {
+                    print!("  {:>15}", format!("{:.2}/{:.2}", 100.0 * fs / n as f64, 100.0 * fl / n as f64))
+                }
+                None => print!("  {:>15}", "-"),
+            }
+        }
+        println!();
+    }
+}
+
+fn pick<'a, T>(items: &'a [T], name: Option<&str>, get: impl Fn(&T) -> &str, what: &str, file: &Path) -> Result<&'a T> {
+    let have = || items.iter().map(&get).collect::<Vec<_>>().join(", ");
+    match name {
+        Some(n) => items.iter().find(|i| get(i) == n).with_context(|| {
+            format!("{}: no {what} named '{n}' (have: {})", file.display(), have())
+        }),
+        None => items.first().with_context(|| format!("{}: the scene has no {what}", file.display())),
+    }
+}
+
+fn reference(a: ReferenceArgs) -> Result<u8> {
+    set_threads(a.threads)?;
+    let scene: Scene = load_scene(&a.scene)?;
+    let camera = pick(&scene.cameras, a.camera.as_deref(), |c| &c.name, "camera", &a.scene)?;
+    let light = pick(&scene.lights, a.light.as_deref(), |l| &l.name, "light", &a.scene)?;
+    let bvh = SceneBvh::build(&scene);
+    let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
+    let reference = trace_hard_reference(&bvh, &gbuffer, light);
+    write_mask_png(&a.out, gbuffer.width, gbuffer.height, &reference.mask_codes(&gbuffer))
+        .with_context(|| format!("writing {}", a.out.display()))?;
+    Ok(0)
+}

@@ -1,0 +1,58 @@
+//! Classification of every pixel: the classes of the G-buffer, and on evaluated pixels the false
+//! shadow (reference lit, technique shadowed: acne, self-shadowing) and false lit (reference
+//! shadowed, technique lit: leaks, peter-panning) with the ½ threshold of DESIGN.md.
+
+use crate::trace::{GBuffer, HardReference, PixelClass};
+use serde::{Deserialize, Serialize};
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Counts {
+    pub pixels: u64,
+    pub background: u64,
+    pub facing_away: u64,
+    pub outside_light: u64,
+    pub evaluated: u64,
+    pub false_shadow: u64,
+    pub false_lit: u64,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Rates {
+    pub false_shadow: f64,
+    pub false_lit: f64,
+    pub error: f64,
+}
+
+impl Counts {
+    /// Rates as fractions of the evaluated pixels (0 when none is evaluated).
+    pub fn rates(&self) -> Rates {
+        let n = self.evaluated.max(1) as f64;
+        Rates {
+            false_shadow: self.false_shadow as f64 / n,
+            false_lit: self.false_lit as f64 / n,
+            error: (self.false_shadow + self.false_lit) as f64 / n,
+        }
+    }
+}
+
+/// Scores `visibility` (one value per evaluated pixel, in `gbuffer.evaluated` order) against the
+/// hard reference.
+pub fn score_hard(gbuffer: &GBuffer, reference: &HardReference, visibility: &[f32]) -> Counts {
+    assert_eq!(visibility.len(), gbuffer.evaluated.len(), "one visibility per evaluated pixel");
+    let mut c = Counts { pixels: gbuffer.pixel_count() as u64, ..Counts::default() };
+    for class in &gbuffer.class {
+        match class {
+            PixelClass::Background => c.background += 1,
+            PixelClass::FacingAway => c.facing_away += 1,
+            PixelClass::OutsideLight => c.outside_light += 1,
+            PixelClass::Evaluated => c.evaluated += 1,
+        }
+    }
+    for (&i, &v) in gbuffer.evaluated.iter().zip(visibility) {
+        let r_lit = reference.lit[i as usize] != 0;
+        let v_lit = v >= 0.5;
+        c.false_shadow += (r_lit && !v_lit) as u64;
+        c.false_lit += (!r_lit && v_lit) as u64;
+    }
+    c
+}

@@ -1,0 +1,199 @@
+//! Runs a plan. The schedule follows the data: a scene's BVH once; per (camera, light) the
+//! G-buffer and reference once; per (resolution, depth format) each distinct depth layer once,
+//! shared by every technique that reads it.
+
+use super::Plan;
+use crate::metrics::{Stopwatch, score_hard};
+use crate::raster::{LightView, RasterSettings, rasterize_nearest};
+use crate::report::{ReportWriter, RunRecord, SceneRecord, Timings};
+use crate::scene::{Scene, SceneError, load_scene};
+use crate::technique::{LayerNeeds, ShadeContext, shade_evaluated};
+use crate::trace::{GBuffer, ReferenceCache, SceneBvh, trace_hard_reference};
+use std::path::PathBuf;
+
+/// Progress of a plan, for progress bars and logs.
+pub enum Event<'a> {
+    /// The number of runs the plan expands to.
+    Planned { runs: usize },
+    /// A stage began (a short description).
+    Stage(String),
+    RunDone(&'a RunRecord),
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum PlanError {
+    #[error("{0}")]
+    Scene(#[from] SceneError),
+    #[error("{file}: no camera named '{name}' (have: {have})")]
+    NoCamera { file: String, name: String, have: String },
+    #[error("{file}: no light named '{name}' (have: {have})")]
+    NoLight { file: String, name: String, have: String },
+    #[error("plan: {0}")]
+    Invalid(String),
+    #[error("writing {path}: {source}")]
+    Io { path: PathBuf, source: std::io::Error },
+}
+
+/// A loaded scene and the (camera, light) index pairs the plan runs on it.
+struct Selected {
+    scene: Scene,
+    pairs: Vec<(usize, usize)>,
+}
+
+fn select(plan: &Plan, scene: Scene) -> Result<Selected, PlanError> {
+    let file = scene.source.display().to_string();
+    let cams: Vec<usize> = match &plan.cameras {
+        None => (0..scene.cameras.len()).collect(),
+        Some(names) => names
+            .iter()
+            .map(|n| {
+                scene.cameras.iter().position(|c| &c.name == n).ok_or_else(|| PlanError::NoCamera {
+                    file: file.clone(),
+                    name: n.clone(),
+                    have: scene.cameras.iter().map(|c| c.name.as_str()).collect::<Vec<_>>().join(", "),
+                })
+            })
+            .collect::<Result<_, _>>()?,
+    };
+    let lights: Vec<usize> = match &plan.lights {
+        None => (0..scene.lights.len()).collect(),
+        Some(names) => names
+            .iter()
+            .map(|n| {
+                scene.lights.iter().position(|l| &l.name == n).ok_or_else(|| PlanError::NoLight {
+                    file: file.clone(),
+                    name: n.clone(),
+                    have: scene.lights.iter().map(|l| l.name.as_str()).collect::<Vec<_>>().join(", "),
+                })
+            })
+            .collect::<Result<_, _>>()?,
+    };
+    let pairs = cams.iter().flat_map(|&c| lights.iter().map(move |&l| (c, l))).collect();
+    Ok(Selected { scene, pairs })
+}
+
+/// Runs `plan`, adding each finished run to `writer` (which rewrites report.json). References
+/// come from `cache` when given (and are stored there), else they are traced.
+pub fn execute(
+    plan: &Plan,
+    writer: &mut ReportWriter,
+    cache: Option<&ReferenceCache>,
+    on_event: &mut dyn FnMut(Event),
+) -> Result<(), PlanError> {
+    if plan.techniques.is_empty() || plan.resolutions.is_empty() || plan.depth_formats.is_empty() {
+        return Err(PlanError::Invalid("a plan needs at least one technique, resolution and depth format".into()));
+    }
+    for t in &plan.techniques {
+        t.validate().map_err(|e| PlanError::Invalid(format!("{}: {e}", t.label())))?;
+    }
+    if let Some(&r) = plan.resolutions.iter().find(|&&r| !(1..=16384).contains(&r)) {
+        return Err(PlanError::Invalid(format!("resolution {r} is outside 1..=16384")));
+    }
+    // Load and check everything before the first run, and report every scene's problems at once.
+    let mut selected = Vec::new();
+    let mut problems = Vec::new();
+    for path in &plan.scenes {
+        match load_scene(path) {
+            Ok(scene) => selected.push(select(plan, scene)?),
+            Err(e) => problems.extend(e.problems),
+        }
+    }
+    if !problems.is_empty() {
+        return Err(SceneError { problems }.into());
+    }
+    let per_pair = plan.techniques.len() * plan.resolutions.len() * plan.depth_formats.len();
+    let runs: usize = selected.iter().map(|s| s.pairs.len() * per_pair).sum();
+    on_event(Event::Planned { runs });
+    let io = |path: &std::path::Path| {
+        let path = path.to_path_buf();
+        move |source| PlanError::Io { path, source }
+    };
+
+    for sel in &selected {
+        let scene = &sel.scene;
+        on_event(Event::Stage(format!("{}: building the BVH", scene.name)));
+        let sw = Stopwatch::start();
+        let bvh = SceneBvh::build(scene);
+        writer
+            .add_scene(SceneRecord {
+                name: scene.name.clone(),
+                file: scene.source.display().to_string(),
+                triangles: scene.triangles.len() as u64,
+                dropped_degenerate: scene.dropped_degenerate as u64,
+                bvh_build_ms: sw.ms(),
+            })
+            .map_err(io(writer.path()))?;
+        let bounds = scene.bounds();
+        for &(ci, li) in &sel.pairs {
+            let (camera, light) = (&scene.cameras[ci], &scene.lights[li]);
+            on_event(Event::Stage(format!("{}/{}/{}: reference", scene.name, camera.name, light.name)));
+            let gbuffer = GBuffer::trace(scene, &bvh, camera, light);
+            let reference = match cache {
+                Some(c) => c.hard_reference(scene, &bvh, &gbuffer, camera, light).map_err(io(c.dir()))?.0,
+                None => trace_hard_reference(&bvh, &gbuffer, light),
+            };
+            for &resolution in &plan.resolutions {
+                let view = LightView::new(light, bounds, resolution);
+                for &format in &plan.depth_formats {
+                    // Techniques grouped by the layer they read: each layer is rasterized once.
+                    let mut groups: Vec<(LayerNeeds, Vec<usize>)> = Vec::new();
+                    for (ti, t) in plan.techniques.iter().enumerate() {
+                        let needs = t.build().layer_needs();
+                        match groups.iter_mut().find(|(n, _)| *n == needs) {
+                            Some((_, members)) => members.push(ti),
+                            None => groups.push((needs, vec![ti])),
+                        }
+                    }
+                    for (needs, members) in groups {
+                        let settings = RasterSettings {
+                            format,
+                            culling: needs.culling,
+                            slope_factor: needs.slope_factor,
+                            slope_units: needs.slope_units,
+                        };
+                        on_event(Event::Stage(format!(
+                            "{}/{}/{}: {resolution}² {} layer",
+                            scene.name,
+                            camera.name,
+                            light.name,
+                            format.name()
+                        )));
+                        let sw = Stopwatch::start();
+                        let layer = rasterize_nearest(scene, &view, &settings);
+                        let prepare_ms = sw.ms();
+                        for ti in members {
+                            let spec = &plan.techniques[ti];
+                            let technique = spec.build();
+                            let ctx = ShadeContext { gbuffer: &gbuffer, view: &view, nearest: &layer };
+                            let sw = Stopwatch::start();
+                            let visibility = shade_evaluated(technique.as_ref(), &ctx);
+                            let shade_ms = sw.ms();
+                            let counts = score_hard(&gbuffer, &reference, &visibility);
+                            let record = RunRecord {
+                                scene: scene.name.clone(),
+                                camera: camera.name.clone(),
+                                light: light.name.clone(),
+                                technique: spec.name().into(),
+                                parameters: spec.parameters(),
+                                label: spec.label(),
+                                resolution,
+                                depth_format: format.name().into(),
+                                rates: counts.rates(),
+                                counts,
+                                timings: Timings {
+                                    prepare: prepare_ms,
+                                    shade: shade_ms,
+                                    ns_per_pixel: shade_ms * 1e6 / counts.evaluated.max(1) as f64,
+                                },
+                                layer_memory_bytes: layer.memory_bytes() as u64,
+                            };
+                            writer.add_run(record).map_err(io(writer.path()))?;
+                            on_event(Event::RunDone(writer.report().runs.last().expect("just added")));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,102 @@
+//! `shadowtruth/report/v1`: one record per (scene, camera, light, technique with its parameters,
+//! resolution, depth format).
+
+use crate::metrics::{Counts, Rates};
+use serde::{Deserialize, Serialize};
+
+pub const REPORT_SCHEMA: &str = "shadowtruth/report/v1";
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Tool {
+    pub name: String,
+    pub version: String,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Machine {
+    pub cores: usize,
+    pub cpu: String,
+}
+
+impl Machine {
+    pub fn this() -> Self {
+        let cpu = std::fs::read_to_string("/proc/cpuinfo")
+            .ok()
+            .and_then(|s| {
+                s.lines()
+                    .find(|l| l.starts_with("model name"))
+                    .and_then(|l| l.split(':').nth(1))
+                    .map(|m| m.trim().to_string())
+            })
+            .unwrap_or_else(|| std::env::consts::ARCH.to_string());
+        Machine { cores: std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1), cpu }
+    }
+}
+
+/// What was loaded for a scene: triangles kept, degenerate triangles dropped, BVH build time.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct SceneRecord {
+    pub name: String,
+    pub file: String,
+    pub triangles: u64,
+    pub dropped_degenerate: u64,
+    pub bvh_build_ms: f64,
+}
+
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize)]
+pub struct Timings {
+    /// Building what the technique reads (its depth layer), milliseconds.
+    pub prepare: f64,
+    /// The shading pass over the evaluated pixels, milliseconds.
+    pub shade: f64,
+    /// Shading time per evaluated pixel, nanoseconds.
+    pub ns_per_pixel: f64,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct RunRecord {
+    pub scene: String,
+    pub camera: String,
+    pub light: String,
+    pub technique: String,
+    pub parameters: serde_json::Map<String, serde_json::Value>,
+    /// `technique(param=value,...)`, for tables and captions.
+    pub label: String,
+    pub resolution: u32,
+    pub depth_format: String,
+    pub counts: Counts,
+    pub rates: Rates,
+    pub timings: Timings,
+    /// Bytes of the depth layers this run read.
+    pub layer_memory_bytes: u64,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Report {
+    pub schema: String,
+    pub tool: Tool,
+    pub machine: Machine,
+    /// RFC 3339, UTC.
+    pub created: String,
+    pub scenes: Vec<SceneRecord>,
+    pub runs: Vec<RunRecord>,
+}
+
+impl Report {
+    pub fn new() -> Self {
+        Report {
+            schema: REPORT_SCHEMA.into(),
+            tool: Tool { name: env!("CARGO_PKG_NAME").into(), version: env!("CARGO_PKG_VERSION").into() },
+            machine: Machine::this(),
+            created: humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string(),
+            scenes: Vec::new(),
+            runs: Vec::new(),
+        }
+    }
+}
+
+impl Default for Report {
+    fn default() -> Self {
+        Self::new()
+    }
+}

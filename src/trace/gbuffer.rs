@@ -1,0 +1,125 @@
+//! The G-buffer of one (camera, light): per pixel the primary hit of the pixel-centre ray and its
+//! class. The reference and every technique evaluate exactly these surface points.
+
+use super::bvh::SceneBvh;
+use super::watertight::barycentric_point;
+use crate::scene::{Camera, Light, LightKind, Scene};
+use glam::{DVec3, Vec3};
+use rayon::prelude::*;
+
+/// What a pixel shows, as far as shadows are concerned.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[repr(u8)]
+pub enum PixelClass {
+    /// The pixel-centre ray hits nothing.
+    Background,
+    /// The surface, with its normal turned towards the camera, has N·L ≤ 0: in attached shadow.
+    FacingAway,
+    /// Outside the spot light's cone or depth range.
+    OutsideLight,
+    /// Scored: lit or shadowed by occluders only.
+    Evaluated,
+}
+
+/// Per-pixel surface data in row-major order (row 0 at the top).
+pub struct GBuffer {
+    pub width: u32,
+    pub height: u32,
+    pub class: Vec<PixelClass>,
+    /// Surface point, from the hit triangle's vertices and barycentrics.
+    pub position: Vec<Vec3>,
+    /// Unit geometric normal, turned towards the camera.
+    pub normal: Vec<Vec3>,
+    /// Scene triangle id (u32::MAX for background).
+    pub triangle: Vec<u32>,
+    /// Object id (u32::MAX for background).
+    pub object: Vec<u32>,
+    /// Indices of the evaluated pixels, ascending: the loop every technique runs over.
+    pub evaluated: Vec<u32>,
+}
+
+impl GBuffer {
+    pub fn pixel_count(&self) -> usize {
+        self.class.len()
+    }
+
+    pub fn count(&self, class: PixelClass) -> usize {
+        self.class.iter().filter(|&&c| c == class).count()
+    }
+}
+
+/// Unit vector from `p` towards the light, in f64.
+pub fn to_light(light: &Light, p: DVec3) -> DVec3 {
+    match &light.kind {
+        LightKind::Directional { direction } => -direction.as_dvec3().normalize(),
+        LightKind::Spot { position, .. } => (position.as_dvec3() - p).normalize(),
+    }
+}
+
+/// Whether a spot light reaches `p` (strictly inside the cone, within [near, far] along the axis).
+pub fn inside_light(light: &Light, p: DVec3) -> bool {
+    match &light.kind {
+        LightKind::Directional { .. } => true,
+        LightKind::Spot { position, direction, cone_deg, near, far } => {
+            let axis = direction.as_dvec3().normalize();
+            let offset = p - position.as_dvec3();
+            let along = offset.dot(axis);
+            let cos_half = (0.5 * (*cone_deg as f64).to_radians()).cos();
+            offset.normalize().dot(axis) > cos_half && along >= *near as f64 && along <= *far as f64
+        }
+    }
+}
+
+impl GBuffer {
+    /// Traces the pixel-centre ray of every pixel of `camera` and classifies it for `light`.
+    pub fn trace(scene: &Scene, bvh: &SceneBvh, camera: &Camera, light: &Light) -> GBuffer {
+        let (w, h) = (camera.width, camera.height);
+        let n = camera.pixel_count();
+        let basis = camera.basis();
+        let mut class = vec![PixelClass::Background; n];
+        let mut position = vec![Vec3::ZERO; n];
+        let mut normal = vec![Vec3::ZERO; n];
+        let mut triangle = vec![u32::MAX; n];
+        let mut object = vec![u32::MAX; n];
+        class
+            .par_chunks_mut(w as usize)
+            .zip(position.par_chunks_mut(w as usize))
+            .zip(normal.par_chunks_mut(w as usize))
+            .zip(triangle.par_chunks_mut(w as usize))
+            .zip(object.par_chunks_mut(w as usize))
+            .enumerate()
+            .for_each_init(
+                || bvh.scratch(),
+                |scratch, (y, ((((cls, pos), nrm), tri), obj))| {
+                    for x in 0..w as usize {
+                        let dir = camera.pixel_direction(&basis, x as u32, y as u32);
+                        let Some(hit) = bvh.closest_hit(scratch, camera.position, dir, 0.0, f32::INFINITY) else {
+                            continue;
+                        };
+                        let verts = &scene.triangles[hit.triangle as usize];
+                        let p = barycentric_point(verts, hit.barycentric);
+                        let (v0, v1, v2) = (verts[0].as_dvec3(), verts[1].as_dvec3(), verts[2].as_dvec3());
+                        let mut ng = (v1 - v0).cross(v2 - v0).normalize();
+                        if ng.dot(dir.as_dvec3()) > 0.0 {
+                            ng = -ng;
+                        }
+                        let p32 = p.as_vec3();
+                        let l = to_light(light, p32.as_dvec3());
+                        cls[x] = if ng.dot(l) <= 0.0 {
+                            PixelClass::FacingAway
+                        } else if !inside_light(light, p32.as_dvec3()) {
+                            PixelClass::OutsideLight
+                        } else {
+                            PixelClass::Evaluated
+                        };
+                        pos[x] = p32;
+                        nrm[x] = ng.as_vec3();
+                        tri[x] = hit.triangle;
+                        obj[x] = scene.triangle_object[hit.triangle as usize];
+                    }
+                },
+            );
+        let evaluated = (0..n as u32).filter(|&i| class[i as usize] == PixelClass::Evaluated).collect();
+        GBuffer { width: w, height: h, class, position, normal, triangle, object, evaluated }
+    }
+}
