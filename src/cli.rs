@@ -93,7 +93,8 @@ pub fn run(cli: Cli) -> Result<u8> {
         Command::Reference(a) => reference(a),
         Command::ExportObj(a) => {
             let scene = load_scene(&a.scene)?;
-            write_world_obj(&scene, &a.out).with_context(|| format!("writing {}", a.out.display()))?;
+            write_world_obj(&scene, &a.out)
+                .with_context(|| format!("writing {}", a.out.display()))?;
             Ok(0)
         }
     }
@@ -104,7 +105,10 @@ fn set_threads(threads: Option<usize>) -> Result<()> {
         if n == 0 {
             bail!("--threads must be at least 1");
         }
-        rayon::ThreadPoolBuilder::new().num_threads(n).build_global().context("setting up worker threads")?;
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .context("setting up worker threads")?;
     }
     Ok(())
 }
@@ -152,17 +156,26 @@ fn run_plan(a: RunArgs) -> Result<u8> {
     let cache = (!a.no_cache).then(|| shadowtruth::trace::ReferenceCache::new(&a.references));
     let mut writer = ReportWriter::new(&a.out);
     let started = Instant::now();
-    let bar = if a.quiet { ProgressBar::hidden() } else { ProgressBar::new(0) };
+    let bar = if a.quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(0)
+    };
     bar.set_style(
         ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} runs  {msg}")
             .expect("valid template")
             .progress_chars("=> "),
     );
-    execute(&plan, &mut writer, cache.as_ref(), &mut |event| match event {
-        Event::Planned { runs } => bar.set_length(runs as u64),
-        Event::Stage(s) => bar.set_message(s),
-        Event::RunDone(_) => bar.inc(1),
-    })?;
+    execute(
+        &plan,
+        &mut writer,
+        cache.as_ref(),
+        &mut |event| match event {
+            Event::Planned { runs } => bar.set_length(runs as u64),
+            Event::Stage(s) => bar.set_message(s),
+            Event::RunDone(_) => bar.inc(1),
+        },
+    )?;
     bar.finish_and_clear();
     if !a.quiet {
         print_table(writer.report());
@@ -184,7 +197,11 @@ fn print_table(report: &Report) {
     let mut rows: Vec<String> = Vec::new();
     let mut cells: BTreeMap<(String, u32), (f64, f64, usize)> = BTreeMap::new();
     for r in &report.runs {
-        let label = if r.depth_format == "f32" { r.label.clone() } else { format!("{} [{}]", r.label, r.depth_format) };
+        let label = if r.depth_format == "f32" {
+            r.label.clone()
+        } else {
+            format!("{} [{}]", r.label, r.depth_format)
+        };
         if !rows.contains(&label) {
             rows.push(label.clone());
         }
@@ -204,7 +221,10 @@ fn print_table(report: &Report) {
         for res in &resolutions {
             match cells.get(&(row.clone(), *res)) {
                 Some(&(fs, fl, n)) => {
-                    print!("  {:>15}", format!("{:.2}/{:.2}", 100.0 * fs / n as f64, 100.0 * fl / n as f64))
+                    print!(
+                        "  {:>15}",
+                        format!("{:.2}/{:.2}", 100.0 * fs / n as f64, 100.0 * fl / n as f64)
+                    )
                 }
                 None => print!("  {:>15}", "-"),
             }
@@ -213,25 +233,54 @@ fn print_table(report: &Report) {
     }
 }
 
-fn pick<'a, T>(items: &'a [T], name: Option<&str>, get: impl Fn(&T) -> &str, what: &str, file: &Path) -> Result<&'a T> {
+fn pick<'a, T>(
+    items: &'a [T],
+    name: Option<&str>,
+    get: impl Fn(&T) -> &str,
+    what: &str,
+    file: &Path,
+) -> Result<&'a T> {
     let have = || items.iter().map(&get).collect::<Vec<_>>().join(", ");
     match name {
         Some(n) => items.iter().find(|i| get(i) == n).with_context(|| {
-            format!("{}: no {what} named '{n}' (have: {})", file.display(), have())
+            format!(
+                "{}: no {what} named '{n}' (have: {})",
+                file.display(),
+                have()
+            )
         }),
-        None => items.first().with_context(|| format!("{}: the scene has no {what}", file.display())),
+        None => items
+            .first()
+            .with_context(|| format!("{}: the scene has no {what}", file.display())),
     }
 }
 
 fn reference(a: ReferenceArgs) -> Result<u8> {
     set_threads(a.threads)?;
     let scene: Scene = load_scene(&a.scene)?;
-    let camera = pick(&scene.cameras, a.camera.as_deref(), |c| &c.name, "camera", &a.scene)?;
-    let light = pick(&scene.lights, a.light.as_deref(), |l| &l.name, "light", &a.scene)?;
+    let camera = pick(
+        &scene.cameras,
+        a.camera.as_deref(),
+        |c| &c.name,
+        "camera",
+        &a.scene,
+    )?;
+    let light = pick(
+        &scene.lights,
+        a.light.as_deref(),
+        |l| &l.name,
+        "light",
+        &a.scene,
+    )?;
     let bvh = SceneBvh::build(&scene);
     let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
     let reference = trace_hard_reference(&bvh, &gbuffer, light);
-    write_mask_png(&a.out, gbuffer.width, gbuffer.height, &reference.mask_codes(&gbuffer))
-        .with_context(|| format!("writing {}", a.out.display()))?;
+    write_mask_png(
+        &a.out,
+        gbuffer.width,
+        gbuffer.height,
+        &reference.mask_codes(&gbuffer),
+    )
+    .with_context(|| format!("writing {}", a.out.display()))?;
     Ok(0)
 }

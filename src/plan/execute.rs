@@ -14,7 +14,9 @@ use std::path::PathBuf;
 /// Progress of a plan, for progress bars and logs.
 pub enum Event<'a> {
     /// The number of runs the plan expands to.
-    Planned { runs: usize },
+    Planned {
+        runs: usize,
+    },
     /// A stage began (a short description).
     Stage(String),
     RunDone(&'a RunRecord),
@@ -25,13 +27,24 @@ pub enum PlanError {
     #[error("{0}")]
     Scene(#[from] SceneError),
     #[error("{file}: no camera named '{name}' (have: {have})")]
-    NoCamera { file: String, name: String, have: String },
+    NoCamera {
+        file: String,
+        name: String,
+        have: String,
+    },
     #[error("{file}: no light named '{name}' (have: {have})")]
-    NoLight { file: String, name: String, have: String },
+    NoLight {
+        file: String,
+        name: String,
+        have: String,
+    },
     #[error("plan: {0}")]
     Invalid(String),
     #[error("writing {path}: {source}")]
-    Io { path: PathBuf, source: std::io::Error },
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
 }
 
 /// A loaded scene and the (camera, light) index pairs the plan runs on it.
@@ -47,11 +60,20 @@ fn select(plan: &Plan, scene: Scene) -> Result<Selected, PlanError> {
         Some(names) => names
             .iter()
             .map(|n| {
-                scene.cameras.iter().position(|c| &c.name == n).ok_or_else(|| PlanError::NoCamera {
-                    file: file.clone(),
-                    name: n.clone(),
-                    have: scene.cameras.iter().map(|c| c.name.as_str()).collect::<Vec<_>>().join(", "),
-                })
+                scene
+                    .cameras
+                    .iter()
+                    .position(|c| &c.name == n)
+                    .ok_or_else(|| PlanError::NoCamera {
+                        file: file.clone(),
+                        name: n.clone(),
+                        have: scene
+                            .cameras
+                            .iter()
+                            .map(|c| c.name.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                    })
             })
             .collect::<Result<_, _>>()?,
     };
@@ -60,15 +82,27 @@ fn select(plan: &Plan, scene: Scene) -> Result<Selected, PlanError> {
         Some(names) => names
             .iter()
             .map(|n| {
-                scene.lights.iter().position(|l| &l.name == n).ok_or_else(|| PlanError::NoLight {
-                    file: file.clone(),
-                    name: n.clone(),
-                    have: scene.lights.iter().map(|l| l.name.as_str()).collect::<Vec<_>>().join(", "),
-                })
+                scene
+                    .lights
+                    .iter()
+                    .position(|l| &l.name == n)
+                    .ok_or_else(|| PlanError::NoLight {
+                        file: file.clone(),
+                        name: n.clone(),
+                        have: scene
+                            .lights
+                            .iter()
+                            .map(|l| l.name.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                    })
             })
             .collect::<Result<_, _>>()?,
     };
-    let pairs = cams.iter().flat_map(|&c| lights.iter().map(move |&l| (c, l))).collect();
+    let pairs = cams
+        .iter()
+        .flat_map(|&c| lights.iter().map(move |&l| (c, l)))
+        .collect();
     Ok(Selected { scene, pairs })
 }
 
@@ -81,13 +115,22 @@ pub fn execute(
     on_event: &mut dyn FnMut(Event),
 ) -> Result<(), PlanError> {
     if plan.techniques.is_empty() || plan.resolutions.is_empty() || plan.depth_formats.is_empty() {
-        return Err(PlanError::Invalid("a plan needs at least one technique, resolution and depth format".into()));
+        return Err(PlanError::Invalid(
+            "a plan needs at least one technique, resolution and depth format".into(),
+        ));
     }
     for t in &plan.techniques {
-        t.validate().map_err(|e| PlanError::Invalid(format!("{}: {e}", t.label())))?;
+        t.validate()
+            .map_err(|e| PlanError::Invalid(format!("{}: {e}", t.label())))?;
     }
-    if let Some(&r) = plan.resolutions.iter().find(|&&r| !(1..=16384).contains(&r)) {
-        return Err(PlanError::Invalid(format!("resolution {r} is outside 1..=16384")));
+    if let Some(&r) = plan
+        .resolutions
+        .iter()
+        .find(|&&r| !(1..=16384).contains(&r))
+    {
+        return Err(PlanError::Invalid(format!(
+            "resolution {r} is outside 1..=16384"
+        )));
     }
     // Load and check everything before the first run, and report every scene's problems at once.
     let mut selected = Vec::new();
@@ -126,10 +169,17 @@ pub fn execute(
         let bounds = scene.bounds();
         for &(ci, li) in &sel.pairs {
             let (camera, light) = (&scene.cameras[ci], &scene.lights[li]);
-            on_event(Event::Stage(format!("{}/{}/{}: reference", scene.name, camera.name, light.name)));
+            on_event(Event::Stage(format!(
+                "{}/{}/{}: reference",
+                scene.name, camera.name, light.name
+            )));
             let gbuffer = GBuffer::trace(scene, &bvh, camera, light);
             let reference = match cache {
-                Some(c) => c.hard_reference(scene, &bvh, &gbuffer, camera, light).map_err(io(c.dir()))?.0,
+                Some(c) => {
+                    c.hard_reference(scene, &bvh, &gbuffer, camera, light)
+                        .map_err(io(c.dir()))?
+                        .0
+                }
                 None => trace_hard_reference(&bvh, &gbuffer, light),
             };
             for &resolution in &plan.resolutions {
@@ -164,7 +214,11 @@ pub fn execute(
                         for ti in members {
                             let spec = &plan.techniques[ti];
                             let technique = spec.build();
-                            let ctx = ShadeContext { gbuffer: &gbuffer, view: &view, nearest: &layer };
+                            let ctx = ShadeContext {
+                                gbuffer: &gbuffer,
+                                view: &view,
+                                nearest: &layer,
+                            };
                             let sw = Stopwatch::start();
                             let visibility = shade_evaluated(technique.as_ref(), &ctx);
                             let shade_ms = sw.ms();
@@ -188,7 +242,9 @@ pub fn execute(
                                 layer_memory_bytes: layer.memory_bytes() as u64,
                             };
                             writer.add_run(record).map_err(io(writer.path()))?;
-                            on_event(Event::RunDone(writer.report().runs.last().expect("just added")));
+                            on_event(Event::RunDone(
+                                writer.report().runs.last().expect("just added"),
+                            ));
                         }
                     }
                 }

@@ -32,19 +32,28 @@ fn default_formats() -> Vec<String> {
 /// Reads a plan file; errors name the file and, for JSON errors, the line and column.
 pub fn read_plan(path: &Path) -> Result<Plan, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let file: PlanFile = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let file: PlanFile =
+        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
     if file.format != PLAN_FORMAT {
-        return Err(format!("{}: format: expected \"{PLAN_FORMAT}\", found \"{}\"", path.display(), file.format));
+        return Err(format!(
+            "{}: format: expected \"{PLAN_FORMAT}\", found \"{}\"",
+            path.display(),
+            file.format
+        ));
     }
     let base = path.parent().unwrap_or(Path::new(""));
     let mut depth_formats = Vec::new();
     for (i, name) in file.depth_formats.iter().enumerate() {
         depth_formats.push(DepthFormat::parse(name).ok_or_else(|| {
-            format!("{}: depth_formats[{i}]: unknown format \"{name}\" (f32, unorm24, unorm16)", path.display())
+            format!(
+                "{}: depth_formats[{i}]: unknown format \"{name}\" (f32, unorm24, unorm16)",
+                path.display()
+            )
         })?);
     }
     for (i, t) in file.techniques.iter().enumerate() {
-        t.validate().map_err(|e| format!("{}: techniques[{i}]: {e}", path.display()))?;
+        t.validate()
+            .map_err(|e| format!("{}: techniques[{i}]: {e}", path.display()))?;
     }
     Ok(Plan {
         scenes: file.scenes.iter().map(|s| base.join(s)).collect(),

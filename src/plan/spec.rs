@@ -35,16 +35,29 @@ impl Plan {
 pub fn default_techniques() -> Vec<TechniqueSpec> {
     let mut t = vec![TechniqueSpec::None];
     for b in [1e-4, 1e-3, 5e-3] {
-        t.push(TechniqueSpec::Constant { bias_depth: Some(b), bias_world: None });
+        t.push(TechniqueSpec::Constant {
+            bias_depth: Some(b),
+            bias_world: None,
+        });
     }
     for b in [0.01, 0.05] {
-        t.push(TechniqueSpec::Constant { bias_depth: None, bias_world: Some(b) });
+        t.push(TechniqueSpec::Constant {
+            bias_depth: None,
+            bias_world: Some(b),
+        });
     }
     for (factor, units) in [(1.0, 1.0), (2.0, 4.0), (4.0, 16.0)] {
-        t.push(TechniqueSpec::SlopeScaled { factor, units, cull: CullSpec::None });
+        t.push(TechniqueSpec::SlopeScaled {
+            factor,
+            units,
+            cull: CullSpec::None,
+        });
     }
     for scale_texels in [0.5, 1.0, 2.0] {
-        t.push(TechniqueSpec::NormalOffset { scale_texels, falloff: FalloffSpec::SinTheta });
+        t.push(TechniqueSpec::NormalOffset {
+            scale_texels,
+            falloff: FalloffSpec::SinTheta,
+        });
     }
     t
 }

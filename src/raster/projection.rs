@@ -7,7 +7,12 @@ use glam::{Mat4, Vec3};
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Projection {
     /// Light-view bounds of the map (x from left to right, y from bottom to top).
-    Orthographic { left: f32, right: f32, bottom: f32, top: f32 },
+    Orthographic {
+        left: f32,
+        right: f32,
+        bottom: f32,
+        top: f32,
+    },
     /// Symmetric frustum of half-angle `atan(tan_half_fov)`; square map.
     Perspective { tan_half_fov: f32 },
 }
@@ -46,7 +51,11 @@ impl LightView {
             return None;
         }
         let inv_w = 1.0 / c.w;
-        Some(Vec3::new(0.5 * c.x * inv_w + 0.5, 0.5 * c.y * inv_w + 0.5, c.z * inv_w))
+        Some(Vec3::new(
+            0.5 * c.x * inv_w + 0.5,
+            0.5 * c.y * inv_w + 0.5,
+            c.z * inv_w,
+        ))
     }
 
     /// Distance of `p` along the light's axis (the view-space −z).
@@ -69,9 +78,12 @@ impl LightView {
     pub fn texel_world_size(&self, p: Vec3) -> f32 {
         let n = self.resolution as f32;
         match self.projection {
-            Projection::Orthographic { left, right, bottom, top } => {
-                (right - left).max(top - bottom) / n
-            }
+            Projection::Orthographic {
+                left,
+                right,
+                bottom,
+                top,
+            } => (right - left).max(top - bottom) / n,
             Projection::Perspective { tan_half_fov } => 2.0 * self.view_depth(p) * tan_half_fov / n,
         }
     }

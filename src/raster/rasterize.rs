@@ -25,7 +25,12 @@ pub struct RasterSettings {
 
 impl Default for RasterSettings {
     fn default() -> Self {
-        RasterSettings { format: DepthFormat::F32, culling: Culling::None, slope_factor: 0.0, slope_units: 0.0 }
+        RasterSettings {
+            format: DepthFormat::F32,
+            culling: Culling::None,
+            slope_factor: 0.0,
+            slope_units: 0.0,
+        }
     }
 }
 

@@ -4,6 +4,6 @@ mod exports;
 mod record;
 mod writer;
 
-pub use record::{Machine, REPORT_SCHEMA, Report, RunRecord, SceneRecord, Timings, Tool};
 pub use exports::{world_obj, write_mask_png, write_world_obj};
+pub use record::{Machine, REPORT_SCHEMA, Report, RunRecord, SceneRecord, Timings, Tool};
 pub use writer::ReportWriter;

@@ -37,12 +37,15 @@ impl Technique for ConstantBias {
     }
 
     fn visibility(&self, s: &Sample, view: &LightView, nearest: &DepthLayer) -> f32 {
-        let Some(uvd) = view.project(s.position) else { return 1.0 };
+        let Some(uvd) = view.project(s.position) else {
+            return 1.0;
+        };
         let bias_depth = match *self {
             ConstantBias::Depth(b) => b,
             ConstantBias::World(b_world) => {
                 let d_view = view.view_depth(s.position) as f64;
-                (view.depth_of_view_depth(d_view) - view.depth_of_view_depth(d_view - b_world as f64)) as f32
+                (view.depth_of_view_depth(d_view)
+                    - view.depth_of_view_depth(d_view - b_world as f64)) as f32
             }
         };
         depth_test(nearest, uvd, bias_depth)
@@ -58,7 +61,11 @@ pub struct SlopeScaledBias {
 
 impl Technique for SlopeScaledBias {
     fn layer_needs(&self) -> LayerNeeds {
-        LayerNeeds { culling: self.culling, slope_factor: self.factor, slope_units: self.units }
+        LayerNeeds {
+            culling: self.culling,
+            slope_factor: self.factor,
+            slope_units: self.units,
+        }
     }
 
     fn visibility(&self, s: &Sample, view: &LightView, nearest: &DepthLayer) -> f32 {

@@ -35,7 +35,11 @@ pub struct LayerNeeds {
 
 impl Default for LayerNeeds {
     fn default() -> Self {
-        LayerNeeds { culling: Culling::None, slope_factor: 0.0, slope_units: 0.0 }
+        LayerNeeds {
+            culling: Culling::None,
+            slope_factor: 0.0,
+            slope_units: 0.0,
+        }
     }
 }
 

@@ -36,7 +36,8 @@ impl Technique for NormalOffset {
             OffsetFalloff::SinTheta => (1.0 - n_dot_l * n_dot_l).max(0.0).sqrt(),
             OffsetFalloff::OneMinusNDotL => 1.0 - n_dot_l,
         };
-        let moved = s.position + s.normal * (self.scale_texels * view.texel_world_size(s.position) * g);
+        let moved =
+            s.position + s.normal * (self.scale_texels * view.texel_world_size(s.position) * g);
         match view.project(moved) {
             Some(uvd) => depth_test(nearest, uvd, 0.0),
             None => 1.0,

@@ -19,7 +19,10 @@ pub fn shade_evaluated(technique: &dyn Technique, ctx: &ShadeContext) -> Vec<f32
         .par_iter()
         .with_min_len(4096)
         .map(|&i| {
-            let s = Sample { position: g.position[i as usize], normal: g.normal[i as usize] };
+            let s = Sample {
+                position: g.position[i as usize],
+                normal: g.normal[i as usize],
+            };
             technique.visibility(&s, ctx.view, ctx.nearest)
         })
         .collect()

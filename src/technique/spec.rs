@@ -93,7 +93,14 @@ impl TechniqueSpec {
         }
         let inner: Vec<String> = params
             .iter()
-            .map(|(k, v)| format!("{k}={}", v.as_str().map(str::to_string).unwrap_or_else(|| v.to_string())))
+            .map(|(k, v)| {
+                format!(
+                    "{k}={}",
+                    v.as_str()
+                        .map(str::to_string)
+                        .unwrap_or_else(|| v.to_string())
+                )
+            })
             .collect();
         format!("{}({})", self.name(), inner.join(","))
     }
@@ -101,20 +108,33 @@ impl TechniqueSpec {
     /// Checks the parameters: finite numbers, and the constant bias given one way.
     pub fn validate(&self) -> Result<(), TechniqueSpecError> {
         let finite = |name: &str, x: f32| {
-            if x.is_finite() { Ok(()) } else { Err(TechniqueSpecError(format!("{name} must be a finite number"))) }
+            if x.is_finite() {
+                Ok(())
+            } else {
+                Err(TechniqueSpecError(format!(
+                    "{name} must be a finite number"
+                )))
+            }
         };
         match *self {
             TechniqueSpec::None => Ok(()),
-            TechniqueSpec::Constant { bias_depth, bias_world } => match (bias_depth, bias_world) {
+            TechniqueSpec::Constant {
+                bias_depth,
+                bias_world,
+            } => match (bias_depth, bias_world) {
                 (Some(b), None) => finite("bias_depth", b),
                 (None, Some(b)) => finite("bias_world", b),
-                _ => Err(TechniqueSpecError("constant needs exactly one of bias_depth and bias_world".into())),
+                _ => Err(TechniqueSpecError(
+                    "constant needs exactly one of bias_depth and bias_world".into(),
+                )),
             },
             TechniqueSpec::SlopeScaled { factor, units, .. } => {
                 finite("factor", factor)?;
                 finite("units", units)
             }
-            TechniqueSpec::NormalOffset { scale_texels, .. } => finite("scale_texels", scale_texels),
+            TechniqueSpec::NormalOffset { scale_texels, .. } => {
+                finite("scale_texels", scale_texels)
+            }
         }
     }
 
@@ -122,14 +142,26 @@ impl TechniqueSpec {
     pub fn build(&self) -> Box<dyn Technique> {
         match *self {
             TechniqueSpec::None => Box::new(NoBias),
-            TechniqueSpec::Constant { bias_depth, bias_world } => Box::new(match (bias_depth, bias_world) {
+            TechniqueSpec::Constant {
+                bias_depth,
+                bias_world,
+            } => Box::new(match (bias_depth, bias_world) {
                 (_, Some(w)) => ConstantBias::World(w),
                 (d, None) => ConstantBias::Depth(d.unwrap_or(0.0)),
             }),
-            TechniqueSpec::SlopeScaled { factor, units, cull } => {
-                Box::new(SlopeScaledBias { factor, units, culling: cull.into() })
-            }
-            TechniqueSpec::NormalOffset { scale_texels, falloff } => Box::new(NormalOffset {
+            TechniqueSpec::SlopeScaled {
+                factor,
+                units,
+                cull,
+            } => Box::new(SlopeScaledBias {
+                factor,
+                units,
+                culling: cull.into(),
+            }),
+            TechniqueSpec::NormalOffset {
+                scale_texels,
+                falloff,
+            } => Box::new(NormalOffset {
                 scale_texels,
                 falloff: match falloff {
                     FalloffSpec::SinTheta => OffsetFalloff::SinTheta,

@@ -16,12 +16,13 @@ use super::watertight::WatertightRay;
 use crate::scene::Scene;
 use glam::{UVec2, Vec3, Vec3A, uvec2};
 use obvhs::BvhBuildParams;
+use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
 use obvhs::cwbvh::CwBvh;
-use obvhs::cwbvh::builder::build_cwbvh_from_tris;
+use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
 use obvhs::cwbvh::node::{CwBvhNode, extract_byte64};
 use obvhs::faststack::{FastStack, HeapStack};
+use obvhs::ploc::PlocBuilder;
 use obvhs::triangle::Triangle;
-use std::time::Duration;
 
 /// The BVH of a scene with its triangles in traversal order.
 pub struct SceneBvh {
@@ -58,17 +59,34 @@ impl SceneBvh {
 
     pub fn build_from_triangles(tris: &[[Vec3; 3]]) -> Self {
         if tris.is_empty() {
-            return SceneBvh { bvh: CwBvh::default(), triangles: Vec::new(), scene_ids: Vec::new(), depth: 0 };
+            return SceneBvh {
+                bvh: CwBvh::default(),
+                triangles: Vec::new(),
+                scene_ids: Vec::new(),
+                depth: 0,
+            };
         }
         let obvhs_tris: Vec<Triangle> = tris
             .iter()
-            .map(|t| Triangle { v0: t[0].into(), v1: t[1].into(), v2: t[2].into() })
+            .map(|t| Triangle {
+                v0: t[0].into(),
+                v1: t[1].into(),
+                v2: t[2].into(),
+            })
             .collect();
-        let mut params = BvhBuildParams::medium_build();
-        // Spatial splits would duplicate references to a triangle; one reference each keeps
-        // the reordering below a permutation.
-        params.pre_split = false;
-        let bvh = build_cwbvh_from_tris(&obvhs_tris, params, &mut Duration::default());
+        // obvhs's `build_cwbvh_from_tris` without its debug validation, which panics on trees
+        // deeper than its traversal stack (ours is sized to the tree). No spatial splits, so
+        // every triangle is referenced once and the reordering below is a permutation.
+        let params = BvhBuildParams::medium_build();
+        let mut bvh2 = PlocBuilder::with_capacity(obvhs_tris.len()).build(
+            params.ploc_search_distance,
+            &obvhs_tris,
+            (0..obvhs_tris.len() as u32).collect(),
+            params.sort_precision,
+            params.search_depth_threshold,
+        );
+        ReinsertionOptimizer::default().run(&mut bvh2, params.reinsertion_batch_ratio, None);
+        let bvh = bvh2_to_cwbvh(&bvh2, params.max_prims_per_leaf.clamp(1, 3), true, false);
         let scene_ids = bvh.primitive_indices.clone();
         let triangles = scene_ids
             .iter()
@@ -78,7 +96,24 @@ impl SceneBvh {
             })
             .collect();
         let depth = tree_depth(&bvh);
-        SceneBvh { bvh, triangles, scene_ids, depth }
+        SceneBvh {
+            bvh,
+            triangles,
+            scene_ids,
+            depth,
+        }
+    }
+
+    /// The obvhs tree, whose primitive order is that of `triangles_in_tree_order`.
+    #[doc(hidden)]
+    pub fn cwbvh(&self) -> &CwBvh {
+        &self.bvh
+    }
+
+    /// The triangles in the tree's primitive order.
+    #[doc(hidden)]
+    pub fn triangles_in_tree_order(&self) -> &[[Vec3A; 3]] {
+        &self.triangles
     }
 
     /// Depth of the tree in nodes (root = 1).
@@ -103,7 +138,11 @@ impl SceneBvh {
 
     fn reset(&self, s: &mut TraversalScratch, direction: Vec3A) {
         s.stack.clear();
-        s.current_group = if self.bvh.nodes.is_empty() { UVec2::ZERO } else { uvec2(0, 0x8000_0000) };
+        s.current_group = if self.bvh.nodes.is_empty() {
+            UVec2::ZERO
+        } else {
+            uvec2(0, 0x8000_0000)
+        };
         s.primitive_group = UVec2::ZERO;
         s.oct_inv4 = octant_inv4(direction);
         s.primitive_id = 0;
@@ -142,7 +181,11 @@ impl SceneBvh {
                         None => true,
                     };
                     if better {
-                        best = Some(Hit { triangle: id, t: h.t, barycentric: h.barycentric });
+                        best = Some(Hit {
+                            triangle: id,
+                            t: h.t,
+                            barycentric: h.barycentric,
+                        });
                         best_t = h.t;
                     }
                 }
@@ -152,7 +195,14 @@ impl SceneBvh {
     }
 
     /// Whether any triangle is hit with t ∈ [tmin, tmax] (a closed interval).
-    pub fn occluded(&self, scratch: &mut TraversalScratch, origin: Vec3, direction: Vec3, tmin: f32, tmax: f32) -> bool {
+    pub fn occluded(
+        &self,
+        scratch: &mut TraversalScratch,
+        origin: Vec3,
+        direction: Vec3,
+        tmin: f32,
+        tmax: f32,
+    ) -> bool {
         let ray = WatertightRay::new(origin.into(), direction.into());
         let inv_dir = Vec3A::ONE / ray.direction;
         self.reset(scratch, ray.direction);
@@ -192,7 +242,14 @@ fn octant_inv4(dir: Vec3A) -> u32 {
 /// give infinite reciprocals; a NaN slab (origin on the plane, parallel ray) is ignored by
 /// `min`/`max`, which keeps the test conservative.
 #[inline]
-fn intersect_node(node: &CwBvhNode, origin: Vec3A, inv_dir: Vec3A, tmin: f32, tmax: f32, oct_inv4: u32) -> u32 {
+fn intersect_node(
+    node: &CwBvhNode,
+    origin: Vec3A,
+    inv_dir: Vec3A,
+    tmin: f32,
+    tmax: f32,
+    oct_inv4: u32,
+) -> u32 {
     let p = Vec3A::from(node.p);
     let e = node.compute_extent();
     let widen = (p.abs() + e * 255.0) * (4.0 * f32::EPSILON);
@@ -202,8 +259,16 @@ fn intersect_node(node: &CwBvhNode, origin: Vec3A, inv_dir: Vec3A, tmin: f32, tm
         if node.child_meta[child] == 0 {
             continue;
         }
-        let q_lo = Vec3A::new(node.child_min_x[child] as f32, node.child_min_y[child] as f32, node.child_min_z[child] as f32);
-        let q_hi = Vec3A::new(node.child_max_x[child] as f32, node.child_max_y[child] as f32, node.child_max_z[child] as f32);
+        let q_lo = Vec3A::new(
+            node.child_min_x[child] as f32,
+            node.child_min_y[child] as f32,
+            node.child_min_z[child] as f32,
+        );
+        let q_hi = Vec3A::new(
+            node.child_max_x[child] as f32,
+            node.child_max_y[child] as f32,
+            node.child_max_z[child] as f32,
+        );
         let lo = q_lo * e + p - widen;
         let hi = q_hi * e + p + widen;
         let t0 = ((lo - origin) * inv_dir).to_array();

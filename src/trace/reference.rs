@@ -46,7 +46,14 @@ impl HardReference {
 
     /// Rebuilds the visibility from a mask in the PNG encoding.
     pub fn from_mask_codes(width: u32, height: u32, codes: &[u8]) -> Self {
-        HardReference { width, height, lit: codes.iter().map(|&c| (c == MaskCode::Lit as u8) as u8).collect() }
+        HardReference {
+            width,
+            height,
+            lit: codes
+                .iter()
+                .map(|&c| (c == MaskCode::Lit as u8) as u8)
+                .collect(),
+        }
     }
 }
 
@@ -65,7 +72,9 @@ pub fn trace_hard_reference(bvh: &SceneBvh, gbuffer: &GBuffer, light: &Light) ->
                 let p = gbuffer.position[i];
                 let origin = offset_ray_origin(p, gbuffer.normal[i]);
                 let (dir, tmax) = match &light.kind {
-                    LightKind::Directional { .. } => (to_light(light, p.as_dvec3()).as_vec3(), f32::INFINITY),
+                    LightKind::Directional { .. } => {
+                        (to_light(light, p.as_dvec3()).as_vec3(), f32::INFINITY)
+                    }
                     LightKind::Spot { position, .. } => {
                         let to = position.as_dvec3() - origin.as_dvec3();
                         (to.normalize().as_vec3(), to.length() as f32)
@@ -75,5 +84,9 @@ pub fn trace_hard_reference(bvh: &SceneBvh, gbuffer: &GBuffer, light: &Light) ->
             }
         },
     );
-    HardReference { width: gbuffer.width, height: gbuffer.height, lit }
+    HardReference {
+        width: gbuffer.width,
+        height: gbuffer.height,
+        lit,
+    }
 }

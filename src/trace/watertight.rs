@@ -55,7 +55,14 @@ impl WatertightRay {
 
     /// The hit with t in the closed interval [tmin, tmax], from either side of the triangle.
     #[inline]
-    pub fn intersect(&self, v0: Vec3A, v1: Vec3A, v2: Vec3A, tmin: f32, tmax: f32) -> Option<RayTriangleHit> {
+    pub fn intersect(
+        &self,
+        v0: Vec3A,
+        v1: Vec3A,
+        v2: Vec3A,
+        tmin: f32,
+        tmax: f32,
+    ) -> Option<RayTriangleHit> {
         let (kx, ky, kz) = (self.kx, self.ky, self.kz);
         let a = v0 - self.origin;
         let b = v1 - self.origin;
@@ -66,17 +73,15 @@ impl WatertightRay {
         let by = b[ky] - self.sy * b[kz];
         let cx = c[kx] - self.sx * c[kz];
         let cy = c[ky] - self.sy * c[kz];
-        let mut u = cx * by - cy * bx;
-        let mut v = ax * cy - ay * cx;
-        let mut w = bx * ay - by * ax;
-        // An edge function that is exactly zero in f32 is recomputed in f64 so that the sign
-        // test of a ray through an edge agrees between the two triangles sharing it.
+        let u = cx * by - cy * bx;
+        let v = ax * cy - ay * cx;
+        let w = bx * ay - by * ax;
+        // An edge function that is exactly zero in f32 (a ray through an edge or vertex, or a
+        // product that underflowed on a tiny triangle) sends the whole test to f64, so that the
+        // two triangles sharing an edge agree on the sign.
         if u == 0.0 || v == 0.0 || w == 0.0 {
-            let (ax, ay, bx, by, cx, cy) =
-                (ax as f64, ay as f64, bx as f64, by as f64, cx as f64, cy as f64);
-            u = (cx * by - cy * bx) as f32;
-            v = (ax * cy - ay * cx) as f32;
-            w = (bx * ay - by * ax) as f32;
+            let z = [self.sz * a[kz], self.sz * b[kz], self.sz * c[kz]];
+            return intersect_f64([ax, ay, bx, by, cx, cy], z, tmin, tmax);
         }
         if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
             return None;
@@ -89,13 +94,41 @@ impl WatertightRay {
         let bz = self.sz * b[kz];
         let cz = self.sz * c[kz];
         let t_scaled = u * az + v * bz + w * cz;
+        // A division (not a multiplication by 1/det) keeps t exact when the hit distance is.
+        let t = t_scaled / det;
         let inv_det = 1.0 / det;
-        let t = t_scaled * inv_det;
         if !(t >= tmin && t <= tmax) {
             return None;
         }
-        Some(RayTriangleHit { t, barycentric: [u * inv_det, v * inv_det, w * inv_det] })
+        Some(RayTriangleHit {
+            t,
+            barycentric: [u * inv_det, v * inv_det, w * inv_det],
+        })
     }
+}
+
+/// The watertight test in f64 on the sheared vertices (x, y of A, B, C) and their scaled z.
+#[cold]
+fn intersect_f64(xy: [f32; 6], z: [f32; 3], tmin: f32, tmax: f32) -> Option<RayTriangleHit> {
+    let [ax, ay, bx, by, cx, cy] = xy.map(|x| x as f64);
+    let u = cx * by - cy * bx;
+    let v = ax * cy - ay * cx;
+    let w = bx * ay - by * ax;
+    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        return None;
+    }
+    let det = u + v + w;
+    if det == 0.0 {
+        return None;
+    }
+    let t = ((u * z[0] as f64 + v * z[1] as f64 + w * z[2] as f64) / det) as f32;
+    if !(t >= tmin && t <= tmax) {
+        return None;
+    }
+    Some(RayTriangleHit {
+        t,
+        barycentric: [(u / det) as f32, (v / det) as f32, (w / det) as f32],
+    })
 }
 
 /// The point of a hit from the triangle's vertices and barycentrics, in f64 (not origin + t·dir).
