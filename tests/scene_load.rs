@@ -194,6 +194,20 @@ fn degenerate_cameras_are_rejected() {
     assert_problem(&p, "cameras[0].look_at", "equals `position`");
     assert_problem(&p, "cameras[1].up", "parallel");
     assert_problem(&p, "cameras[2].up", "zero");
+    assert_eq!(p.len(), 3, "{p:#?}");
+}
+
+#[test]
+fn camera_problems_are_all_reported() {
+    let p = problems(&with(base(), |s| {
+        s["cameras"][0]["width"] = json!(16384);
+        s["cameras"][0]["height"] = json!(8192);
+        s["cameras"][0]["up"] = json!([0, 1e-30, 0]); // normalizes fine: not degenerate
+        s["cameras"][0]["look_at"] = json!([-6, 4, 6.5]);
+    }));
+    assert_problem(&p, "cameras[0]", "64 megapixels");
+    assert_problem(&p, "cameras[0].look_at", "equals `position`");
+    assert_eq!(p.len(), 2, "{p:#?}");
 }
 
 #[test]

@@ -21,6 +21,8 @@ const MAX_SHAPE_TRIANGLES: u64 = 1 << 24;
 
 /// Marks a number that serde_json could not represent (e.g. `1e999`); see `parse_json`.
 const NON_FINITE_MARK: &str = "\u{1}non-finite number\u{1}";
+/// How many such numbers are marked before the file is reported as malformed instead.
+const MAX_MARKED_NUMBERS: usize = 64;
 
 /// Where an object's triangles come from.
 #[derive(Clone, Debug)]
@@ -79,19 +81,19 @@ impl Problems {
 /// instead of as a bare syntax error; any other syntax error is reported with line and column.
 pub(crate) fn parse_json(text: &str, problems: &mut Problems) -> Option<Value> {
     let mut text = std::borrow::Cow::Borrowed(text);
+    // Each retry re-parses the whole text: bound them so that hostile input stays cheap.
+    let mut retries = 0;
     loop {
         match serde_json::from_str::<Value>(&text) {
             Ok(v) => return Some(v),
             Err(e) => {
-                let marked = e.to_string().starts_with("number out of range")
+                retries += 1;
+                let marked = retries <= MAX_MARKED_NUMBERS
+                    && e.to_string().starts_with("number out of range")
                     && mark_number(text.to_mut(), e.line(), e.column());
                 if !marked {
-                    let message = format!(
-                        "malformed JSON at line {}, column {}: {e}",
-                        e.line(),
-                        e.column()
-                    );
-                    problems.report("", message);
+                    // serde_json's message ends with "at line L column C".
+                    problems.report("", format!("malformed JSON: {e}"));
                     return None;
                 }
             }
@@ -135,11 +137,11 @@ pub(crate) fn read_scene(root: &Value, problems: &mut Problems) -> SceneDesc {
     let Some(mut top) = Reader::new(root, String::new(), problems) else {
         return desc;
     };
-    if let Some(format) = top.required("format", as_string) {
-        if format != SCENE_FORMAT {
-            let message = format!("unsupported format \"{format}\"; expected \"{SCENE_FORMAT}\"");
-            top.problem("format", message);
-        }
+    if let Some(format) = top.required("format", as_string)
+        && format != SCENE_FORMAT
+    {
+        let message = format!("unsupported format \"{format}\"; expected \"{SCENE_FORMAT}\"");
+        top.problem("format", message);
     }
     desc.name = top.required("name", as_string).unwrap_or_default();
     if let Some(items) = top.array("objects") {
@@ -227,7 +229,7 @@ fn read_shape(r: &mut Reader) -> Option<Shape> {
     let segments = |r: &mut Reader| r.optional_or("segments", count(3, MAX_SEGMENTS), 32);
     let shape = match kind.as_str() {
         "plane" => {
-            let size = r.required("size", |v| as_positive_array::<2>(v));
+            let size = r.required("size", as_positive_array::<2>);
             let subdivisions = r.optional_or("subdivisions", count(1, MAX_SEGMENTS), 1);
             Shape::Plane {
                 size: size?,
@@ -235,7 +237,7 @@ fn read_shape(r: &mut Reader) -> Option<Shape> {
             }
         }
         "box" => Shape::Box {
-            size: r.required("size", |v| as_positive_array::<3>(v))?,
+            size: r.required("size", as_positive_array::<3>)?,
         },
         "sphere" => {
             let radius = r.required("radius", as_positive);
@@ -294,50 +296,45 @@ fn read_camera(r: &mut Reader) -> Option<Camera> {
     let fov_y_deg = r.required("fov_y_deg", open_range(0.0, 180.0));
     let width = r.required("width", count(1, MAX_IMAGE_SIDE));
     let height = r.required("height", count(1, MAX_IMAGE_SIDE));
-    if let (Some(w), Some(h)) = (width, height) {
-        if w as u64 * h as u64 > MAX_IMAGE_PIXELS {
-            r.problem("", format!("image {w}×{h} has more than 64 megapixels"));
-            return None;
+    let mut valid = true;
+    if let (Some(w), Some(h)) = (width, height)
+        && w as u64 * h as u64 > MAX_IMAGE_PIXELS
+    {
+        r.problem("", format!("image {w}×{h} has more than 64 megapixels"));
+        valid = false;
+    }
+    if let (Some(position), Some(look_at), Some(up)) = (position, look_at, up) {
+        let forward = look_at.as_dvec3() - position.as_dvec3();
+        let up = up.as_dvec3();
+        if forward == DVec3::ZERO {
+            r.problem(
+                "look_at",
+                "equals `position`: the camera has no viewing direction",
+            );
+            valid = false;
+        } else if !is_unit_safe(up) || forward.normalize().cross(up.normalize()).length() < 1e-6 {
+            let message = "is zero or parallel to the viewing direction (look_at − position)";
+            r.problem("up", message);
+            valid = false;
         }
     }
-    let (position, look_at, up) = (position?, look_at?, up?);
-    let forward = look_at.as_dvec3() - position.as_dvec3();
-    if forward.length() == 0.0 {
-        r.problem(
-            "look_at",
-            "equals `position`: the camera has no viewing direction",
-        );
-        return None;
-    }
-    if !is_unit_safe(up.as_dvec3())
-        || forward
-            .normalize()
-            .cross(up.as_dvec3().normalize())
-            .length()
-            < 1e-6
-    {
-        r.problem(
-            "up",
-            "is zero or parallel to the viewing direction (look_at − position)",
-        );
-        return None;
-    }
-    Some(Camera {
+    let camera = Camera {
         name: name?,
-        position,
-        look_at,
-        up,
+        position: position?,
+        look_at: look_at?,
+        up: up?,
         fov_y_deg: fov_y_deg? as f32,
         width: width?,
         height: height?,
-    })
+    };
+    valid.then_some(camera)
 }
 
 fn read_light(r: &mut Reader) -> Option<Light> {
     let name = r.required("name", as_name);
-    let kind = r.required("type", as_string);
+    let light_type = r.required("type", as_string);
     let direction = r.required("direction", as_direction);
-    let light = match kind.as_deref() {
+    let light = match light_type.as_deref() {
         Some("directional") => {
             let angular = r.optional("angular_diameter_deg", open_range(0.0, 90.0));
             let kind = LightKind::Directional {
@@ -709,4 +706,59 @@ fn as_direction(v: &Value) -> Result<Vec3, String> {
         return Err("must have a non-zero length".into());
     }
     Ok(d.normalize().as_vec3())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str) -> (Option<Value>, Vec<Problem>) {
+        let mut problems = Problems::new(Path::new("s.json"));
+        (parse_json(text, &mut problems), problems.list)
+    }
+
+    #[test]
+    fn scene_format_out_of_range_numbers_are_marked_not_fatal() {
+        let text = "{\n  \"ü\": \"é\", \"a\": [1, -1e999,\n 2E+400],\n\"b\": 1e999}";
+        let (value, problems) = parse(text);
+        assert!(problems.is_empty(), "{problems:?}");
+        let value = value.unwrap();
+        assert_eq!(as_number(&value["a"][0]), Ok(1.0));
+        assert_eq!(
+            as_number(&value["a"][1]),
+            Err("-1e999 is not a finite number".into())
+        );
+        assert_eq!(
+            as_number(&value["a"][2]),
+            Err("2E+400 is not a finite number".into())
+        );
+        assert_eq!(
+            as_number(&value["b"]),
+            Err("1e999 is not a finite number".into())
+        );
+        assert!(as_string(&value["b"]).is_err());
+    }
+
+    #[test]
+    fn scene_format_syntax_errors_keep_line_and_column() {
+        let (value, problems) = parse("{\"a\": 1e999,\n \"b\": nan}");
+        assert!(value.is_none());
+        assert_eq!(problems.len(), 1);
+        assert!(
+            problems[0].message.contains("at line 2 column 8"),
+            "{problems:?}"
+        );
+    }
+
+    #[test]
+    fn scene_format_non_object_root_is_one_problem() {
+        let mut problems = Problems::new(Path::new("s.json"));
+        let desc = read_scene(&Value::Array(vec![]), &mut problems);
+        assert!(desc.objects.is_empty());
+        assert_eq!(problems.list.len(), 1);
+        assert_eq!(
+            problems.list[0].message,
+            "expected an object, found an array"
+        );
+    }
 }

@@ -21,6 +21,8 @@ pub(crate) fn read_obj(path: &Path) -> Result<IndexedMesh, Vec<String>> {
             .map(|m| format!("mesh {shown}: {m}"))
             .collect());
     }
+    // The update keeps compiling when tobj features add option fields.
+    #[allow(clippy::needless_update)]
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: false,
