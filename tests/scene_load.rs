@@ -547,3 +547,26 @@ fn degenerate_obj_triangles_are_dropped_and_counted() {
         [Vec3::Z, Vec3::new(1.0, 0.0, 1.0), Vec3::new(0.0, 1.0, 1.0)]
     );
 }
+
+#[test]
+fn odd_inputs_give_errors_not_panics() {
+    let texts = [
+        "",
+        "null",
+        "[]",
+        "{\"format\": \"shadowtruth/scene/v1\"",
+        "{\"objects\": {}, \"cameras\": 1, \"lights\": null}",
+        r#"{"objects": [null, 1, "x", {"shape": 5}, {"shape": {"type": 3}}, {"mesh": ""}]}"#,
+        r#"{"objects": [{"name": "s", "shape": {"type": "sphere", "radius": 1, "segments": 1e9}}]}"#,
+        r#"{"objects": [{"name": "s", "shape": {"type": "plane", "size": [1, 1], "subdivisions": 4096}}]}"#,
+        r#"{"objects": [{"name": "b", "shape": {"type": "box", "size": [1e-45, 1, 1]}}]}"#,
+        r#"{"objects": [{"name": "b", "shape": {"type": "box", "size": [1, 1, 1]},
+            "transform": {"scale": [3e38, 3e38, 3e38], "translate": [3e38, 0, 0]}}]}"#,
+        r#"{"cameras": [{"width": -1, "height": 1.5, "fov_y_deg": 1e308, "position": [1, 2]}]}"#,
+        r#"{"lights": [{"type": "spot", "near": -1, "far": "far", "direction": [1e-300, 0, 0]}]}"#,
+    ];
+    for text in texts {
+        let err = load_in(Path::new("."), text).expect_err(text);
+        assert!(!err.problems.is_empty(), "{text}");
+    }
+}

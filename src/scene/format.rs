@@ -355,7 +355,10 @@ fn read_light(r: &mut Reader) -> Option<Light> {
             let radius = r.optional("radius", as_positive);
             let (near, far) = (near?, far?);
             if far <= near {
-                r.problem("far", format!("must be greater than `near` ({near})"));
+                r.problem(
+                    "far",
+                    format!("must be greater than `near` ({})", show(near)),
+                );
                 return None;
             }
             let kind = LightKind::Spot {
@@ -586,8 +589,17 @@ fn describe(v: &Value) -> String {
             Some(token) => format!("the number {token}"),
             None => format!("the string \"{s}\""),
         },
-        Value::Array(_) => "an array".into(),
+        Value::Array(items) => format!("an array of {} items", items.len()),
         Value::Object(_) => "an object".into(),
+    }
+}
+
+/// A number as a user would write it: plain when moderate, in exponent form when huge or tiny.
+fn show(x: f64) -> String {
+    if x != 0.0 && !(1e-6..1e15).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
     }
 }
 
@@ -621,7 +633,7 @@ fn as_number(v: &Value) -> Result<f64, String> {
         .as_f64()
         .ok_or_else(|| format!("expected a number, found {}", describe(v)))?;
     if !x.is_finite() || !(x as f32).is_finite() {
-        return Err(format!("{x} is out of the f32 range"));
+        return Err(format!("{} is out of the f32 range", show(x)));
     }
     Ok(x)
 }
@@ -631,7 +643,7 @@ fn as_positive(v: &Value) -> Result<f64, String> {
     if x > 0.0 {
         Ok(x)
     } else {
-        Err(format!("must be greater than 0, found {x}"))
+        Err(format!("must be greater than 0, found {}", show(x)))
     }
 }
 
@@ -642,7 +654,8 @@ fn open_range(lo: f64, hi: f64) -> impl Fn(&Value) -> Result<f64, String> {
             Ok(x)
         } else {
             Err(format!(
-                "must be between {lo} and {hi} (exclusive), found {x}"
+                "must be between {lo} and {hi} (exclusive), found {}",
+                show(x)
             ))
         }
     }
@@ -653,10 +666,13 @@ fn count(min: u64, max: u64) -> impl Fn(&Value) -> Result<u32, String> {
     move |v| {
         let x = as_number(v)?;
         if x.fract() != 0.0 {
-            return Err(format!("expected a whole number, found {x}"));
+            return Err(format!("expected a whole number, found {}", show(x)));
         }
         if x < min as f64 || x > max as f64 {
-            return Err(format!("must be between {min} and {max}, found {x}"));
+            return Err(format!(
+                "must be between {min} and {max}, found {}",
+                show(x)
+            ));
         }
         Ok(x as u32)
     }
@@ -684,7 +700,7 @@ fn as_positive_array<const N: usize>(v: &Value) -> Result<[f64; N], String> {
     match a.iter().position(|&x| x <= 0.0) {
         Some(i) => Err(format!(
             "component {i} must be greater than 0, found {}",
-            a[i]
+            show(a[i])
         )),
         None => Ok(a),
     }
@@ -758,7 +774,7 @@ mod tests {
         assert_eq!(problems.list.len(), 1);
         assert_eq!(
             problems.list[0].message,
-            "expected an object, found an array"
+            "expected an object, found an array of 0 items"
         );
     }
 }

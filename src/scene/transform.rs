@@ -50,7 +50,8 @@ impl Transform {
     /// True when the scale mirrors (negative determinant): triangle winding must then be
     /// flipped so that closed objects stay counter-clockwise seen from outside.
     pub fn mirrors(&self) -> bool {
-        self.scale.x * self.scale.y * self.scale.z < 0.0
+        // Count signs rather than multiply: a product of tiny scales underflows to zero.
+        self.scale.to_array().iter().filter(|&&c| c < 0.0).count() % 2 == 1
     }
 }
 
@@ -115,5 +116,6 @@ mod tests {
     fn scene_transform_mirror_detection() {
         assert!(t([-1.0, 1.0, 1.0], [0.0; 3], [0.0; 3]).mirrors());
         assert!(!t([-1.0, -1.0, 1.0], [0.0; 3], [0.0; 3]).mirrors());
+        assert!(t([-1e-20, 1e-20, 1e-20], [0.0; 3], [0.0; 3]).mirrors());
     }
 }
