@@ -6,6 +6,7 @@ mod error;
 mod format;
 mod light;
 mod load;
+mod obj;
 mod shapes;
 mod transform;
 
@@ -13,7 +14,7 @@ pub use camera::Camera;
 pub use error::{Problem, SceneError};
 pub use light::{Light, LightKind};
 pub use load::{load_scene, load_scene_str};
-pub use shapes::Shape;
+pub use shapes::{IndexedMesh, Shape};
 pub use transform::Transform;
 
 use glam::Vec3;

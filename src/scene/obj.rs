@@ -1,0 +1,108 @@
+//! Wavefront OBJ meshes (positions only), read with `tobj`. All the models of one file form one
+//! mesh.
+
+use super::shapes::IndexedMesh;
+use glam::DVec3;
+use std::io::Cursor;
+use std::path::Path;
+
+/// How many bad vertices are listed before the rest are only counted.
+const MAX_LISTED: usize = 5;
+
+/// Reads the OBJ file at `path`. Errors are messages that name the file.
+pub(crate) fn read_obj(path: &Path) -> Result<IndexedMesh, Vec<String>> {
+    let shown = path.display();
+    let bytes = std::fs::read(path).map_err(|e| vec![format!("cannot read mesh {shown}: {e}")])?;
+    let text = String::from_utf8_lossy(&bytes);
+    let bad = non_finite_vertices(&text);
+    if !bad.is_empty() {
+        return Err(bad
+            .into_iter()
+            .map(|m| format!("mesh {shown}: {m}"))
+            .collect());
+    }
+    // The update keeps compiling when tobj features add option fields.
+    #[allow(clippy::needless_update)]
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: false,
+        ignore_points: true,
+        ignore_lines: true,
+        ..Default::default()
+    };
+    // Materials are irrelevant to shadows: never open them.
+    let no_materials = |_: &Path| Err(tobj::LoadError::OpenFileFailed);
+    let (models, _) = tobj::load_obj_buf(&mut Cursor::new(&bytes[..]), &options, no_materials)
+        .map_err(|e| vec![format!("cannot parse mesh {shown}: {e}")])?;
+
+    let mut mesh = IndexedMesh::default();
+    for model in &models {
+        let first = mesh.positions.len();
+        let base = u32::try_from(first).map_err(|_| vec![format!("mesh {shown} is too large")])?;
+        for p in model.mesh.positions.chunks_exact(3) {
+            let p = DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
+            if !p.is_finite() {
+                // The text scan above should have caught it; never let it through.
+                return Err(vec![format!(
+                    "mesh {shown}: non-finite vertex in `{}`",
+                    model.name
+                )]);
+            }
+            mesh.positions.push(p);
+        }
+        let count = mesh.positions.len() - first;
+        for t in model.mesh.indices.chunks_exact(3) {
+            if t.iter().any(|&i| i as usize >= count) {
+                return Err(vec![format!("mesh {shown}: face index out of range")]);
+            }
+            mesh.triangles.push([base + t[0], base + t[1], base + t[2]]);
+        }
+    }
+    Ok(mesh)
+}
+
+/// Finds `v` records with NaN or infinite coordinates (Rust's float parser, like tobj's,
+/// accepts `nan`, `inf` and overflowing exponents), naming their 1-based OBJ vertex index.
+fn non_finite_vertices(text: &str) -> Vec<String> {
+    let mut found = Vec::new();
+    let mut index = 0usize;
+    for (line_no, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        if words.next() != Some("v") {
+            continue;
+        }
+        index += 1;
+        let non_finite = words
+            .take(3)
+            .any(|w| w.parse::<f32>().is_ok_and(|x| !x.is_finite()));
+        if non_finite {
+            found.push((index, line_no + 1, line.trim()));
+        }
+    }
+    let mut messages: Vec<String> = found
+        .iter()
+        .take(MAX_LISTED)
+        .map(|(i, l, text)| format!("vertex {i} (line {l}) has a non-finite coordinate: `{text}`"))
+        .collect();
+    if found.len() > MAX_LISTED {
+        messages.push(format!(
+            "{} more vertices have non-finite coordinates",
+            found.len() - MAX_LISTED
+        ));
+    }
+    messages
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scene_obj_non_finite_vertices_are_named() {
+        let text = "# x\nv 0 0 0\nv nan 1 2\nv 1 1e39 0\nvn 0 inf 0\nf 1 2 3\n";
+        let found = non_finite_vertices(text);
+        assert_eq!(found.len(), 2);
+        assert!(found[0].starts_with("vertex 2 (line 3)"), "{found:?}");
+        assert!(found[1].starts_with("vertex 3 (line 4)"), "{found:?}");
+    }
+}
