@@ -1,0 +1,49 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use shadowtruth::scene::{Scene, load_scene, load_scene_str};
+use shadowtruth::trace::{GBuffer, HardReference, SceneBvh, trace_hard_reference};
+use std::path::{Path, PathBuf};
+
+pub fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+pub fn bundled(name: &str) -> Scene {
+    load_scene(&repo().join("scenes").join(format!("{name}.json"))).expect("bundled scene loads")
+}
+
+pub fn scene_from_json(json: &serde_json::Value) -> Scene {
+    let text = serde_json::to_string(json).unwrap();
+    load_scene_str(&text, Path::new("test.json"), &repo().join("scenes")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// G-buffer and hard reference of the scene's first camera and light.
+pub fn trace_first(scene: &Scene) -> (GBuffer, HardReference) {
+    let bvh = SceneBvh::build(scene);
+    let g = GBuffer::trace(scene, &bvh, &scene.cameras[0], &scene.lights[0]);
+    let r = trace_hard_reference(&bvh, &g, &scene.lights[0]);
+    (g, r)
+}
+
+/// Pixels whose 3×3 neighbourhood in `codes` holds more than one value (boundaries of shadows,
+/// silhouettes and light edges).
+pub fn near_boundary(width: u32, height: u32, codes: &[u8]) -> Vec<bool> {
+    let (w, h) = (width as i64, height as i64);
+    let mut out = vec![false; codes.len()];
+    for y in 0..h {
+        for x in 0..w {
+            let c = codes[(y * w + x) as usize];
+            'n: for dy in -1..=1 {
+                for dx in -1..=1 {
+                    let (nx, ny) = (x + dx, y + dy);
+                    if nx >= 0 && ny >= 0 && nx < w && ny < h && codes[(ny * w + nx) as usize] != c {
+                        out[(y * w + x) as usize] = true;
+                        break 'n;
+                    }
+                }
+            }
+        }
+    }
+    out
+}
