@@ -1,9 +1,11 @@
 //! Depth rasterization speed: a tessellated sphere (~10k triangles) over a ground plane, seen
-//! from a directional light, at 1024² and 4096².
+//! from a directional light, at 1024² and 4096², into a fresh and into a reused layer.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::Vec3;
-use shadowtruth::raster::{LightView, RasterSettings, rasterize_nearest};
+use shadowtruth::raster::{
+    DepthLayer, LightView, RasterSettings, rasterize_nearest, rasterize_nearest_into,
+};
 use shadowtruth::scene::{Light, LightKind, Object, Scene};
 use std::hint::black_box;
 
@@ -95,6 +97,11 @@ fn bench_raster(c: &mut Criterion) {
         let settings = RasterSettings::default();
         group.bench_function(format!("{resolution}"), |b| {
             b.iter(|| black_box(rasterize_nearest(black_box(&scene), &view, &settings)))
+        });
+        // The same into a reused layer: without the page faults of a fresh allocation.
+        let mut layer = DepthLayer::new_empty(resolution);
+        group.bench_function(format!("{resolution}_reused_layer"), |b| {
+            b.iter(|| rasterize_nearest_into(black_box(&scene), &view, &settings, &mut layer))
         });
     }
     group.finish();

@@ -53,20 +53,37 @@ impl Default for RasterSettings {
 
 /// The nearest depth per texel of every (non-culled) triangle.
 pub fn rasterize_nearest(scene: &Scene, view: &LightView, settings: &RasterSettings) -> DepthLayer {
-    let format = settings.format;
-    let mut depth = rasterize_with(scene, view, settings, 1.0f32, |d, z| {
-        // Depth clamp after the offset, as for unorm (and Vulkan float) depth buffers.
-        let z = z.clamp(0.0, 1.0);
-        if z < *d {
-            *d = z;
-        }
-    });
-    if format != DepthFormat::F32 {
-        depth.par_iter_mut().for_each(|d| *d = format.store(*d));
-    }
-    DepthLayer {
+    let mut layer = DepthLayer {
         resolution: view.resolution,
-        depth,
+        depth: Vec::new(),
+    };
+    rasterize_nearest_into(scene, view, settings, &mut layer);
+    layer
+}
+
+/// `rasterize_nearest` into an existing layer, reusing its allocation: at 4096² the first touch
+/// of a fresh 64 MiB buffer (page faults) costs more than rasterizing a 10k-triangle scene.
+pub fn rasterize_nearest_into(
+    scene: &Scene,
+    view: &LightView,
+    settings: &RasterSettings,
+    layer: &mut DepthLayer,
+) {
+    let n = view.resolution as usize;
+    layer.resolution = view.resolution;
+    layer.depth.clear();
+    layer.depth.par_extend(rayon::iter::repeat_n(1.0f32, n * n));
+    // Depth clamp after the offset, as for unorm (and Vulkan float) depth buffers; branch-free
+    // minimum (a NaN depth never wins) so that the span loop vectorizes.
+    rasterize_into(scene, view, settings, &mut layer.depth, |d, z| {
+        *d = d.min(z.clamp(0.0, 1.0))
+    });
+    let format = settings.format;
+    if format != DepthFormat::F32 {
+        layer
+            .depth
+            .par_iter_mut()
+            .for_each(|d| *d = format.store(*d));
     }
 }
 
@@ -74,7 +91,10 @@ pub fn rasterize_nearest(scene: &Scene, view: &LightView, settings: &RasterSetti
 /// triangle: the coverage path of `rasterize_nearest`, for testing the fill rule.
 #[doc(hidden)]
 pub fn rasterize_coverage(scene: &Scene, view: &LightView, settings: &RasterSettings) -> Vec<u32> {
-    rasterize_with(scene, view, settings, 0u32, |count, _| *count += 1)
+    let n = view.resolution as usize;
+    let mut count = vec![0u32; n * n];
+    rasterize_into(scene, view, settings, &mut count, |count, _| *count += 1);
+    count
 }
 
 /// Sub-texel precision of snapped vertices: 8 bits, as GPUs.
@@ -141,24 +161,23 @@ impl RasterTriangle {
     }
 }
 
-/// Rasterizes every triangle of `scene` into an N×N buffer of `T` (initialised to `empty`),
+/// Rasterizes every triangle of `scene` into the N×N `buffer` (row-major, row 0 at the top),
 /// calling `fragment(texel, depth)` for every covered texel centre. The common path of the
 /// depth and coverage rasterizers.
-fn rasterize_with<T, F>(
+fn rasterize_into<T, F>(
     scene: &Scene,
     view: &LightView,
     settings: &RasterSettings,
-    empty: T,
+    buffer: &mut [T],
     fragment: F,
-) -> Vec<T>
-where
-    T: Copy + Send + Sync,
+) where
+    T: Send,
     F: Fn(&mut T, f32) + Sync,
 {
     let n = view.resolution;
-    let mut buffer = vec![empty; n as usize * n as usize];
+    debug_assert_eq!(buffer.len(), n as usize * n as usize);
     if n == 0 {
-        return buffer;
+        return;
     }
     let triangles = setup_triangles(scene, view, settings);
     let bands = bin_by_band(&triangles, n);
@@ -177,14 +196,14 @@ where
                     };
                     let z_row = tri.depth_row_start(row);
                     let line = &mut texels[((row - first_row) * n) as usize..][..n as usize];
-                    for col in lo..=hi {
-                        let z = z_row + tri.dz_dx * (col as f32 + tri.col_offset);
-                        fragment(&mut line[col as usize], z);
+                    // i32 → f32 column conversions vectorize; the arithmetic per texel is
+                    // `z_row + dz_dx·(col + col_offset)` whatever the span or band.
+                    for (col, texel) in (lo as i32..).zip(&mut line[lo as usize..=hi as usize]) {
+                        fragment(texel, z_row + tri.dz_dx * (col as f32 + tri.col_offset));
                     }
                 }
             }
         });
-    buffer
 }
 
 /// Triangle indices per band of `BAND_ROWS` rows (CSR: band b owns
