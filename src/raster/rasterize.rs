@@ -3,7 +3,9 @@
 //!
 //! The pipeline of a GPU (D3D11 / Vulkan rules):
 //! 1. vertex: clip = clip_from_world · p in f32;
-//! 2. clip against 0 ≤ z ≤ w and a far guard band (`clip.rs`), fan-triangulate the polygon;
+//! 2. clip against the depth range 0 ≤ z ≤ w (near and far planes, so no texel gets a depth
+//!    outside [0, 1] and nothing behind a spot light wraps) and an x/y guard band far outside
+//!    the map (`clip.rs`); fan-triangulate the clipped polygon;
 //! 3. divide, viewport (raster x = u·N, y = (1 − v)·N, y down) in f32, then snap to a 1/256
 //!    texel fixed-point grid (8 sub-texel bits, as GPUs);
 //! 4. coverage of texel centres by exact integer (i64) edge functions with the top-left fill
@@ -154,7 +156,8 @@ impl RasterTriangle {
         (lo <= hi).then_some((lo as u32, hi as u32))
     }
 
-    /// Interpolated depth at the centre of texel (col, row): f32, linear in screen space.
+    /// The row's part of the depth plane at the texel centres of `row`:
+    /// z0 + dz_dy·(row + row_offset); each texel then adds dz_dx·(col + col_offset).
     #[inline]
     fn depth_row_start(&self, row: u32) -> f32 {
         self.z0 + self.dz_dy * (row as f32 + self.row_offset)
@@ -403,14 +406,17 @@ fn raster_triangle(
     let texels = |d: i64| d as f32 / SUBTEXEL as f32;
     let (dx1, dy1) = (texels(x[1] - x[0]), texels(y[1] - y[0]));
     let (dx2, dy2) = (texels(x[2] - x[0]), texels(y[2] - y[0]));
-    let det = dx1 * dy2 - dx2 * dy1;
+    // Twice the area from the exact integer area: never rounds to zero for a sliver.
+    let det = a.abs() as f32 / (SUBTEXEL * SUBTEXEL) as f32;
     let (dz1, dz2) = (v[1].2 - v[0].2, v[2].2 - v[0].2);
     let dz_dx = (dz1 * dy2 - dz2 * dy1) / det;
     let dz_dy = (dx1 * dz2 - dx2 * dz1) / det;
     if !(dz_dx.is_finite() && dz_dy.is_finite()) {
         return None;
     }
-    // Polygon offset: m = |∇z| in depth units per texel, constant over the triangle.
+    // Polygon offset: m = |∇z| in depth units per texel, constant over the triangle (the fan
+    // pieces of a clipped polygon are coplanar: equal m up to rounding), r from the polygon's
+    // largest vertex depth. Added to the vertex depth before interpolation, as D3D specifies.
     let offset = if offset_on {
         settings.slope_factor * (dz_dx * dz_dx + dz_dy * dz_dy).sqrt() + settings.slope_units * r
     } else {
