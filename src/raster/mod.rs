@@ -1,6 +1,7 @@
 //! The light's view: projection and frustum fitting, the CPU depth rasterizer (GPU rules),
 //! depth layers and depth formats.
 
+mod clip;
 mod depth_format;
 mod layer;
 mod projection;
@@ -9,4 +10,6 @@ mod rasterize;
 pub use depth_format::DepthFormat;
 pub use layer::DepthLayer;
 pub use projection::{LightView, Projection};
-pub use rasterize::{Culling, RasterSettings, rasterize_nearest};
+pub use rasterize::{
+    Culling, RasterSettings, rasterize_coverage, rasterize_nearest, rasterize_nearest_into,
+};
