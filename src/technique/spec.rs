@@ -41,20 +41,20 @@ pub enum TechniqueSpec {
     /// A constant bias: `bias_depth` in light-depth units, or `bias_world` in scene units.
     Constant {
         #[serde(default, skip_serializing_if = "Option::is_none")]
-        bias_depth: Option<f32>,
+        bias_depth: Option<f64>,
         #[serde(default, skip_serializing_if = "Option::is_none")]
-        bias_world: Option<f32>,
+        bias_world: Option<f64>,
     },
     /// glPolygonOffset(factor, units) while rasterizing.
     SlopeScaled {
-        factor: f32,
-        units: f32,
+        factor: f64,
+        units: f64,
         #[serde(default)]
         cull: CullSpec,
     },
     /// Receiver moved along its normal by `scale_texels` texels times g(θ).
     NormalOffset {
-        scale_texels: f32,
+        scale_texels: f64,
         #[serde(default)]
         falloff: FalloffSpec,
     },
@@ -107,7 +107,7 @@ impl TechniqueSpec {
 
     /// Checks the parameters: finite numbers, and the constant bias given one way.
     pub fn validate(&self) -> Result<(), TechniqueSpecError> {
-        let finite = |name: &str, x: f32| {
+        let finite = |name: &str, x: f64| {
             if x.is_finite() {
                 Ok(())
             } else {
@@ -146,23 +146,23 @@ impl TechniqueSpec {
                 bias_depth,
                 bias_world,
             } => Box::new(match (bias_depth, bias_world) {
-                (_, Some(w)) => ConstantBias::World(w),
-                (d, None) => ConstantBias::Depth(d.unwrap_or(0.0)),
+                (_, Some(w)) => ConstantBias::World(w as f32),
+                (d, None) => ConstantBias::Depth(d.unwrap_or(0.0) as f32),
             }),
             TechniqueSpec::SlopeScaled {
                 factor,
                 units,
                 cull,
             } => Box::new(SlopeScaledBias {
-                factor,
-                units,
+                factor: factor as f32,
+                units: units as f32,
                 culling: cull.into(),
             }),
             TechniqueSpec::NormalOffset {
                 scale_texels,
                 falloff,
             } => Box::new(NormalOffset {
-                scale_texels,
+                scale_texels: scale_texels as f32,
                 falloff: match falloff {
                     FalloffSpec::SinTheta => OffsetFalloff::SinTheta,
                     FalloffSpec::OneMinusNDotL => OffsetFalloff::OneMinusNDotL,

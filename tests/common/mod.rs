@@ -15,7 +15,8 @@ pub fn bundled(name: &str) -> Scene {
 
 pub fn scene_from_json(json: &serde_json::Value) -> Scene {
     let text = serde_json::to_string(json).unwrap();
-    load_scene_str(&text, Path::new("test.json"), &repo().join("scenes")).unwrap_or_else(|e| panic!("{e}"))
+    load_scene_str(&text, Path::new("test.json"), &repo().join("scenes"))
+        .unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// G-buffer and hard reference of the scene's first camera and light.
@@ -37,7 +38,8 @@ pub fn near_boundary(width: u32, height: u32, codes: &[u8]) -> Vec<bool> {
             'n: for dy in -1..=1 {
                 for dx in -1..=1 {
                     let (nx, ny) = (x + dx, y + dy);
-                    if nx >= 0 && ny >= 0 && nx < w && ny < h && codes[(ny * w + nx) as usize] != c {
+                    if nx >= 0 && ny >= 0 && nx < w && ny < h && codes[(ny * w + nx) as usize] != c
+                    {
                         out[(y * w + x) as usize] = true;
                         break 'n;
                     }
