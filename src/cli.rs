@@ -3,6 +3,7 @@
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
+use shadowtruth::metrics::{Stopwatch, median_ms};
 use shadowtruth::plan::{Event, Plan, execute, read_plan};
 use shadowtruth::report::{Report, ReportWriter, write_mask_png, write_world_obj};
 use shadowtruth::scene::{Scene, load_scene};
@@ -76,8 +77,14 @@ struct ReferenceArgs {
     light: Option<String>,
     #[arg(short, long)]
     out: PathBuf,
+    /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
+    /// Also time the tracer: primary and shadow rays per second, median of --repeats.
+    #[arg(long)]
+    timing: bool,
+    #[arg(long, default_value_t = 5)]
+    repeats: usize,
 }
 
 #[derive(Args)]
@@ -282,5 +289,39 @@ fn reference(a: ReferenceArgs) -> Result<u8> {
         &reference.mask_codes(&gbuffer),
     )
     .with_context(|| format!("writing {}", a.out.display()))?;
+    if a.timing {
+        print_trace_timing(&scene, &bvh, camera, light, a.repeats);
+    }
     Ok(0)
+}
+
+/// Rays per second of the G-buffer (primary) and reference (shadow) passes, median of repeats.
+fn print_trace_timing(
+    scene: &Scene,
+    bvh: &SceneBvh,
+    camera: &shadowtruth::scene::Camera,
+    light: &shadowtruth::scene::Light,
+    repeats: usize,
+) {
+    let (mut primary_ms, mut shadow_ms) = (Vec::new(), Vec::new());
+    let mut rays = (0, 0);
+    for _ in 0..repeats.max(1) {
+        let sw = Stopwatch::start();
+        let g = GBuffer::trace(scene, bvh, camera, light);
+        primary_ms.push(sw.ms());
+        let sw = Stopwatch::start();
+        std::hint::black_box(trace_hard_reference(bvh, &g, light));
+        shadow_ms.push(sw.ms());
+        rays = (g.pixel_count(), g.evaluated.len());
+    }
+    let rate = |n: usize, ms: &[f64]| n as f64 / median_ms(ms) / 1e3;
+    println!(
+        "shadowtruth {} threads  primary {:.3} Mrays/s ({} rays)   occlusion {:.3} Mrays/s ({} rays)   (median of {})",
+        rayon::current_num_threads(),
+        rate(rays.0, &primary_ms),
+        rays.0,
+        rate(rays.1, &shadow_ms),
+        rays.1,
+        primary_ms.len()
+    );
 }

@@ -12,6 +12,7 @@
 //!   sized to the tree's depth;
 //! - `Triangle::compute_barycentric` is wrong: barycentrics come from the watertight test.
 
+use super::simd4::{F4, Span4};
 use super::watertight::WatertightRay;
 use crate::scene::Scene;
 use glam::{UVec2, Vec3, Vec3A, uvec2};
@@ -160,7 +161,7 @@ impl SceneBvh {
         tmax: f32,
     ) -> Option<Hit> {
         let ray = WatertightRay::new(origin.into(), direction.into());
-        let inv_dir = Vec3A::ONE / ray.direction;
+        let node_ray = NodeRay::new(ray.origin, ray.direction);
         let mut best: Option<Hit> = None;
         let mut best_t = tmax;
         self.reset(scratch, ray.direction);
@@ -170,7 +171,7 @@ impl SceneBvh {
             self.bvh,
             node,
             state,
-            intersect_node(node, ray.origin, inv_dir, tmin, best_t, state.oct_inv4),
+            intersect_node(node, &node_ray, tmin, best_t, state.oct_inv4),
             {
                 let i = state.primitive_id as usize;
                 let [v0, v1, v2] = self.triangles[i];
@@ -204,7 +205,7 @@ impl SceneBvh {
         tmax: f32,
     ) -> bool {
         let ray = WatertightRay::new(origin.into(), direction.into());
-        let inv_dir = Vec3A::ONE / ray.direction;
+        let node_ray = NodeRay::new(ray.origin, ray.direction);
         self.reset(scratch, ray.direction);
         let state = scratch;
         let mut node: &CwBvhNode;
@@ -214,7 +215,7 @@ impl SceneBvh {
                 self.bvh,
                 node,
                 state,
-                intersect_node(node, ray.origin, inv_dir, tmin, tmax, state.oct_inv4),
+                intersect_node(node, &node_ray, tmin, tmax, state.oct_inv4),
                 {
                     let [v0, v1, v2] = self.triangles[state.primitive_id as usize];
                     if ray.intersect(v0, v1, v2, tmin, tmax).is_some() {
@@ -237,56 +238,65 @@ fn octant_inv4(dir: Vec3A) -> u32 {
 }
 
 /// Conservative slab test of the eight children of `node` against the closed interval
-/// [tmin, tmax]. Boxes are widened by the rounding of their dequantization, and the far distance
-/// by a few ulps (Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013). Zero direction components
-/// give infinite reciprocals; a NaN slab (origin on the plane, parallel ray) is ignored by
-/// `min`/`max`, which keeps the test conservative.
-#[inline]
-fn intersect_node(
-    node: &CwBvhNode,
-    origin: Vec3A,
-    inv_dir: Vec3A,
-    tmin: f32,
-    tmax: f32,
-    oct_inv4: u32,
-) -> u32 {
+/// [tmin, tmax]. Boxes are widened by the rounding of their dequantization, and slab distances
+/// by a few ulps (Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013). An axis along which the ray
+/// does not move keeps the children whose slab holds the origin. Four children at a time.
+#[inline(always)]
+fn intersect_node(node: &CwBvhNode, ray: &NodeRay, tmin: f32, tmax: f32, oct_inv4: u32) -> u32 {
     let p = Vec3A::from(node.p);
     let e = node.compute_extent();
     let widen = (p.abs() + e * 255.0) * (4.0 * f32::EPSILON);
+    let (lo_base, hi_base) = ((p - widen).to_array(), (p + widen).to_array());
+    let e = e.to_array();
+    let quantized = [
+        (&node.child_min_x, &node.child_max_x),
+        (&node.child_min_y, &node.child_max_y),
+        (&node.child_min_z, &node.child_max_z),
+    ];
+    let mut hits = 0u32;
+    for half in 0..2 {
+        let mut span = Span4::new(tmin, tmax);
+        for (axis, (q_min, q_max)) in quantized.iter().enumerate() {
+            let lo = F4::from_u8(q_min, half * 4).mul_add(e[axis], lo_base[axis]);
+            let hi = F4::from_u8(q_max, half * 4).mul_add(e[axis], hi_base[axis]);
+            if ray.moves[axis] {
+                let (o, inv) = (ray.origin[axis], ray.inv_dir[axis]);
+                let t0 = lo.sub_scalar(o).mul_scalar(inv);
+                let t1 = hi.sub_scalar(o).mul_scalar(inv);
+                span.clip(t0.min(t1), t0.max(t1));
+            } else {
+                span.keep_if_between(lo, hi, ray.origin[axis]);
+            }
+        }
+        hits |= span.hit_bits() << (half * 4);
+    }
     let (child_bits8, bit_index8) = node.get_child_and_index_bits(oct_inv4);
     let mut hit_mask = 0;
-    for child in 0..8 {
-        if node.child_meta[child] == 0 {
-            continue;
-        }
-        let q_lo = Vec3A::new(
-            node.child_min_x[child] as f32,
-            node.child_min_y[child] as f32,
-            node.child_min_z[child] as f32,
-        );
-        let q_hi = Vec3A::new(
-            node.child_max_x[child] as f32,
-            node.child_max_y[child] as f32,
-            node.child_max_z[child] as f32,
-        );
-        let lo = q_lo * e + p - widen;
-        let hi = q_hi * e + p + widen;
-        let t0 = ((lo - origin) * inv_dir).to_array();
-        let t1 = ((hi - origin) * inv_dir).to_array();
-        // Scalar f32::min/max return the other operand for a NaN, unlike the SIMD lanes.
-        let mut enter = tmin;
-        let mut exit = tmax;
-        for k in 0..3 {
-            enter = enter.max(t0[k].min(t1[k]));
-            exit = exit.min(t0[k].max(t1[k]) * (1.0 + 4.0 * f32::EPSILON));
-        }
-        if enter <= exit {
-            let child_bits = extract_byte64(child_bits8, child);
-            let bit_index = extract_byte64(bit_index8, child);
-            hit_mask |= child_bits << bit_index;
+    for c in 0..8 {
+        if hits & (1 << c) != 0 && node.child_meta[c] != 0 {
+            hit_mask |= extract_byte64(child_bits8, c) << extract_byte64(bit_index8, c);
         }
     }
     hit_mask
+}
+
+/// What the node test needs of a ray.
+struct NodeRay {
+    origin: Vec3A,
+    inv_dir: Vec3A,
+    /// Whether the ray moves along each axis (a zero component has no slab distances).
+    moves: [bool; 3],
+}
+
+impl NodeRay {
+    fn new(origin: Vec3A, direction: Vec3A) -> Self {
+        NodeRay {
+            origin,
+            inv_dir: Vec3A::ONE / direction,
+            // A component so small that its reciprocal overflows counts as no motion.
+            moves: (Vec3A::ONE / direction).is_finite_mask().into(),
+        }
+    }
 }
 
 /// Depth of a CWBVH in nodes, by walking it.

@@ -9,6 +9,7 @@ mod cache;
 mod gbuffer;
 mod offset;
 mod reference;
+mod simd4;
 mod watertight;
 
 pub use bvh::{Hit, SceneBvh, TraversalScratch};
