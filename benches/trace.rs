@@ -1,1 +1,27 @@
-fn main() {}
+//! Tracer benchmarks on the bundled OBJ scene (rocks, 8k triangles, 1024×768): BVH build,
+//! G-buffer (primary rays) and hard reference (shadow rays).
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use shadowtruth::scene::load_scene;
+use shadowtruth::trace::{GBuffer, SceneBvh, trace_hard_reference};
+use std::path::Path;
+
+fn trace(c: &mut Criterion) {
+    let scene = load_scene(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/rocks.json")).expect("scene");
+    let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
+    let bvh = SceneBvh::build(&scene);
+    let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
+
+    let mut g = c.benchmark_group("trace/rocks");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(scene.triangles.len() as u64));
+    g.bench_function("bvh_build", |b| b.iter(|| SceneBvh::build(&scene)));
+    g.throughput(Throughput::Elements(gbuffer.pixel_count() as u64));
+    g.bench_function("gbuffer", |b| b.iter(|| GBuffer::trace(&scene, &bvh, camera, light)));
+    g.throughput(Throughput::Elements(gbuffer.evaluated.len() as u64));
+    g.bench_function("hard_reference", |b| b.iter(|| trace_hard_reference(&bvh, &gbuffer, light)));
+    g.finish();
+}
+
+criterion_group!(benches, trace);
+criterion_main!(benches);
