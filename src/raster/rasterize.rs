@@ -197,7 +197,7 @@ fn rasterize_into<T, F>(
                         continue;
                     };
                     let z_row = tri.depth_row_start(row);
-                    let line = &mut texels[((row - first_row) * n) as usize..][..n as usize];
+                    let line = &mut texels[(row - first_row) as usize * n as usize..][..n as usize];
                     // i32 → f32 column conversions vectorize; the arithmetic per texel is
                     // `z_row + dz_dx·(col + col_offset)` whatever the span or band.
                     for (col, texel) in (lo as i32..).zip(&mut line[lo as usize..=hi as usize]) {
