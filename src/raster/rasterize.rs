@@ -55,16 +55,19 @@ impl Default for RasterSettings {
 
 /// The nearest depth per texel of every (non-culled) triangle.
 pub fn rasterize_nearest(scene: &Scene, view: &LightView, settings: &RasterSettings) -> DepthLayer {
+    let n = view.resolution as usize;
+    // Zeroed memory comes lazily from the system; each band then initialises its own rows in
+    // parallel, while they are in cache.
     let mut layer = DepthLayer {
         resolution: view.resolution,
-        depth: Vec::new(),
+        depth: vec![0.0; n * n],
     };
     rasterize_nearest_into(scene, view, settings, &mut layer);
     layer
 }
 
-/// `rasterize_nearest` into an existing layer, reusing its allocation: at 4096² the first touch
-/// of a fresh 64 MiB buffer (page faults) costs more than rasterizing a 10k-triangle scene.
+/// `rasterize_nearest` into an existing layer, reusing its allocation (at 4096², the first touch
+/// of a fresh 64 MiB buffer costs about as much as rasterizing a 10k-triangle scene).
 pub fn rasterize_nearest_into(
     scene: &Scene,
     view: &LightView,
@@ -73,20 +76,23 @@ pub fn rasterize_nearest_into(
 ) {
     let n = view.resolution as usize;
     layer.resolution = view.resolution;
-    layer.depth.clear();
-    layer.depth.par_extend(rayon::iter::repeat_n(1.0f32, n * n));
-    // Depth clamp after the offset, as for unorm (and Vulkan float) depth buffers; branch-free
-    // minimum (a NaN depth never wins) so that the span loop vectorizes.
-    rasterize_into(scene, view, settings, &mut layer.depth, |d, z| {
-        *d = d.min(z.clamp(0.0, 1.0))
-    });
+    layer.depth.resize(n * n, 1.0);
     let format = settings.format;
-    if format != DepthFormat::F32 {
-        layer
-            .depth
-            .par_iter_mut()
-            .for_each(|d| *d = format.store(*d));
-    }
+    rasterize_into(
+        scene,
+        view,
+        settings,
+        &mut layer.depth,
+        |band| band.fill(1.0),
+        // Depth clamp after the offset, as for unorm (and Vulkan float) depth buffers;
+        // branch-free minimum (a NaN depth never wins) so that the span loop vectorizes.
+        |d, z| *d = d.min(z.clamp(0.0, 1.0)),
+        |band| {
+            if format != DepthFormat::F32 {
+                band.iter_mut().for_each(|d| *d = format.store(*d));
+            }
+        },
+    );
 }
 
 /// How many times each texel (row-major, row 0 at the top) is covered by a rasterized
@@ -95,7 +101,15 @@ pub fn rasterize_nearest_into(
 pub fn rasterize_coverage(scene: &Scene, view: &LightView, settings: &RasterSettings) -> Vec<u32> {
     let n = view.resolution as usize;
     let mut count = vec![0u32; n * n];
-    rasterize_into(scene, view, settings, &mut count, |count, _| *count += 1);
+    rasterize_into(
+        scene,
+        view,
+        settings,
+        &mut count,
+        |_| {},
+        |count, _| *count += 1,
+        |_| {},
+    );
     count
 }
 
@@ -164,18 +178,22 @@ impl RasterTriangle {
     }
 }
 
-/// Rasterizes every triangle of `scene` into the N×N `buffer` (row-major, row 0 at the top),
-/// calling `fragment(texel, depth)` for every covered texel centre. The common path of the
-/// depth and coverage rasterizers.
-fn rasterize_into<T, F>(
+/// Rasterizes every triangle of `scene` into the N×N `buffer` (row-major, row 0 at the top):
+/// per band of rows, `init(rows)`, then `fragment(texel, depth)` for every covered texel
+/// centre, then `finish(rows)`. The common path of the depth and coverage rasterizers.
+fn rasterize_into<T, I, F, R>(
     scene: &Scene,
     view: &LightView,
     settings: &RasterSettings,
     buffer: &mut [T],
+    init: I,
     fragment: F,
+    finish: R,
 ) where
     T: Send,
+    I: Fn(&mut [T]) + Sync,
     F: Fn(&mut T, f32) + Sync,
+    R: Fn(&mut [T]) + Sync,
 {
     let n = view.resolution;
     debug_assert_eq!(buffer.len(), n as usize * n as usize);
@@ -191,6 +209,7 @@ fn rasterize_into<T, F>(
         .for_each(|(band, texels)| {
             let first_row = band as u32 * BAND_ROWS;
             let last_row = first_row + (texels.len() / n as usize) as u32 - 1;
+            init(texels);
             for &tri in &bands.triangles[bands.start[band]..bands.start[band + 1]] {
                 for row in tri.rows.0.max(first_row)..=tri.rows.1.min(last_row) {
                     let Some((lo, hi)) = tri.span(row) else {
@@ -205,6 +224,7 @@ fn rasterize_into<T, F>(
                     }
                 }
             }
+            finish(texels);
         });
 }
 
