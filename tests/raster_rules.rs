@@ -353,11 +353,29 @@ fn culling_applies_to_closed_objects_only() {
         ],
     ];
     let s = scene(vec![(cube, true), (ground, false)]);
-    let view = LightView::new(&sun(Vec3::new(0.0, -1.0, 0.0)), s.bounds(), 64);
+    // Straight down from above: the box's top and bottom and the ground are each at one depth.
+    let lamp = Light {
+        name: "lamp".into(),
+        kind: LightKind::Spot {
+            position: Vec3::new(0.1, 6.0, 0.1),
+            direction: Vec3::NEG_Y,
+            cone_deg: 90.0,
+            near: 0.5,
+            far: 20.0,
+        },
+        angular_diameter_deg: None,
+        radius: None,
+    };
+    for light in [sun(Vec3::new(0.0, -1.0, 0.0)), lamp] {
+        assert_culling(&s, &LightView::new(&light, s.bounds(), 64));
+    }
+}
+
+fn assert_culling(s: &Scene, view: &LightView) {
     let depth_at = |culling: Culling, p: Vec3| {
         let layer = rasterize_nearest(
-            &s,
-            &view,
+            s,
+            view,
             &RasterSettings {
                 culling,
                 ..Default::default()

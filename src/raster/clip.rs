@@ -37,6 +37,18 @@ fn distance(p: Vec4, plane: usize, guard: f32) -> f32 {
     }
 }
 
+/// Bit i set when `p` is outside plane i (same planes and tests as `distance`).
+#[inline]
+fn outcode(p: Vec4, guard: f32) -> u8 {
+    let g = guard * p.w;
+    (p.z < 0.0) as u8
+        | ((p.w - p.z < 0.0) as u8) << 1
+        | ((g - p.x < 0.0) as u8) << 2
+        | ((g + p.x < 0.0) as u8) << 3
+        | ((g - p.y < 0.0) as u8) << 4
+        | ((g + p.y < 0.0) as u8) << 5
+}
+
 /// The point where edge (a, b) crosses `plane`, computed from the endpoints in a canonical
 /// order so that two triangles sharing the edge get bit-identical points (no cracks).
 #[inline]
@@ -57,17 +69,14 @@ pub(crate) fn clip_triangle(tri: [Vec4; 3], guard: f32) -> ClippedPolygon {
     };
     out.vertices[..3].copy_from_slice(&tri);
 
-    // Fast paths: entirely inside every plane (the common case), or outside one plane.
-    let mut all_inside = true;
-    for plane in 0..6 {
-        let d = tri.map(|p| distance(p, plane, guard));
-        if d.iter().all(|&d| d < 0.0) {
-            out.len = 0;
-            return out;
-        }
-        all_inside &= d.iter().all(|&d| d >= 0.0);
+    // Fast paths by outcodes (bit i set: outside plane i): entirely inside every plane (the
+    // common case), or entirely outside one plane.
+    let codes = tri.map(|p| outcode(p, guard));
+    if codes[0] & codes[1] & codes[2] != 0 {
+        out.len = 0;
+        return out;
     }
-    if all_inside {
+    if codes[0] | codes[1] | codes[2] == 0 {
         return out;
     }
 

@@ -55,16 +55,19 @@ impl Default for RasterSettings {
 
 /// The nearest depth per texel of every (non-culled) triangle.
 pub fn rasterize_nearest(scene: &Scene, view: &LightView, settings: &RasterSettings) -> DepthLayer {
+    let n = view.resolution as usize;
+    // Zeroed memory comes lazily from the system; each band then initialises its own rows in
+    // parallel, while they are in cache.
     let mut layer = DepthLayer {
         resolution: view.resolution,
-        depth: Vec::new(),
+        depth: vec![0.0; n * n],
     };
     rasterize_nearest_into(scene, view, settings, &mut layer);
     layer
 }
 
-/// `rasterize_nearest` into an existing layer, reusing its allocation: at 4096² the first touch
-/// of a fresh 64 MiB buffer (page faults) costs more than rasterizing a 10k-triangle scene.
+/// `rasterize_nearest` into an existing layer, reusing its allocation (at 4096², the first touch
+/// of a fresh 64 MiB buffer costs about as much as rasterizing a 10k-triangle scene).
 pub fn rasterize_nearest_into(
     scene: &Scene,
     view: &LightView,
@@ -73,20 +76,23 @@ pub fn rasterize_nearest_into(
 ) {
     let n = view.resolution as usize;
     layer.resolution = view.resolution;
-    layer.depth.clear();
-    layer.depth.par_extend(rayon::iter::repeat_n(1.0f32, n * n));
-    // Depth clamp after the offset, as for unorm (and Vulkan float) depth buffers; branch-free
-    // minimum (a NaN depth never wins) so that the span loop vectorizes.
-    rasterize_into(scene, view, settings, &mut layer.depth, |d, z| {
-        *d = d.min(z.clamp(0.0, 1.0))
-    });
+    layer.depth.resize(n * n, 1.0);
     let format = settings.format;
-    if format != DepthFormat::F32 {
-        layer
-            .depth
-            .par_iter_mut()
-            .for_each(|d| *d = format.store(*d));
-    }
+    rasterize_into(
+        scene,
+        view,
+        settings,
+        &mut layer.depth,
+        |band| band.fill(1.0),
+        // Depth clamp after the offset, as for unorm (and Vulkan float) depth buffers;
+        // branch-free minimum (a NaN depth never wins) so that the span loop vectorizes.
+        |d, z| *d = d.min(z.clamp(0.0, 1.0)),
+        |band| {
+            if format != DepthFormat::F32 {
+                band.iter_mut().for_each(|d| *d = format.store(*d));
+            }
+        },
+    );
 }
 
 /// How many times each texel (row-major, row 0 at the top) is covered by a rasterized
@@ -95,7 +101,15 @@ pub fn rasterize_nearest_into(
 pub fn rasterize_coverage(scene: &Scene, view: &LightView, settings: &RasterSettings) -> Vec<u32> {
     let n = view.resolution as usize;
     let mut count = vec![0u32; n * n];
-    rasterize_into(scene, view, settings, &mut count, |count, _| *count += 1);
+    rasterize_into(
+        scene,
+        view,
+        settings,
+        &mut count,
+        |_| {},
+        |count, _| *count += 1,
+        |_| {},
+    );
     count
 }
 
@@ -164,26 +178,30 @@ impl RasterTriangle {
     }
 }
 
-/// Rasterizes every triangle of `scene` into the N×N `buffer` (row-major, row 0 at the top),
-/// calling `fragment(texel, depth)` for every covered texel centre. The common path of the
-/// depth and coverage rasterizers.
-fn rasterize_into<T, F>(
+/// Rasterizes every triangle of `scene` into the N×N `buffer` (row-major, row 0 at the top):
+/// per band of rows, `init(rows)`, then `fragment(texel, depth)` for every covered texel
+/// centre, then `finish(rows)`. The common path of the depth and coverage rasterizers.
+fn rasterize_into<T, I, F, R>(
     scene: &Scene,
     view: &LightView,
     settings: &RasterSettings,
     buffer: &mut [T],
+    init: I,
     fragment: F,
+    finish: R,
 ) where
     T: Send,
+    I: Fn(&mut [T]) + Sync,
     F: Fn(&mut T, f32) + Sync,
+    R: Fn(&mut [T]) + Sync,
 {
     let n = view.resolution;
     debug_assert_eq!(buffer.len(), n as usize * n as usize);
     if n == 0 {
         return;
     }
-    let triangles = setup_triangles(scene, view, settings);
-    let bands = bin_by_band(&triangles, n);
+    let chunks = setup_triangles(scene, view, settings);
+    let bands = bin_by_band(&chunks, n);
 
     buffer
         .par_chunks_mut(BAND_ROWS as usize * n as usize)
@@ -191,14 +209,14 @@ fn rasterize_into<T, F>(
         .for_each(|(band, texels)| {
             let first_row = band as u32 * BAND_ROWS;
             let last_row = first_row + (texels.len() / n as usize) as u32 - 1;
-            for &t in &bands.triangles[bands.start[band]..bands.start[band + 1]] {
-                let tri = &triangles[t as usize];
+            init(texels);
+            for &tri in &bands.triangles[bands.start[band]..bands.start[band + 1]] {
                 for row in tri.rows.0.max(first_row)..=tri.rows.1.min(last_row) {
                     let Some((lo, hi)) = tri.span(row) else {
                         continue;
                     };
                     let z_row = tri.depth_row_start(row);
-                    let line = &mut texels[((row - first_row) * n) as usize..][..n as usize];
+                    let line = &mut texels[(row - first_row) as usize * n as usize..][..n as usize];
                     // i32 → f32 column conversions vectorize; the arithmetic per texel is
                     // `z_row + dz_dx·(col + col_offset)` whatever the span or band.
                     for (col, texel) in (lo as i32..).zip(&mut line[lo as usize..=hi as usize]) {
@@ -206,49 +224,55 @@ fn rasterize_into<T, F>(
                     }
                 }
             }
+            finish(texels);
         });
 }
 
-/// Triangle indices per band of `BAND_ROWS` rows (CSR: band b owns
-/// `triangles[start[b]..start[b + 1]]`), in scene order.
-struct Bands {
+/// Triangles per band of `BAND_ROWS` rows (CSR: band b owns `triangles[start[b]..start[b + 1]]`),
+/// in scene order.
+struct Bands<'a> {
     start: Vec<usize>,
-    triangles: Vec<u32>,
+    triangles: Vec<&'a RasterTriangle>,
 }
 
-fn bin_by_band(triangles: &[RasterTriangle], resolution: u32) -> Bands {
+fn bin_by_band(chunks: &[Vec<RasterTriangle>], resolution: u32) -> Bands<'_> {
     let band_count = resolution.div_ceil(BAND_ROWS) as usize;
+    let bands_of =
+        |t: &RasterTriangle| (t.rows.0 / BAND_ROWS) as usize..=(t.rows.1 / BAND_ROWS) as usize;
     let mut start = vec![0usize; band_count + 1];
-    for t in triangles {
-        for b in t.rows.0 / BAND_ROWS..=t.rows.1 / BAND_ROWS {
-            start[b as usize + 1] += 1;
+    for t in chunks.iter().flatten() {
+        for b in bands_of(t) {
+            start[b + 1] += 1;
         }
     }
     for b in 0..band_count {
         start[b + 1] += start[b];
     }
     let mut fill = start.clone();
-    let mut out = vec![0u32; start[band_count]];
-    for (i, t) in triangles.iter().enumerate() {
-        for b in t.rows.0 / BAND_ROWS..=t.rows.1 / BAND_ROWS {
-            out[fill[b as usize]] = i as u32;
-            fill[b as usize] += 1;
+    let Some(any) = chunks.iter().flatten().next() else {
+        return Bands {
+            start,
+            triangles: Vec::new(),
+        };
+    };
+    let mut triangles = vec![any; start[band_count]]; // every slot is overwritten below
+    for t in chunks.iter().flatten() {
+        for b in bands_of(t) {
+            triangles[fill[b]] = t;
+            fill[b] += 1;
         }
     }
-    Bands {
-        start,
-        triangles: out,
-    }
+    Bands { start, triangles }
 }
 
 /// Projects, clips, culls and sets up every scene triangle, in scene order (parallel over
-/// fixed chunks, concatenated in order: deterministic).
+/// fixed chunks of the scene, kept in order: deterministic).
 fn setup_triangles(
     scene: &Scene,
     view: &LightView,
     settings: &RasterSettings,
-) -> Vec<RasterTriangle> {
-    let chunks: Vec<Vec<RasterTriangle>> = scene
+) -> Vec<Vec<RasterTriangle>> {
+    scene
         .triangles
         .par_chunks(SETUP_CHUNK)
         .enumerate()
@@ -265,8 +289,7 @@ fn setup_triangles(
             }
             out
         })
-        .collect();
-    chunks.concat()
+        .collect()
 }
 
 /// Guard band (in units of w) keeping raster coordinates within ±2^20 texels, so that the
@@ -309,6 +332,11 @@ fn setup_triangle(
         zs[i] = c.z * inv_w;
     }
     let len = polygon.len;
+    // Most triangles of a dense mesh fall between texel centres at low resolutions: reject
+    // them before any further set-up.
+    if !centres_in_bounds(&xs[..len], &ys[..len], view.resolution) {
+        return;
+    }
 
     // Facing from the snapped polygon's signed area (y down): counter-clockwise in (u, v) with
     // v up is negative here; such a face turns its outward normal towards the light.
@@ -351,11 +379,33 @@ fn setup_triangle(
     }
 }
 
+/// Texels (inclusive range, clamped to the map) whose centre c·256 + 128 lies between the
+/// smallest and largest of the snapped `coordinates`; None when there are none.
+#[inline]
+fn centre_range(coordinates: &[i64], resolution: u32) -> Option<(i64, i64)> {
+    let lo = *coordinates.iter().min()?;
+    let hi = *coordinates.iter().max()?;
+    let first = (lo - HALF_TEXEL + SUBTEXEL - 1).div_euclid(SUBTEXEL).max(0);
+    let last = (hi - HALF_TEXEL)
+        .div_euclid(SUBTEXEL)
+        .min(resolution as i64 - 1);
+    (first <= last).then_some((first, last))
+}
+
+/// Whether the bounding box of a snapped polygon holds any texel centre of the map.
+#[inline]
+fn centres_in_bounds(xs: &[i64], ys: &[i64], resolution: u32) -> bool {
+    centre_range(xs, resolution).is_some() && centre_range(ys, resolution).is_some()
+}
+
 /// Raster coordinate in 1/256 texel units, rounded to nearest. Coordinates are bounded by the
-/// guard band, so the conversion cannot saturate.
+/// guard band (|t| < 2^29), so the conversion cannot saturate.
 #[inline]
 fn snap(coordinate: f32) -> i64 {
-    (coordinate * SUBTEXEL as f32).round() as i64
+    // Round half away from zero, as f32::round, but exact and inline: the f64 sum cannot round
+    // (|t| < 2^29) and the cast truncates towards zero.
+    let t = (coordinate * SUBTEXEL as f32) as f64;
+    (t + 0.5f64.copysign(t)) as i64
 }
 
 /// Set-up of one snapped triangle (x, y in 1/256 texels, z/w): orientation, fill-rule biases,
@@ -390,17 +440,7 @@ fn raster_triangle(
         if top_left { 0 } else { 1 }
     });
 
-    // Texels whose centre c·256 + 128 lies in [min, max], clamped to the map.
-    let last = resolution as i64 - 1;
-    let first_centre = |lo: i64| (lo - HALF_TEXEL + SUBTEXEL - 1).div_euclid(SUBTEXEL);
-    let last_centre = |hi: i64| (hi - HALF_TEXEL).div_euclid(SUBTEXEL);
-    let (x_min, x_max) = (x.iter().min()?, x.iter().max()?);
-    let (y_min, y_max) = (y.iter().min()?, y.iter().max()?);
-    let cols = (first_centre(*x_min).max(0), last_centre(*x_max).min(last));
-    let rows = (first_centre(*y_min).max(0), last_centre(*y_max).min(last));
-    if cols.0 > cols.1 || rows.0 > rows.1 {
-        return None;
-    }
+    let (cols, rows) = (centre_range(&x, resolution)?, centre_range(&y, resolution)?);
 
     // Depth plane through the snapped vertices, in f32 as a GPU's setup: texel units.
     let texels = |d: i64| d as f32 / SUBTEXEL as f32;
