@@ -26,8 +26,8 @@ pub struct Cli {
 enum Command {
     /// Run techniques over scenes and write OUT_DIR/report.json.
     ///
-    /// With no arguments: every scene of `scenes/` with the default plan (no bias, constant,
-    /// slope-scaled and normal-offset biases at a few settings; shadow maps 512² to 4096²).
+    /// With no arguments: every scene of `scenes/` with the default plan (plans/default.json:
+    /// every technique at a few settings; shadow maps 512² to 4096² in f32 depth).
     Run(RunArgs),
     /// Write the exact hard shadow mask of one camera and light as a PNG.
     ///
@@ -58,6 +58,9 @@ struct RunArgs {
     /// Override the plan's shadow-map resolutions, e.g. --resolutions 512,1024.
     #[arg(long, value_delimiter = ',')]
     resolutions: Option<Vec<u32>>,
+    /// Timings are medians of this many layer builds and shading passes (default: the plan's, 3).
+    #[arg(long)]
+    repeats: Option<usize>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -100,8 +103,7 @@ pub fn run(cli: Cli) -> Result<u8> {
         Command::Reference(a) => reference(a),
         Command::ExportObj(a) => {
             let scene = load_scene(&a.scene)?;
-            write_world_obj(&scene, &a.out)
-                .with_context(|| format!("writing {}", a.out.display()))?;
+            write_world_obj(&scene, &a.out).with_context(|| format!("writing {}", a.out.display()))?;
             Ok(0)
         }
     }
@@ -112,10 +114,7 @@ fn set_threads(threads: Option<usize>) -> Result<()> {
         if n == 0 {
             bail!("--threads must be at least 1");
         }
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build_global()
-            .context("setting up worker threads")?;
+        rayon::ThreadPoolBuilder::new().num_threads(n).build_global().context("setting up worker threads")?;
     }
     Ok(())
 }
@@ -160,29 +159,26 @@ fn run_plan(a: RunArgs) -> Result<u8> {
     if let Some(r) = a.resolutions {
         plan.resolutions = r;
     }
+    if let Some(n) = a.repeats {
+        if n == 0 {
+            bail!("--repeats must be at least 1");
+        }
+        plan.repeats = n;
+    }
     let cache = (!a.no_cache).then(|| shadowtruth::trace::ReferenceCache::new(&a.references));
     let mut writer = ReportWriter::new(&a.out);
     let started = Instant::now();
-    let bar = if a.quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::new(0)
-    };
+    let bar = if a.quiet { ProgressBar::hidden() } else { ProgressBar::new(0) };
     bar.set_style(
         ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} runs  {msg}")
             .expect("valid template")
             .progress_chars("=> "),
     );
-    execute(
-        &plan,
-        &mut writer,
-        cache.as_ref(),
-        &mut |event| match event {
-            Event::Planned { runs } => bar.set_length(runs as u64),
-            Event::Stage(s) => bar.set_message(s),
-            Event::RunDone(_) => bar.inc(1),
-        },
-    )?;
+    execute(&plan, &mut writer, cache.as_ref(), &mut |event| match event {
+        Event::Planned { runs } => bar.set_length(runs as u64),
+        Event::Stage(s) => bar.set_message(s),
+        Event::RunDone(_) => bar.inc(1),
+    })?;
     bar.finish_and_clear();
     if !a.quiet {
         print_table(writer.report());
@@ -228,10 +224,7 @@ fn print_table(report: &Report) {
         for res in &resolutions {
             match cells.get(&(row.clone(), *res)) {
                 Some(&(fs, fl, n)) => {
-                    print!(
-                        "  {:>15}",
-                        format!("{:.2}/{:.2}", 100.0 * fs / n as f64, 100.0 * fl / n as f64)
-                    )
+                    print!("  {:>15}", format!("{:.2}/{:.2}", 100.0 * fs / n as f64, 100.0 * fl / n as f64))
                 }
                 None => print!("  {:>15}", "-"),
             }
@@ -249,46 +242,24 @@ fn pick<'a, T>(
 ) -> Result<&'a T> {
     let have = || items.iter().map(&get).collect::<Vec<_>>().join(", ");
     match name {
-        Some(n) => items.iter().find(|i| get(i) == n).with_context(|| {
-            format!(
-                "{}: no {what} named '{n}' (have: {})",
-                file.display(),
-                have()
-            )
-        }),
-        None => items
-            .first()
-            .with_context(|| format!("{}: the scene has no {what}", file.display())),
+        Some(n) => items
+            .iter()
+            .find(|i| get(i) == n)
+            .with_context(|| format!("{}: no {what} named '{n}' (have: {})", file.display(), have())),
+        None => items.first().with_context(|| format!("{}: the scene has no {what}", file.display())),
     }
 }
 
 fn reference(a: ReferenceArgs) -> Result<u8> {
     set_threads(a.threads)?;
     let scene: Scene = load_scene(&a.scene)?;
-    let camera = pick(
-        &scene.cameras,
-        a.camera.as_deref(),
-        |c| &c.name,
-        "camera",
-        &a.scene,
-    )?;
-    let light = pick(
-        &scene.lights,
-        a.light.as_deref(),
-        |l| &l.name,
-        "light",
-        &a.scene,
-    )?;
+    let camera = pick(&scene.cameras, a.camera.as_deref(), |c| &c.name, "camera", &a.scene)?;
+    let light = pick(&scene.lights, a.light.as_deref(), |l| &l.name, "light", &a.scene)?;
     let bvh = SceneBvh::build(&scene);
     let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
     let reference = trace_hard_reference(&bvh, &gbuffer, light);
-    write_mask_png(
-        &a.out,
-        gbuffer.width,
-        gbuffer.height,
-        &reference.mask_codes(&gbuffer),
-    )
-    .with_context(|| format!("writing {}", a.out.display()))?;
+    write_mask_png(&a.out, gbuffer.width, gbuffer.height, &reference.mask_codes(&gbuffer))
+        .with_context(|| format!("writing {}", a.out.display()))?;
     if a.timing {
         print_trace_timing(&scene, &bvh, camera, light, a.repeats);
     }

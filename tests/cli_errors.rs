@@ -4,11 +4,7 @@ use std::path::Path;
 use std::process::Command;
 
 fn shadowtruth(args: &[&str], dir: &Path) -> (i32, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_shadowtruth"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_shadowtruth")).args(args).current_dir(dir).output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
     assert!(!stderr.contains("panicked"), "panic on {args:?}: {stderr}");
     (out.status.code().unwrap_or(-1), stderr)
@@ -27,18 +23,10 @@ fn scene(objects: &str, cameras: &str, lights: &str) -> String {
 /// (description, scene text, strings the error must contain)
 fn bad_scenes() -> Vec<(&'static str, String, Vec<&'static str>)> {
     vec![
-        (
-            "malformed JSON",
-            "{ \"format\": ".to_string(),
-            vec!["bad.json", "line"],
-        ),
+        ("malformed JSON", "{ \"format\": ".to_string(), vec!["bad.json", "line"]),
         (
             "missing mesh",
-            scene(
-                r#"{ "name": "m", "mesh": "nowhere.obj" }"#,
-                GOOD_CAMERA,
-                GOOD_LIGHT,
-            ),
+            scene(r#"{ "name": "m", "mesh": "nowhere.obj" }"#, GOOD_CAMERA, GOOD_LIGHT),
             vec!["bad.json", "objects[0].mesh", "nowhere.obj"],
         ),
         (
@@ -57,25 +45,13 @@ fn bad_scenes() -> Vec<(&'static str, String, Vec<&'static str>)> {
         ),
         (
             "degenerate camera",
-            scene(
-                GOOD_OBJECT,
-                &GOOD_CAMERA.replace("[0, 3, 5]", "[0, 0, 0]"),
-                GOOD_LIGHT,
-            ),
+            scene(GOOD_OBJECT, &GOOD_CAMERA.replace("[0, 3, 5]", "[0, 0, 0]"), GOOD_LIGHT),
             vec!["bad.json", "cameras[0]"],
         ),
-        (
-            "empty scene",
-            scene("", GOOD_CAMERA, GOOD_LIGHT),
-            vec!["bad.json", "objects"],
-        ),
+        ("empty scene", scene("", GOOD_CAMERA, GOOD_LIGHT), vec!["bad.json", "objects"]),
         (
             "absurd image size",
-            scene(
-                GOOD_OBJECT,
-                &GOOD_CAMERA.replace("\"width\": 64", "\"width\": 1000000"),
-                GOOD_LIGHT,
-            ),
+            scene(GOOD_OBJECT, &GOOD_CAMERA.replace("\"width\": 64", "\"width\": 1000000"), GOOD_LIGHT),
             vec!["bad.json", "cameras[0].width"],
         ),
         (
@@ -101,78 +77,39 @@ fn bad_scenes_exit_2_naming_file_and_field() {
             vec!["export-obj", "bad.json", "-o", "world.obj"],
         ] {
             let (code, stderr) = shadowtruth(&args, dir.path());
-            assert_eq!(
-                code, 2,
-                "{what} with {args:?}: exit code {code}, stderr: {stderr}"
-            );
+            assert_eq!(code, 2, "{what} with {args:?}: exit code {code}, stderr: {stderr}");
             for n in &needles {
-                assert!(
-                    stderr.contains(n),
-                    "{what} with {args:?}: error lacks '{n}': {stderr}"
-                );
+                assert!(stderr.contains(n), "{what} with {args:?}: error lacks '{n}': {stderr}");
             }
         }
-        assert!(
-            !dir.path().join("out/report.json").exists(),
-            "{what}: a report was written for bad input"
-        );
+        assert!(!dir.path().join("out/report.json").exists(), "{what}: a report was written for bad input");
     }
 }
 
 #[test]
 fn usage_errors_exit_2() {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(
-        dir.path().join("s.json"),
-        scene(GOOD_OBJECT, GOOD_CAMERA, GOOD_LIGHT),
-    )
-    .unwrap();
+    std::fs::write(dir.path().join("s.json"), scene(GOOD_OBJECT, GOOD_CAMERA, GOOD_LIGHT)).unwrap();
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (vec!["frobnicate"], "frobnicate"),
         (vec!["run", "missing.json"], "missing.json"),
-        (
-            vec!["reference", "s.json", "--camera", "nope", "-o", "m.png"],
-            "nope",
-        ),
-        (
-            vec!["reference", "s.json", "--light", "nope", "-o", "m.png"],
-            "nope",
-        ),
-        (
-            vec!["run", "s.json", "--plan", "missing-plan.json"],
-            "missing-plan.json",
-        ),
-        (
-            vec![
-                "run",
-                "s.json",
-                "--resolutions",
-                "0",
-                "--quiet",
-                "--no-cache",
-            ],
-            "resolution",
-        ),
+        (vec!["reference", "s.json", "--camera", "nope", "-o", "m.png"], "nope"),
+        (vec!["reference", "s.json", "--light", "nope", "-o", "m.png"], "nope"),
+        (vec!["run", "s.json", "--plan", "missing-plan.json"], "missing-plan.json"),
+        (vec!["run", "s.json", "--resolutions", "0", "--quiet", "--no-cache"], "resolution"),
         (vec!["run", "s.json", "--threads", "0"], "threads"),
     ];
     for (args, needle) in cases {
         let (code, stderr) = shadowtruth(&args, dir.path());
         assert_eq!(code, 2, "{args:?}: exit code {code}, stderr: {stderr}");
-        assert!(
-            stderr.contains(needle),
-            "{args:?}: error lacks '{needle}': {stderr}"
-        );
+        assert!(stderr.contains(needle), "{args:?}: error lacks '{needle}': {stderr}");
     }
 }
 
 #[test]
 fn bad_plan_files_exit_2_naming_the_file() {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(
-        dir.path().join("s.json"),
-        scene(GOOD_OBJECT, GOOD_CAMERA, GOOD_LIGHT),
-    )
-    .unwrap();
+    std::fs::write(dir.path().join("s.json"), scene(GOOD_OBJECT, GOOD_CAMERA, GOOD_LIGHT)).unwrap();
     let plans = [
         (
             r#"{ "format": "shadowtruth/plan/v1", "techniques": [{ "technique": "sorcery" }], "resolutions": [64] }"#,
@@ -182,10 +119,7 @@ fn bad_plan_files_exit_2_naming_the_file() {
             r#"{ "format": "shadowtruth/plan/v1", "techniques": [{ "technique": "constant" }], "resolutions": [64] }"#,
             "bias",
         ),
-        (
-            r#"{ "format": "shadowtruth/plan/v2", "techniques": [], "resolutions": [64] }"#,
-            "format",
-        ),
+        (r#"{ "format": "shadowtruth/plan/v2", "techniques": [], "resolutions": [64] }"#, "format"),
         (
             r#"{ "format": "shadowtruth/plan/v1", "techniques": [{ "technique": "none" }], "resolutions": [64], "depth_formats": ["f16"] }"#,
             "depth_formats[0]",
@@ -193,21 +127,9 @@ fn bad_plan_files_exit_2_naming_the_file() {
     ];
     for (text, needle) in plans {
         std::fs::write(dir.path().join("plan.json"), text).unwrap();
-        let (code, stderr) = shadowtruth(
-            &[
-                "run",
-                "s.json",
-                "--plan",
-                "plan.json",
-                "--quiet",
-                "--no-cache",
-            ],
-            dir.path(),
-        );
+        let (code, stderr) =
+            shadowtruth(&["run", "s.json", "--plan", "plan.json", "--quiet", "--no-cache"], dir.path());
         assert_eq!(code, 2, "{text}: {stderr}");
-        assert!(
-            stderr.contains("plan.json") && stderr.contains(needle),
-            "{text}: {stderr}"
-        );
+        assert!(stderr.contains("plan.json") && stderr.contains(needle), "{text}: {stderr}");
     }
 }

@@ -15,15 +15,10 @@ fn convex_hull(mut pts: Vec<DVec2>) -> Vec<DVec2> {
     let mut hull: Vec<DVec2> = Vec::new();
     for pass in 0..2 {
         let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &DVec2>> = if pass == 0 {
-            Box::new(pts.iter())
-        } else {
-            Box::new(pts.iter().rev())
-        };
+        let iter: Box<dyn Iterator<Item = &DVec2>> =
+            if pass == 0 { Box::new(pts.iter()) } else { Box::new(pts.iter().rev()) };
         for &p in iter {
-            while hull.len() >= start + 2
-                && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
-            {
+            while hull.len() >= start + 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0 {
                 hull.pop();
             }
             hull.push(p);
@@ -97,10 +92,7 @@ fn box_over_plane_matches_the_shadow_polygon() {
             i / 1024
         );
     }
-    assert!(
-        compared > 300_000 && shadowed > 5_000 && box_lit > 3_000,
-        "{compared} {shadowed} {box_lit}"
-    );
+    assert!(compared > 300_000 && shadowed > 5_000 && box_lit > 3_000, "{compared} {shadowed} {box_lit}");
 }
 
 fn camera_above(width: u32) -> serde_json::Value {
@@ -112,11 +104,7 @@ fn camera_above(width: u32) -> serde_json::Value {
 fn a_plane_lit_at_89_9_degrees_is_fully_lit() {
     for azimuth_deg in [0.0f64, 37.0, 90.0, 211.0] {
         let (theta, phi) = (89.9f64.to_radians(), azimuth_deg.to_radians());
-        let to_light = DVec3::new(
-            theta.sin() * phi.cos(),
-            theta.cos(),
-            theta.sin() * phi.sin(),
-        );
+        let to_light = DVec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
         let scene = scene_from_json(&json!({
             "format": "shadowtruth/scene/v1", "name": "grazing",
             "objects": [{ "name": "ground", "shape": { "type": "plane", "size": [20, 20], "subdivisions": 16 } }],
@@ -125,34 +113,18 @@ fn a_plane_lit_at_89_9_degrees_is_fully_lit() {
         }));
         let (g, r) = trace_first(&scene);
         assert!(g.evaluated.len() > 100_000);
-        let dark = g
-            .evaluated
-            .iter()
-            .filter(|&&i| r.lit[i as usize] == 0)
-            .count();
-        assert_eq!(
-            dark, 0,
-            "azimuth {azimuth_deg}: {dark} pixels of a lone plane are shadowed"
-        );
+        let dark = g.evaluated.iter().filter(|&&i| r.lit[i as usize] == 0).count();
+        assert_eq!(dark, 0, "azimuth {azimuth_deg}: {dark} pixels of a lone plane are shadowed");
     }
 }
 
 /// Light directions all around, including axis-aligned and near-grazing ones.
 fn directions() -> Vec<[f64; 3]> {
-    let mut out = vec![
-        [0.0, -1.0, 0.0],
-        [1.0, 0.0, 0.0],
-        [0.0, 0.0, -1.0],
-        [-1.0, -1.0, -1.0],
-        [0.3, 1.0, -0.2],
-    ];
+    let mut out =
+        vec![[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [-1.0, -1.0, -1.0], [0.3, 1.0, -0.2]];
     for k in 0..12 {
         let (theta, phi) = (0.2 + 2.7 * k as f64 / 11.0, 2.399963 * k as f64);
-        out.push([
-            theta.sin() * phi.cos(),
-            -theta.cos(),
-            theta.sin() * phi.sin(),
-        ]);
+        out.push([theta.sin() * phi.cos(), -theta.cos(), theta.sin() * phi.sin()]);
     }
     out
 }
@@ -174,16 +146,9 @@ fn convex_closed_objects_never_shadow_themselves() {
                 "lights": [{ "name": "l", "type": "directional", "direction": dir }]
             }));
             let (g, r) = trace_first(&scene);
-            let dark = g
-                .evaluated
-                .iter()
-                .filter(|&&i| r.lit[i as usize] == 0)
-                .count();
+            let dark = g.evaluated.iter().filter(|&&i| r.lit[i as usize] == 0).count();
             assert!(g.evaluated.len() > 1000 || g.count(PixelClass::FacingAway) > 1000);
-            assert_eq!(
-                dark, 0,
-                "{shape} lit from {dir:?}: {dark} lit-facing pixels are shadowed"
-            );
+            assert_eq!(dark, 0, "{shape} lit from {dir:?}: {dark} lit-facing pixels are shadowed");
         }
     }
 }

@@ -8,23 +8,18 @@ use common::{near_boundary, repo, scene_from_json, trace_first};
 use serde_json::Value;
 
 fn plane_box_transformed(scale: f64, offset: [f64; 3]) -> Value {
-    let mut v: Value = serde_json::from_str(
-        &std::fs::read_to_string(repo().join("scenes/plane_box.json")).unwrap(),
-    )
-    .unwrap();
+    let mut v: Value =
+        serde_json::from_str(&std::fs::read_to_string(repo().join("scenes/plane_box.json")).unwrap())
+            .unwrap();
     let map = |p: &Value, k: usize| p[k].as_f64().unwrap() * scale + offset[k];
     for object in v["objects"].as_array_mut().unwrap() {
         let t = object.get("transform").cloned().unwrap_or(Value::Null);
-        let s: Vec<f64> = (0..3)
-            .map(|k| t.get("scale").map_or(1.0, |s| s[k].as_f64().unwrap()) * scale)
-            .collect();
+        let s: Vec<f64> =
+            (0..3).map(|k| t.get("scale").map_or(1.0, |s| s[k].as_f64().unwrap()) * scale).collect();
         let tr: Vec<f64> = (0..3)
             .map(|k| t.get("translate").map_or(0.0, |s| s[k].as_f64().unwrap()) * scale + offset[k])
             .collect();
-        let rot = t
-            .get("rotate_deg")
-            .cloned()
-            .unwrap_or(serde_json::json!([0, 0, 0]));
+        let rot = t.get("rotate_deg").cloned().unwrap_or(serde_json::json!([0, 0, 0]));
         object["transform"] = serde_json::json!({ "scale": s, "rotate_deg": rot, "translate": tr });
     }
     for camera in v["cameras"].as_array_mut().unwrap() {

@@ -4,9 +4,7 @@
 mod common;
 
 use common::{bundled, repo};
-use shadowtruth::trace::{
-    GBuffer, ReferenceCache, SceneBvh, reference_digest, trace_hard_reference,
-};
+use shadowtruth::trace::{GBuffer, ReferenceCache, SceneBvh, reference_digest, trace_hard_reference};
 
 const SUITE: [&str; 5] = ["grazing_wall", "l_shape", "plane_box", "rocks", "spot"];
 
@@ -28,16 +26,11 @@ fn cached_masks_are_bit_identical_to_fresh_ones() {
                     camera.name,
                     light.name
                 );
-                let cached = cache
-                    .load(&scene.name, &camera.name, &light.name, &digest)
-                    .expect("cached mask decodes");
+                let cached =
+                    cache.load(&scene.name, &camera.name, &light.name, &digest).expect("cached mask decodes");
                 let g = GBuffer::trace(&scene, &bvh, camera, light);
                 let fresh = trace_hard_reference(&bvh, &g, light).mask_codes(&g);
-                let differ = fresh
-                    .iter()
-                    .zip(&cached.codes)
-                    .filter(|(a, b)| a != b)
-                    .count();
+                let differ = fresh.iter().zip(&cached.codes).filter(|(a, b)| a != b).count();
                 assert_eq!(
                     differ, 0,
                     "{name}/{}/{}: {differ} pixels differ from the cache",

@@ -13,26 +13,17 @@ fn a_plan_writes_one_record_per_run_with_consistent_counts() {
     let dir = tempfile::tempdir().unwrap();
     let techniques = vec![
         TechniqueSpec::None,
-        TechniqueSpec::Constant {
-            bias_depth: Some(1e-3),
-            bias_world: None,
-        },
-        TechniqueSpec::SlopeScaled {
-            factor: 1.0,
-            units: 1.0,
-            cull: CullSpec::None,
-        },
+        TechniqueSpec::Constant { bias_depth: Some(1e-3), bias_world: None },
+        TechniqueSpec::SlopeScaled { factor: 1.0, units: 1.0, cull: CullSpec::None },
     ];
     let plan = Plan {
-        scenes: vec![
-            repo().join("scenes/plane_box.json"),
-            repo().join("scenes/spot.json"),
-        ],
+        scenes: vec![repo().join("scenes/plane_box.json"), repo().join("scenes/spot.json")],
         cameras: None,
         lights: None,
         techniques: techniques.clone(),
         resolutions: vec![256, 512],
         depth_formats: vec![DepthFormat::F32, DepthFormat::Unorm16],
+        repeats: 1,
     };
     let mut writer = ReportWriter::new(dir.path());
     let mut done = 0;
@@ -50,21 +41,10 @@ fn a_plan_writes_one_record_per_run_with_consistent_counts() {
     assert_eq!(report.scenes.len(), 2);
     for run in &report.runs {
         let c = run.counts;
-        assert_eq!(
-            c.pixels,
-            c.background + c.facing_away + c.outside_light + c.evaluated,
-            "{}",
-            run.label
-        );
+        assert_eq!(c.pixels, c.background + c.facing_away + c.outside_light + c.evaluated, "{}", run.label);
         assert!(c.false_shadow + c.false_lit <= c.evaluated);
-        assert!(
-            (run.rates.error - (c.false_shadow + c.false_lit) as f64 / c.evaluated as f64).abs()
-                < 1e-12
-        );
-        assert!(
-            run.timings.shade >= 0.0
-                && run.layer_memory_bytes == (run.resolution as u64).pow(2) * 4
-        );
+        assert!((run.rates.error - (c.false_shadow + c.false_lit) as f64 / c.evaluated as f64).abs() < 1e-12);
+        assert!(run.timings.shade >= 0.0 && run.layer_memory_bytes == (run.resolution as u64).pow(2) * 4);
     }
     // none and constant read the same layer, built once: the same preparation time.
     for res in [256, 512] {

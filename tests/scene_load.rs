@@ -42,11 +42,7 @@ fn problems_in(dir: &Path, text: &str) -> Vec<Problem> {
         Ok(_) => panic!("expected a SceneError for:\n{text}"),
         Err(e) => {
             for p in &e.problems {
-                assert_eq!(
-                    p.file,
-                    dir.join(SCENE_FILE),
-                    "problem names the scene file: {p}"
-                );
+                assert_eq!(p.file, dir.join(SCENE_FILE), "problem names the scene file: {p}");
             }
             e.problems
         }
@@ -61,9 +57,7 @@ fn problems(text: &str) -> Vec<Problem> {
 /// Asserts that a problem sits at `path` and its message mentions `needle`.
 fn assert_problem(problems: &[Problem], path: &str, needle: &str) {
     assert!(
-        problems
-            .iter()
-            .any(|p| p.path == path && p.message.contains(needle)),
+        problems.iter().any(|p| p.path == path && p.message.contains(needle)),
         "no problem at `{path}` mentioning `{needle}` in:\n{problems:#?}"
     );
 }
@@ -99,18 +93,12 @@ fn assert_watertight(tris: &[[Vec3; 3]]) {
     }
     for (&(a, b), &n) in &edges {
         assert_eq!(n, 1, "directed edge used {n} times");
-        assert_eq!(
-            edges.get(&(b, a)),
-            Some(&1),
-            "edge without an opposite twin"
-        );
+        assert_eq!(edges.get(&(b, a)), Some(&1), "edge without an opposite twin");
     }
 }
 
 fn signed_volume(tris: &[[Vec3; 3]]) -> f64 {
-    tris.iter()
-        .map(|[a, b, c]| a.as_dvec3().dot(b.as_dvec3().cross(c.as_dvec3())) / 6.0)
-        .sum()
+    tris.iter().map(|[a, b, c]| a.as_dvec3().dot(b.as_dvec3().cross(c.as_dvec3())) / 6.0).sum()
 }
 
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
@@ -139,9 +127,7 @@ fn unknown_fields_are_named_with_their_path() {
 
 #[test]
 fn wrong_format_tag_is_rejected() {
-    let p = problems(&with(base(), |s| {
-        s["format"] = json!("shadowtruth/scene/v2")
-    }));
+    let p = problems(&with(base(), |s| s["format"] = json!("shadowtruth/scene/v2")));
     assert_problem(&p, "format", "shadowtruth/scene/v1");
 }
 
@@ -219,9 +205,7 @@ fn empty_objects_array_is_rejected() {
 #[test]
 fn missing_mesh_file_names_the_resolved_path() {
     let dir = tempfile::tempdir().unwrap();
-    let text = with(base(), |s| {
-        s["objects"][0] = json!({ "name": "m", "mesh": "meshes/nope.obj" })
-    });
+    let text = with(base(), |s| s["objects"][0] = json!({ "name": "m", "mesh": "meshes/nope.obj" }));
     let p = problems_in(dir.path(), &text);
     let resolved = dir.path().join("meshes/nope.obj");
     assert_problem(&p, "objects[0].mesh", &resolved.display().to_string());
@@ -246,9 +230,7 @@ fn absurd_image_sizes_are_rejected() {
 
 #[test]
 fn zero_scale_is_rejected() {
-    let p = problems(&with(base(), |s| {
-        s["objects"][0]["transform"]["scale"] = json!([1, 0, 1])
-    }));
+    let p = problems(&with(base(), |s| s["objects"][0]["transform"]["scale"] = json!([1, 0, 1])));
     assert_problem(&p, "objects[0].transform.scale", "zero");
 }
 
@@ -281,11 +263,7 @@ fn duplicate_names_and_geometry_choice_are_checked() {
         push(&mut s["objects"], json!({ "name": "nothing" }));
         s["lights"][1]["name"] = json!("sun");
     }));
-    assert_problem(
-        &p,
-        "objects[1].name",
-        "duplicate name \"box\" (already used by objects[0])",
-    );
+    assert_problem(&p, "objects[1].name", "duplicate name \"box\" (already used by objects[0])");
     assert_problem(&p, "objects[1]", "both `mesh` and `shape`");
     assert_problem(&p, "objects[2]", "needs a `mesh`");
     assert_problem(&p, "lights[1].name", "duplicate");
@@ -297,10 +275,7 @@ fn several_problems_are_reported_together() {
     let text = with(base(), |s| {
         s["format"] = json!("v0");
         s["objects"][0]["transform"]["scale"] = json!([0, 1, 1]);
-        push(
-            &mut s["objects"],
-            json!({ "name": "ground", "mesh": "missing.obj" }),
-        );
+        push(&mut s["objects"], json!({ "name": "ground", "mesh": "missing.obj" }));
         s["cameras"][0]["width"] = json!(100000);
         s["lights"][0]["direction"] = json!([0, 0, 0]);
     });
@@ -313,10 +288,7 @@ fn several_problems_are_reported_together() {
     assert_problem(&p, "lights[0].direction", "non-zero");
     assert_eq!(p.len(), 5, "{p:#?}");
     let shown = SceneError { problems: p }.to_string();
-    assert!(
-        shown.contains("5 problems") && shown.contains("objects[1].mesh"),
-        "{shown}"
-    );
+    assert!(shown.contains("5 problems") && shown.contains("objects[1].mesh"), "{shown}");
 }
 
 #[test]
@@ -332,14 +304,8 @@ fn unreadable_scene_file_is_one_problem() {
 #[test]
 fn obj_with_nan_vertex_is_rejected_naming_the_file() {
     let dir = tempfile::tempdir().unwrap();
-    write(
-        dir.path(),
-        "bad.obj",
-        "v 0 0 0\nv 1 0 0\nv 0 nan 1\nf 1 2 3\n",
-    );
-    let text = with(base(), |s| {
-        s["objects"][0] = json!({ "name": "bad", "mesh": "bad.obj" })
-    });
+    write(dir.path(), "bad.obj", "v 0 0 0\nv 1 0 0\nv 0 nan 1\nf 1 2 3\n");
+    let text = with(base(), |s| s["objects"][0] = json!({ "name": "bad", "mesh": "bad.obj" }));
     let p = problems_in(dir.path(), &text);
     assert_problem(&p, "objects[0].mesh", "bad.obj");
     assert_problem(&p, "objects[0].mesh", "vertex 3");
@@ -348,14 +314,8 @@ fn obj_with_nan_vertex_is_rejected_naming_the_file() {
 #[test]
 fn scene_without_triangles_is_rejected() {
     let dir = tempfile::tempdir().unwrap();
-    write(
-        dir.path(),
-        "flat.obj",
-        "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n",
-    );
-    let text = with(base(), |s| {
-        s["objects"][0] = json!({ "name": "flat", "mesh": "flat.obj" })
-    });
+    write(dir.path(), "flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+    let text = with(base(), |s| s["objects"][0] = json!({ "name": "flat", "mesh": "flat.obj" }));
     let p = problems_in(dir.path(), &text);
     assert_problem(&p, "objects[0].mesh", "no triangles (1 degenerate dropped)");
     assert_eq!(p.len(), 1, "{p:#?}");
@@ -367,16 +327,9 @@ fn scene_without_triangles_is_rejected() {
 fn example_scene_loads_with_lights_normalized() {
     let dir = tempfile::tempdir().unwrap();
     fs::create_dir(dir.path().join("meshes")).unwrap();
-    write(
-        dir.path(),
-        "meshes/ground.obj",
-        "v -5 0 -5\nv -5 0 5\nv 5 0 5\nv 5 0 -5\nf 1 2 3 4\n",
-    );
+    write(dir.path(), "meshes/ground.obj", "v -5 0 -5\nv -5 0 5\nv 5 0 5\nv 5 0 -5\nf 1 2 3 4\n");
     let text = with(base(), |s| {
-        push(
-            &mut s["objects"],
-            json!({ "name": "ground", "mesh": "meshes/ground.obj", "closed": false }),
-        );
+        push(&mut s["objects"], json!({ "name": "ground", "mesh": "meshes/ground.obj", "closed": false }));
         s["lights"][1]["radius"] = json!(0.25);
         s["lights"][0]["angular_diameter_deg"] = json!(0.5);
     });
@@ -387,32 +340,16 @@ fn example_scene_loads_with_lights_normalized() {
     assert_eq!(scene.triangles.len(), 14);
     assert_eq!(scene.objects[1].name, "ground");
     assert!(!scene.objects[1].closed && scene.objects[0].closed);
-    assert_eq!(
-        (
-            scene.objects[1].first_triangle,
-            scene.objects[1].triangle_count
-        ),
-        (12, 2)
-    );
+    assert_eq!((scene.objects[1].first_triangle, scene.objects[1].triangle_count), (12, 2));
     let cam = scene.camera("main").unwrap();
     assert_eq!((cam.width, cam.height, cam.up), (64, 48, Vec3::Y));
     let sun = scene.light("sun").unwrap();
     assert_eq!(sun.angular_diameter_deg, Some(0.5));
-    let LightKind::Directional { direction } = sun.kind else {
-        panic!("sun is directional")
-    };
+    let LightKind::Directional { direction } = sun.kind else { panic!("sun is directional") };
     assert!((direction.length() - 1.0).abs() < 1e-6);
     let lamp = scene.light("lamp").unwrap();
     assert_eq!(lamp.radius, Some(0.25));
-    let LightKind::Spot {
-        direction,
-        near,
-        far,
-        ..
-    } = lamp.kind
-    else {
-        panic!("lamp is a spot")
-    };
+    let LightKind::Spot { direction, near, far, .. } = lamp.kind else { panic!("lamp is a spot") };
     assert!((direction.length() - 1.0).abs() < 1e-6);
     assert_eq!((near, far), (0.5, 30.0));
 }
@@ -421,27 +358,13 @@ fn example_scene_loads_with_lights_normalized() {
 fn closed_shapes_are_watertight_and_outward() {
     let shapes = [
         (json!({ "type": "box", "size": [1, 2, 3] }), Some(12)),
-        (
-            json!({ "type": "sphere", "radius": 1.5 }),
-            Some(2 * 32 * 15),
-        ),
-        (
-            json!({ "type": "sphere", "radius": 1, "segments": 7, "rings": 3 }),
-            Some(28),
-        ),
-        (
-            json!({ "type": "cylinder", "radius": 0.5, "height": 2, "segments": 12 }),
-            Some(48),
-        ),
-        (
-            json!({ "type": "cone", "radius": 0.5, "height": 2 }),
-            Some(64),
-        ),
+        (json!({ "type": "sphere", "radius": 1.5 }), Some(2 * 32 * 15)),
+        (json!({ "type": "sphere", "radius": 1, "segments": 7, "rings": 3 }), Some(28)),
+        (json!({ "type": "cylinder", "radius": 0.5, "height": 2, "segments": 12 }), Some(48)),
+        (json!({ "type": "cone", "radius": 0.5, "height": 2 }), Some(64)),
     ];
-    let transforms = [
-        json!({}),
-        json!({ "scale": [2, 0.5, 3], "rotate_deg": [10, 20, 30], "translate": [0.1, -5, 7] }),
-    ];
+    let transforms =
+        [json!({}), json!({ "scale": [2, 0.5, 3], "rotate_deg": [10, 20, 30], "translate": [0.1, -5, 7] })];
     for (shape, count) in shapes {
         for transform in &transforms {
             let scene = load(&box_scene(shape.clone(), transform.clone())).unwrap();
@@ -457,16 +380,9 @@ fn closed_shapes_are_watertight_and_outward() {
 
 #[test]
 fn box_volume_matches_its_size() {
-    let scene = load(&box_scene(
-        json!({ "type": "box", "size": [1, 2, 3] }),
-        json!({}),
-    ))
-    .unwrap();
+    let scene = load(&box_scene(json!({ "type": "box", "size": [1, 2, 3] }), json!({}))).unwrap();
     assert_eq!(signed_volume(&scene.triangles), 6.0);
-    assert_eq!(
-        scene.bounds(),
-        (Vec3::new(-0.5, -1.0, -1.5), Vec3::new(0.5, 1.0, 1.5))
-    );
+    assert_eq!(scene.bounds(), (Vec3::new(-0.5, -1.0, -1.5), Vec3::new(0.5, 1.0, 1.5)));
 }
 
 #[test]
@@ -477,35 +393,22 @@ fn plane_faces_up_and_is_subdivided() {
     for [a, b, c] in &scene.triangles {
         assert!((*b - *a).cross(*c - *a).y > 0.0);
     }
-    assert_eq!(
-        scene.bounds(),
-        (Vec3::new(-2.0, 1.0, -1.0), Vec3::new(2.0, 1.0, 1.0))
-    );
+    assert_eq!(scene.bounds(), (Vec3::new(-2.0, 1.0, -1.0), Vec3::new(2.0, 1.0, 1.0)));
 }
 
 #[test]
 fn transform_order_is_scale_then_rotate_xyz_then_translate() {
-    let rotate_y = Transform {
-        scale: Vec3::ONE,
-        rotate_deg: Vec3::new(0.0, 90.0, 0.0),
-        translate: Vec3::ZERO,
-    };
+    let rotate_y =
+        Transform { scale: Vec3::ONE, rotate_deg: Vec3::new(0.0, 90.0, 0.0), translate: Vec3::ZERO };
     assert_eq!(rotate_y.apply(Vec3::X), Vec3::new(0.0, 0.0, -1.0));
     // x then y: (0,1,0) → Rx90 → (0,0,1) → Ry90 → (1,0,0); rotating y first would leave it at z.
-    let xy = Transform {
-        rotate_deg: Vec3::new(90.0, 90.0, 0.0),
-        ..rotate_y.clone()
-    };
+    let xy = Transform { rotate_deg: Vec3::new(90.0, 90.0, 0.0), ..rotate_y.clone() };
     assert_eq!(xy.apply(Vec3::Y), Vec3::X);
     // Scale before rotation, translation last: the box's long x axis ends up along −z.
     let shape = json!({ "type": "box", "size": [2, 1, 1] });
-    let transform =
-        json!({ "scale": [3, 1, 1], "rotate_deg": [0, 90, 0], "translate": [10, 0, 0] });
+    let transform = json!({ "scale": [3, 1, 1], "rotate_deg": [0, 90, 0], "translate": [10, 0, 0] });
     let scene = load(&box_scene(shape, transform)).unwrap();
-    assert_eq!(
-        scene.bounds(),
-        (Vec3::new(9.5, -0.5, -3.0), Vec3::new(10.5, 0.5, 3.0))
-    );
+    assert_eq!(scene.bounds(), (Vec3::new(9.5, -0.5, -3.0), Vec3::new(10.5, 0.5, 3.0)));
 }
 
 #[test]
@@ -534,18 +437,11 @@ fn degenerate_obj_triangles_are_dropped_and_counted() {
     let scene = load_in(dir.path(), &text).unwrap();
     assert_eq!(scene.dropped_degenerate, 2);
     assert_eq!(scene.triangles.len(), 2 + 12);
-    let ranges: Vec<_> = scene
-        .objects
-        .iter()
-        .map(|o| (o.first_triangle, o.triangle_count))
-        .collect();
+    let ranges: Vec<_> = scene.objects.iter().map(|o| (o.first_triangle, o.triangle_count)).collect();
     assert_eq!(ranges, [(0, 2), (2, 12)]);
     let expected: Vec<u32> = [0, 0].into_iter().chain([1; 12]).collect();
     assert_eq!(scene.triangle_object, expected);
-    assert_eq!(
-        scene.triangles[1],
-        [Vec3::Z, Vec3::new(1.0, 0.0, 1.0), Vec3::new(0.0, 1.0, 1.0)]
-    );
+    assert_eq!(scene.triangles[1], [Vec3::Z, Vec3::new(1.0, 0.0, 1.0), Vec3::new(0.0, 1.0, 1.0)]);
 }
 
 #[test]

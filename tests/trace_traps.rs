@@ -11,23 +11,13 @@ use shadowtruth::trace::{SceneBvh, WatertightRay, offset_ray_origin};
 use std::time::Duration;
 
 fn quad(y: f32, half: f32) -> Vec<[Vec3; 3]> {
-    let (a, b, c, d) = (
-        vec3(-half, y, -half),
-        vec3(half, y, -half),
-        vec3(half, y, half),
-        vec3(-half, y, half),
-    );
+    let (a, b, c, d) =
+        (vec3(-half, y, -half), vec3(half, y, -half), vec3(half, y, half), vec3(-half, y, half));
     vec![[a, c, b], [a, d, c]]
 }
 
 fn obvhs_tris(tris: &[[Vec3; 3]]) -> Vec<Triangle> {
-    tris.iter()
-        .map(|t| Triangle {
-            v0: t[0].into(),
-            v1: t[1].into(),
-            v2: t[2].into(),
-        })
-        .collect()
+    tris.iter().map(|t| Triangle { v0: t[0].into(), v1: t[1].into(), v2: t[2].into() }).collect()
 }
 
 /// A closed cube [-1, 1]³ whose faces are n×n grids of quads split along a diagonal, wound
@@ -37,10 +27,7 @@ fn closed_grid_cube(n: usize) -> Vec<[Vec3; 3]> {
     for axis in 0..3 {
         for sign in [-1.0f32, 1.0] {
             let point = |i: usize, j: usize| {
-                let (a, b) = (
-                    -1.0 + 2.0 * i as f32 / n as f32,
-                    -1.0 + 2.0 * j as f32 / n as f32,
-                );
+                let (a, b) = (-1.0 + 2.0 * i as f32 / n as f32, -1.0 + 2.0 * j as f32 / n as f32);
                 let mut p = [0.0; 3];
                 p[axis] = sign;
                 p[(axis + 1) % 3] = a;
@@ -49,12 +36,8 @@ fn closed_grid_cube(n: usize) -> Vec<[Vec3; 3]> {
             };
             for i in 0..n {
                 for j in 0..n {
-                    let (p00, p10, p11, p01) = (
-                        point(i, j),
-                        point(i + 1, j),
-                        point(i + 1, j + 1),
-                        point(i, j + 1),
-                    );
+                    let (p00, p10, p11, p01) =
+                        (point(i, j), point(i + 1, j), point(i + 1, j + 1), point(i, j + 1));
                     if sign > 0.0 {
                         tris.push([p00, p10, p11]);
                         tris.push([p00, p11, p01]);
@@ -101,10 +84,7 @@ fn no_crack_in_a_closed_mesh() {
                             (Vec3::from_array(target) + dir * 0.5, -dir),
                         ] {
                             rays += 1;
-                            if bvh
-                                .closest_hit(&mut scratch, origin, dir, 0.0, f32::INFINITY)
-                                .is_none()
-                            {
+                            if bvh.closest_hit(&mut scratch, origin, dir, 0.0, f32::INFINITY).is_none() {
                                 misses += 1;
                             }
                             let ray = Ray::new_inf(origin.into(), dir.into());
@@ -117,26 +97,15 @@ fn no_crack_in_a_closed_mesh() {
             }
         }
     }
-    assert_eq!(
-        misses, 0,
-        "{misses} of {rays} rays through shared edges and vertices leaked through"
-    );
+    assert_eq!(misses, 0, "{misses} of {rays} rays through shared edges and vertices leaked through");
     // The control: obvhs's non-watertight test lets some of the same rays through.
-    assert!(
-        moller_misses > 0,
-        "control: expected obvhs's triangle test to leak on some of {rays} rays"
-    );
+    assert!(moller_misses > 0, "control: expected obvhs's triangle test to leak on some of {rays} rays");
 }
 
 #[test]
 fn watertight_test_hits_exactly_on_a_shared_edge() {
     // Two triangles sharing the diagonal of the unit square; a ray straight through the diagonal.
-    let (a, b, c, d) = (
-        vec3(0.0, 0.0, 0.0),
-        vec3(1.0, 0.0, 0.0),
-        vec3(1.0, 0.0, 1.0),
-        vec3(0.0, 0.0, 1.0),
-    );
+    let (a, b, c, d) = (vec3(0.0, 0.0, 0.0), vec3(1.0, 0.0, 0.0), vec3(1.0, 0.0, 1.0), vec3(0.0, 0.0, 1.0));
     for s in [0.125f32, 0.3, 0.5, 0.7] {
         let p = vec3(s, 0.0, s);
         let dir = vec3(0.3, -1.0, 0.2).normalize();
@@ -161,21 +130,11 @@ fn occluder_5e_5_above_the_surface_is_found() {
     let bvh = SceneBvh::build_from_triangles(&tris);
     let mut scratch = bvh.scratch();
     let up = vec3(0.0, 1.0, 0.0);
-    for p in [
-        vec3(0.0, 0.0, 0.0),
-        vec3(0.25, 0.0, -0.3),
-        vec3(-0.4, 0.0, 0.45),
-    ] {
+    for p in [vec3(0.0, 0.0, 0.0), vec3(0.25, 0.0, -0.3), vec3(-0.4, 0.0, 0.45)] {
         let origin = offset_ray_origin(p, up);
-        assert!(
-            origin.y < 5e-5,
-            "the offset origin must stay below the occluder"
-        );
+        assert!(origin.y < 5e-5, "the offset origin must stay below the occluder");
         let dir = vec3(0.1, 1.0, 0.05).normalize();
-        assert!(
-            bvh.occluded(&mut scratch, origin, dir, 0.0, f32::INFINITY),
-            "occluder above {p} missed"
-        );
+        assert!(bvh.occluded(&mut scratch, origin, dir, 0.0, f32::INFINITY), "occluder above {p} missed");
         // Control: obvhs's own traversal misses it.
         let obvhs_bvh = build_cwbvh_from_tris(
             &obvhs_tris(&tris),
@@ -186,10 +145,7 @@ fn occluder_5e_5_above_the_surface_is_found() {
         let miss = obvhs_bvh.ray_traverse_miss(Ray::new_inf(origin.into(), dir.into()), |r, id| {
             t[obvhs_bvh.primitive_indices[id] as usize].intersect(r)
         });
-        assert!(
-            miss,
-            "control: obvhs's traversal was expected to miss an occluder this close"
-        );
+        assert!(miss, "control: obvhs's traversal was expected to miss an occluder this close");
     }
 }
 
@@ -200,23 +156,16 @@ fn occluder_at_exactly_tmax_is_reported() {
     let mut scratch = bvh.scratch();
     let (origin, dir) = (vec3(0.1, 0.0, 0.2), vec3(0.0, 1.0, 0.0));
     assert!(bvh.occluded(&mut scratch, origin, dir, 0.0, 2.0));
-    let hit = bvh
-        .closest_hit(&mut scratch, origin, dir, 0.0, 2.0)
-        .expect("hit at tmax");
+    let hit = bvh.closest_hit(&mut scratch, origin, dir, 0.0, 2.0).expect("hit at tmax");
     assert_eq!(hit.t, 2.0);
     assert!(!bvh.occluded(&mut scratch, origin, dir, 0.0, 2.0f32.next_down()));
     // Control: obvhs's any-hit loop compares t < tmax and loses it.
     let t = obvhs_tris(&tris);
-    let obvhs_bvh =
-        build_cwbvh_from_tris(&t, BvhBuildParams::medium_build(), &mut Duration::default());
-    let miss = obvhs_bvh
-        .ray_traverse_miss(Ray::new(origin.into(), dir.into(), 0.0, 2.0), |r, id| {
-            t[obvhs_bvh.primitive_indices[id] as usize].intersect(r)
-        });
-    assert!(
-        miss,
-        "control: obvhs was expected to drop the occluder at exactly tmax"
-    );
+    let obvhs_bvh = build_cwbvh_from_tris(&t, BvhBuildParams::medium_build(), &mut Duration::default());
+    let miss = obvhs_bvh.ray_traverse_miss(Ray::new(origin.into(), dir.into(), 0.0, 2.0), |r, id| {
+        t[obvhs_bvh.primitive_indices[id] as usize].intersect(r)
+    });
+    assert!(miss, "control: obvhs was expected to drop the occluder at exactly tmax");
 }
 
 /// Triangles along x, each half the size of the previous and twice as close to the origin: the
@@ -235,11 +184,7 @@ fn chain(count: usize) -> Vec<[Vec3; 3]> {
 fn deep_tree_finds_every_triangle() {
     let tris = chain(220);
     let bvh = SceneBvh::build_from_triangles(&tris);
-    assert!(
-        bvh.depth() > 32,
-        "the test needs a tree deeper than 32 levels, got {}",
-        bvh.depth()
-    );
+    assert!(bvh.depth() > 32, "the test needs a tree deeper than 32 levels, got {}", bvh.depth());
     let mut scratch = bvh.scratch();
     let mut obvhs_lost = 0;
     let (tree, ordered) = (bvh.cwbvh(), bvh.triangles_in_tree_order());
@@ -248,11 +193,7 @@ fn deep_tree_finds_every_triangle() {
         let origin = centroid + vec3(0.0, 0.0, 1.0);
         let dir = vec3(0.0, 0.0, -1.0);
         let hit = bvh.closest_hit(&mut scratch, origin, dir, 0.0, f32::INFINITY);
-        assert_eq!(
-            hit.map(|h| h.triangle),
-            Some(k as u32),
-            "triangle {k} at depth > 32 was lost"
-        );
+        assert_eq!(hit.map(|h| h.triangle), Some(k as u32), "triangle {k} at depth > 32 was lost");
         let mut h = RayHit::none();
         let ray = Ray::new_inf(origin.into(), dir.into());
         let found = tree.ray_traverse(ray, &mut h, |r, id| {
@@ -262,11 +203,7 @@ fn deep_tree_finds_every_triangle() {
         obvhs_lost += !found as usize;
     }
     // Control: obvhs's own traversal, with its 32-entry stack, loses triangles of this tree.
-    assert!(
-        obvhs_lost > 0,
-        "control: obvhs was expected to lose triangles of a tree {} deep",
-        bvh.depth()
-    );
+    assert!(obvhs_lost > 0, "control: obvhs was expected to lose triangles of a tree {} deep", bvh.depth());
 }
 
 #[test]
@@ -281,26 +218,16 @@ fn hit_ids_are_scene_triangle_ids() {
     }
     let bvh = SceneBvh::build_from_triangles(&tris);
     let t = obvhs_tris(&tris);
-    let obvhs_bvh =
-        build_cwbvh_from_tris(&t, BvhBuildParams::medium_build(), &mut Duration::default());
+    let obvhs_bvh = build_cwbvh_from_tris(&t, BvhBuildParams::medium_build(), &mut Duration::default());
     assert!(
-        obvhs_bvh
-            .primitive_indices
-            .iter()
-            .enumerate()
-            .any(|(i, &p)| i as u32 != p),
+        obvhs_bvh.primitive_indices.iter().enumerate().any(|(i, &p)| i as u32 != p),
         "the test needs a BVH that reorders primitives"
     );
     let mut scratch = bvh.scratch();
     for (k, tri) in tris.iter().enumerate() {
         let c = (tri[0] + tri[1] + tri[2]) / 3.0;
-        let hit = bvh.closest_hit(
-            &mut scratch,
-            c + vec3(0.0, 1.0, 0.0),
-            vec3(0.0, -1.0, 0.0),
-            0.0,
-            f32::INFINITY,
-        );
+        let hit =
+            bvh.closest_hit(&mut scratch, c + vec3(0.0, 1.0, 0.0), vec3(0.0, -1.0, 0.0), 0.0, f32::INFINITY);
         assert_eq!(hit.map(|h| h.triangle), Some(k as u32));
     }
 }
@@ -309,32 +236,19 @@ fn hit_ids_are_scene_triangle_ids() {
 fn barycentrics_reconstruct_the_hit_point() {
     // A triangle whose doubled area is far from 1: obvhs's Triangle::compute_barycentric divides
     // by the normalized normal and is off by that factor.
-    let tri = [
-        vec3(-2.0, 0.5, -1.0),
-        vec3(3.0, 0.2, -1.5),
-        vec3(0.5, 0.1, 4.0),
-    ];
+    let tri = [vec3(-2.0, 0.5, -1.0), vec3(3.0, 0.2, -1.5), vec3(0.5, 0.1, 4.0)];
     let bvh = SceneBvh::build_from_triangles(&[tri]);
     let mut scratch = bvh.scratch();
     let origin = vec3(0.3, 5.0, 0.4);
     let dir = vec3(0.05, -1.0, 0.02).normalize();
-    let hit = bvh
-        .closest_hit(&mut scratch, origin, dir, 0.0, f32::INFINITY)
-        .expect("hit");
+    let hit = bvh.closest_hit(&mut scratch, origin, dir, 0.0, f32::INFINITY).expect("hit");
     let [b0, b1, b2] = hit.barycentric;
     assert!((b0 + b1 + b2 - 1.0).abs() < 1e-6);
     let p = tri[0] * b0 + tri[1] * b1 + tri[2] * b2;
     let on_ray = origin + dir * hit.t;
-    assert!(
-        (p - on_ray).length() < 1e-5,
-        "barycentric point {p} vs ray point {on_ray}"
-    );
-    let ob = Triangle {
-        v0: tri[0].into(),
-        v1: tri[1].into(),
-        v2: tri[2].into(),
-    }
-    .compute_barycentric(&Ray::new_inf(origin.into(), dir.into()));
+    assert!((p - on_ray).length() < 1e-5, "barycentric point {p} vs ray point {on_ray}");
+    let ob = Triangle { v0: tri[0].into(), v1: tri[1].into(), v2: tri[2].into() }
+        .compute_barycentric(&Ray::new_inf(origin.into(), dir.into()));
     assert!(
         (ob.x - b1).abs() > 0.01 || (ob.y - b2).abs() > 0.01,
         "control: obvhs's barycentrics were expected to be off"

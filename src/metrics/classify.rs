@@ -38,15 +38,8 @@ impl Counts {
 /// Scores `visibility` (one value per evaluated pixel, in `gbuffer.evaluated` order) against the
 /// hard reference.
 pub fn score_hard(gbuffer: &GBuffer, reference: &HardReference, visibility: &[f32]) -> Counts {
-    assert_eq!(
-        visibility.len(),
-        gbuffer.evaluated.len(),
-        "one visibility per evaluated pixel"
-    );
-    let mut c = Counts {
-        pixels: gbuffer.pixel_count() as u64,
-        ..Counts::default()
-    };
+    assert_eq!(visibility.len(), gbuffer.evaluated.len(), "one visibility per evaluated pixel");
+    let mut c = Counts { pixels: gbuffer.pixel_count() as u64, ..Counts::default() };
     for class in &gbuffer.class {
         match class {
             PixelClass::Background => c.background += 1,

@@ -3,8 +3,9 @@
 //! shared by every technique that reads it.
 
 use super::Plan;
-use crate::metrics::{Stopwatch, score_hard};
-use crate::raster::{LightView, RasterSettings, rasterize_nearest};
+use super::build_layers;
+use crate::metrics::{Stopwatch, median_ms, score_hard};
+use crate::raster::LightView;
 use crate::report::{ReportWriter, RunRecord, SceneRecord, Timings};
 use crate::scene::{Scene, SceneError, load_scene};
 use crate::technique::{LayerNeeds, ShadeContext, shade_evaluated};
@@ -27,24 +28,13 @@ pub enum PlanError {
     #[error("{0}")]
     Scene(#[from] SceneError),
     #[error("{file}: no camera named '{name}' (have: {have})")]
-    NoCamera {
-        file: String,
-        name: String,
-        have: String,
-    },
+    NoCamera { file: String, name: String, have: String },
     #[error("{file}: no light named '{name}' (have: {have})")]
-    NoLight {
-        file: String,
-        name: String,
-        have: String,
-    },
+    NoLight { file: String, name: String, have: String },
     #[error("plan: {0}")]
     Invalid(String),
     #[error("writing {path}: {source}")]
-    Io {
-        path: PathBuf,
-        source: std::io::Error,
-    },
+    Io { path: PathBuf, source: std::io::Error },
 }
 
 /// A loaded scene and the (camera, light) index pairs the plan runs on it.
@@ -60,20 +50,11 @@ fn select(plan: &Plan, scene: Scene) -> Result<Selected, PlanError> {
         Some(names) => names
             .iter()
             .map(|n| {
-                scene
-                    .cameras
-                    .iter()
-                    .position(|c| &c.name == n)
-                    .ok_or_else(|| PlanError::NoCamera {
-                        file: file.clone(),
-                        name: n.clone(),
-                        have: scene
-                            .cameras
-                            .iter()
-                            .map(|c| c.name.as_str())
-                            .collect::<Vec<_>>()
-                            .join(", "),
-                    })
+                scene.cameras.iter().position(|c| &c.name == n).ok_or_else(|| PlanError::NoCamera {
+                    file: file.clone(),
+                    name: n.clone(),
+                    have: scene.cameras.iter().map(|c| c.name.as_str()).collect::<Vec<_>>().join(", "),
+                })
             })
             .collect::<Result<_, _>>()?,
     };
@@ -82,27 +63,15 @@ fn select(plan: &Plan, scene: Scene) -> Result<Selected, PlanError> {
         Some(names) => names
             .iter()
             .map(|n| {
-                scene
-                    .lights
-                    .iter()
-                    .position(|l| &l.name == n)
-                    .ok_or_else(|| PlanError::NoLight {
-                        file: file.clone(),
-                        name: n.clone(),
-                        have: scene
-                            .lights
-                            .iter()
-                            .map(|l| l.name.as_str())
-                            .collect::<Vec<_>>()
-                            .join(", "),
-                    })
+                scene.lights.iter().position(|l| &l.name == n).ok_or_else(|| PlanError::NoLight {
+                    file: file.clone(),
+                    name: n.clone(),
+                    have: scene.lights.iter().map(|l| l.name.as_str()).collect::<Vec<_>>().join(", "),
+                })
             })
             .collect::<Result<_, _>>()?,
     };
-    let pairs = cams
-        .iter()
-        .flat_map(|&c| lights.iter().map(move |&l| (c, l)))
-        .collect();
+    let pairs = cams.iter().flat_map(|&c| lights.iter().map(move |&l| (c, l))).collect();
     Ok(Selected { scene, pairs })
 }
 
@@ -120,17 +89,10 @@ pub fn execute(
         ));
     }
     for t in &plan.techniques {
-        t.validate()
-            .map_err(|e| PlanError::Invalid(format!("{}: {e}", t.label())))?;
+        t.validate().map_err(|e| PlanError::Invalid(format!("{}: {e}", t.label())))?;
     }
-    if let Some(&r) = plan
-        .resolutions
-        .iter()
-        .find(|&&r| !(1..=16384).contains(&r))
-    {
-        return Err(PlanError::Invalid(format!(
-            "resolution {r} is outside 1..=16384"
-        )));
+    if let Some(&r) = plan.resolutions.iter().find(|&&r| !(1..=16384).contains(&r)) {
+        return Err(PlanError::Invalid(format!("resolution {r} is outside 1..=16384")));
     }
     // Load and check everything before the first run, and report every scene's problems at once.
     let mut selected = Vec::new();
@@ -169,23 +131,16 @@ pub fn execute(
         let bounds = scene.bounds();
         for &(ci, li) in &sel.pairs {
             let (camera, light) = (&scene.cameras[ci], &scene.lights[li]);
-            on_event(Event::Stage(format!(
-                "{}/{}/{}: reference",
-                scene.name, camera.name, light.name
-            )));
+            on_event(Event::Stage(format!("{}/{}/{}: reference", scene.name, camera.name, light.name)));
             let gbuffer = GBuffer::trace(scene, &bvh, camera, light);
             let reference = match cache {
-                Some(c) => {
-                    c.hard_reference(scene, &bvh, &gbuffer, camera, light)
-                        .map_err(io(c.dir()))?
-                        .0
-                }
+                Some(c) => c.hard_reference(scene, &bvh, &gbuffer, camera, light).map_err(io(c.dir()))?.0,
                 None => trace_hard_reference(&bvh, &gbuffer, light),
             };
             for &resolution in &plan.resolutions {
                 let view = LightView::new(light, bounds, resolution);
                 for &format in &plan.depth_formats {
-                    // Techniques grouped by the layer they read: each layer is rasterized once.
+                    // Techniques grouped by the layers they read: each set is rasterized once.
                     let mut groups: Vec<(LayerNeeds, Vec<usize>)> = Vec::new();
                     for (ti, t) in plan.techniques.iter().enumerate() {
                         let needs = t.build().layer_needs();
@@ -195,33 +150,26 @@ pub fn execute(
                         }
                     }
                     for (needs, members) in groups {
-                        let settings = RasterSettings {
-                            format,
-                            culling: needs.culling,
-                            slope_factor: needs.slope_factor,
-                            slope_units: needs.slope_units,
-                        };
                         on_event(Event::Stage(format!(
-                            "{}/{}/{}: {resolution}² {} layer",
+                            "{}/{}/{}: {resolution}² {} layers",
                             scene.name,
                             camera.name,
                             light.name,
                             format.name()
                         )));
-                        let sw = Stopwatch::start();
-                        let layer = rasterize_nearest(scene, &view, &settings);
-                        let prepare_ms = sw.ms();
+                        let (layers, prepare_ms) = build_layers(scene, &view, format, &needs, plan.repeats);
+                        let ctx = ShadeContext::new(scene, &view, layers.as_layers());
                         for ti in members {
                             let spec = &plan.techniques[ti];
                             let technique = spec.build();
-                            let ctx = ShadeContext {
-                                gbuffer: &gbuffer,
-                                view: &view,
-                                nearest: &layer,
-                            };
-                            let sw = Stopwatch::start();
-                            let visibility = shade_evaluated(technique.as_ref(), &ctx);
-                            let shade_ms = sw.ms();
+                            let mut shade_ms = Vec::with_capacity(plan.repeats);
+                            let mut visibility = Vec::new();
+                            for _ in 0..plan.repeats.max(1) {
+                                let sw = Stopwatch::start();
+                                visibility = shade_evaluated(technique.as_ref(), &gbuffer, &ctx);
+                                shade_ms.push(sw.ms());
+                            }
+                            let shade_ms = median_ms(&shade_ms);
                             let counts = score_hard(&gbuffer, &reference, &visibility);
                             let record = RunRecord {
                                 scene: scene.name.clone(),
@@ -239,12 +187,10 @@ pub fn execute(
                                     shade: shade_ms,
                                     ns_per_pixel: shade_ms * 1e6 / counts.evaluated.max(1) as f64,
                                 },
-                                layer_memory_bytes: layer.memory_bytes() as u64,
+                                layer_memory_bytes: layers.memory_bytes() as u64,
                             };
                             writer.add_run(record).map_err(io(writer.path()))?;
-                            on_event(Event::RunDone(
-                                writer.report().runs.last().expect("just added"),
-                            ));
+                            on_event(Event::RunDone(writer.report().runs.last().expect("just added")));
                         }
                     }
                 }

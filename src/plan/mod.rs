@@ -3,8 +3,10 @@
 
 mod execute;
 mod file;
+mod layers;
 mod spec;
 
 pub use execute::{Event, PlanError, execute};
-pub use file::{PLAN_FORMAT, read_plan};
-pub use spec::{Plan, default_techniques};
+pub use file::{PLAN_FORMAT, expand_technique, parse_plan, read_plan};
+pub use layers::{BuiltLayers, build_layers};
+pub use spec::{DEFAULT_PLAN_JSON, Plan};

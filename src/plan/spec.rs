@@ -2,7 +2,7 @@
 //! resolutions 512 to 4096.
 
 use crate::raster::DepthFormat;
-use crate::technique::{CullSpec, FalloffSpec, TechniqueSpec};
+use crate::technique::TechniqueSpec;
 use std::path::PathBuf;
 
 #[derive(Clone, Debug)]
@@ -15,49 +15,19 @@ pub struct Plan {
     pub techniques: Vec<TechniqueSpec>,
     pub resolutions: Vec<u32>,
     pub depth_formats: Vec<DepthFormat>,
+    /// Timings are medians over this many builds and shading passes.
+    pub repeats: usize,
 }
+
+/// The default plan file, built into the binary so that `run` works from anywhere.
+pub const DEFAULT_PLAN_JSON: &str = include_str!("../../plans/default.json");
 
 impl Plan {
-    /// The default matrix over `scenes`.
+    /// The default plan (`plans/default.json`) over `scenes`.
     pub fn default_for(scenes: Vec<PathBuf>) -> Self {
-        Plan {
-            scenes,
-            cameras: None,
-            lights: None,
-            techniques: default_techniques(),
-            resolutions: vec![512, 1024, 2048, 4096],
-            depth_formats: vec![DepthFormat::F32],
-        }
+        let mut plan = super::parse_plan(DEFAULT_PLAN_JSON, std::path::Path::new("plans/default.json"))
+            .expect("plans/default.json is valid");
+        plan.scenes = scenes;
+        plan
     }
-}
-
-/// The techniques of the default plan.
-pub fn default_techniques() -> Vec<TechniqueSpec> {
-    let mut t = vec![TechniqueSpec::None];
-    for b in [1e-4, 1e-3, 5e-3] {
-        t.push(TechniqueSpec::Constant {
-            bias_depth: Some(b),
-            bias_world: None,
-        });
-    }
-    for b in [0.01, 0.05] {
-        t.push(TechniqueSpec::Constant {
-            bias_depth: None,
-            bias_world: Some(b),
-        });
-    }
-    for (factor, units) in [(1.0, 1.0), (2.0, 4.0), (4.0, 16.0)] {
-        t.push(TechniqueSpec::SlopeScaled {
-            factor,
-            units,
-            cull: CullSpec::None,
-        });
-    }
-    for scale_texels in [0.5, 1.0, 2.0] {
-        t.push(TechniqueSpec::NormalOffset {
-            scale_texels,
-            falloff: FalloffSpec::SinTheta,
-        });
-    }
-    t
 }

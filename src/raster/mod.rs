@@ -12,4 +12,5 @@ pub use layer::DepthLayer;
 pub use projection::{LightView, Projection};
 pub use rasterize::{
     Culling, RasterSettings, rasterize_coverage, rasterize_nearest, rasterize_nearest_into,
+    rasterize_two_nearest,
 };

@@ -10,11 +10,7 @@ use std::path::Path;
 /// them as f32, or as f64 then rounding to f32, gets the same bits back.
 pub fn world_obj(scene: &Scene) -> String {
     let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "# {} — world-space triangles written by shadowtruth",
-        scene.name
-    );
+    let _ = writeln!(out, "# {} — world-space triangles written by shadowtruth", scene.name);
     let mut next_vertex = 1usize;
     for object in &scene.objects {
         let _ = writeln!(out, "o {}", object.name.replace(char::is_whitespace, "_"));
@@ -23,13 +19,7 @@ pub fn world_obj(scene: &Scene) -> String {
             for v in tri {
                 let _ = writeln!(out, "v {} {} {}", v.x as f64, v.y as f64, v.z as f64);
             }
-            let _ = writeln!(
-                out,
-                "f {} {} {}",
-                next_vertex,
-                next_vertex + 1,
-                next_vertex + 2
-            );
+            let _ = writeln!(out, "f {} {} {}", next_vertex, next_vertex + 1, next_vertex + 2);
             next_vertex += 3;
         }
     }

@@ -29,12 +29,7 @@ impl Machine {
                     .map(|m| m.trim().to_string())
             })
             .unwrap_or_else(|| std::env::consts::ARCH.to_string());
-        Machine {
-            cores: std::thread::available_parallelism()
-                .map(|n| n.get())
-                .unwrap_or(1),
-            cpu,
-        }
+        Machine { cores: std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1), cpu }
     }
 }
 
@@ -91,10 +86,7 @@ impl Report {
     pub fn new() -> Self {
         Report {
             schema: REPORT_SCHEMA.into(),
-            tool: Tool {
-                name: env!("CARGO_PKG_NAME").into(),
-                version: env!("CARGO_PKG_VERSION").into(),
-            },
+            tool: Tool { name: env!("CARGO_PKG_NAME").into(), version: env!("CARGO_PKG_VERSION").into() },
             machine: Machine::this(),
             created: humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string(),
             scenes: Vec::new(),

@@ -13,10 +13,7 @@ pub struct ReportWriter {
 impl ReportWriter {
     /// A writer of `dir/report.json`; the file appears with the first write.
     pub fn new(dir: &Path) -> Self {
-        ReportWriter {
-            path: dir.join("report.json"),
-            report: Report::new(),
-        }
+        ReportWriter { path: dir.join("report.json"), report: Report::new() }
     }
 
     pub fn path(&self) -> &Path {

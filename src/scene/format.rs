@@ -60,19 +60,12 @@ pub(crate) struct Problems {
 
 impl Problems {
     pub fn new(file: &Path) -> Self {
-        Problems {
-            file: file.to_path_buf(),
-            list: Vec::new(),
-        }
+        Problems { file: file.to_path_buf(), list: Vec::new() }
     }
 
     pub fn report(&mut self, path: &str, message: impl Into<String>) {
         let (file, path) = (self.file.clone(), path.to_string());
-        self.list.push(Problem {
-            file,
-            path,
-            message: message.into(),
-        });
+        self.list.push(Problem { file, path, message: message.into() });
     }
 }
 
@@ -151,18 +144,10 @@ pub(crate) fn read_scene(root: &Value, problems: &mut Problems) -> SceneDesc {
         desc.objects = top.each("objects", items, read_object);
     }
     if let Some(items) = top.array("cameras") {
-        desc.cameras = top
-            .each("cameras", items, read_camera)
-            .into_iter()
-            .flatten()
-            .collect();
+        desc.cameras = top.each("cameras", items, read_camera).into_iter().flatten().collect();
     }
     if let Some(items) = top.array("lights") {
-        desc.lights = top
-            .each("lights", items, read_light)
-            .into_iter()
-            .flatten()
-            .collect();
+        desc.lights = top.each("lights", items, read_light).into_iter().flatten().collect();
     }
     top.finish();
     desc
@@ -192,33 +177,21 @@ fn read_object(r: &mut Reader) -> ObjectDesc {
         None => Some(Transform::default()),
         Some(t) => t,
     };
-    ObjectDesc {
-        path: r.path.clone(),
-        name,
-        geometry,
-        closed,
-        transform,
-    }
+    ObjectDesc { path: r.path.clone(), name, geometry, closed, transform }
 }
 
 fn read_transform(r: &mut Reader) -> Option<Transform> {
     let nonzero = |v: &Value| {
         let s = as_vec3(v)?;
         match s.to_array().iter().position(|&c| c == 0.0) {
-            Some(i) => Err(format!(
-                "component {i} is zero; a scale must not flatten the object"
-            )),
+            Some(i) => Err(format!("component {i} is zero; a scale must not flatten the object")),
             None => Ok(s),
         }
     };
     let scale = r.optional_or("scale", nonzero, Vec3::ONE);
     let rotate_deg = r.optional_or("rotate_deg", as_vec3, Vec3::ZERO);
     let translate = r.optional_or("translate", as_vec3, Vec3::ZERO);
-    Some(Transform {
-        scale: scale?,
-        rotate_deg: rotate_deg?,
-        translate: translate?,
-    })
+    Some(Transform { scale: scale?, rotate_deg: rotate_deg?, translate: translate? })
 }
 
 fn read_shape(r: &mut Reader) -> Option<Shape> {
@@ -231,23 +204,14 @@ fn read_shape(r: &mut Reader) -> Option<Shape> {
         "plane" => {
             let size = r.required("size", as_positive_array::<2>);
             let subdivisions = r.optional_or("subdivisions", count(1, MAX_SEGMENTS), 1);
-            Shape::Plane {
-                size: size?,
-                subdivisions: subdivisions?,
-            }
+            Shape::Plane { size: size?, subdivisions: subdivisions? }
         }
-        "box" => Shape::Box {
-            size: r.required("size", as_positive_array::<3>)?,
-        },
+        "box" => Shape::Box { size: r.required("size", as_positive_array::<3>)? },
         "sphere" => {
             let radius = r.required("radius", as_positive);
             let segments = segments(r);
             let rings = r.optional_or("rings", count(2, MAX_SEGMENTS), 16);
-            Shape::Sphere {
-                radius: radius?,
-                segments: segments?,
-                rings: rings?,
-            }
+            Shape::Sphere { radius: radius?, segments: segments?, rings: rings? }
         }
         "cylinder" | "cone" => {
             let radius = r.required("radius", as_positive);
@@ -255,23 +219,14 @@ fn read_shape(r: &mut Reader) -> Option<Shape> {
             let segments = segments(r);
             let (radius, height, segments) = (radius?, height?, segments?);
             if kind == "cone" {
-                Shape::Cone {
-                    radius,
-                    height,
-                    segments,
-                }
+                Shape::Cone { radius, height, segments }
             } else {
-                Shape::Cylinder {
-                    radius,
-                    height,
-                    segments,
-                }
+                Shape::Cylinder { radius, height, segments }
             }
         }
         other => {
-            let message = format!(
-                "unknown shape type \"{other}\"; expected plane, box, sphere, cylinder or cone"
-            );
+            let message =
+                format!("unknown shape type \"{other}\"; expected plane, box, sphere, cylinder or cone");
             r.problem("type", message);
             r.ignore_unknown = true;
             return None;
@@ -307,10 +262,7 @@ fn read_camera(r: &mut Reader) -> Option<Camera> {
         let forward = look_at.as_dvec3() - position.as_dvec3();
         let up = up.as_dvec3();
         if forward == DVec3::ZERO {
-            r.problem(
-                "look_at",
-                "equals `position`: the camera has no viewing direction",
-            );
+            r.problem("look_at", "equals `position`: the camera has no viewing direction");
             valid = false;
         } else if !is_unit_safe(up) || forward.normalize().cross(up.normalize()).length() < 1e-6 {
             let message = "is zero or parallel to the viewing direction (look_at − position)";
@@ -337,15 +289,8 @@ fn read_light(r: &mut Reader) -> Option<Light> {
     let light = match light_type.as_deref() {
         Some("directional") => {
             let angular = r.optional("angular_diameter_deg", open_range(0.0, 90.0));
-            let kind = LightKind::Directional {
-                direction: direction?,
-            };
-            Light {
-                name: name?,
-                kind,
-                angular_diameter_deg: angular.map(|a| a as f32),
-                radius: None,
-            }
+            let kind = LightKind::Directional { direction: direction? };
+            Light { name: name?, kind, angular_diameter_deg: angular.map(|a| a as f32), radius: None }
         }
         Some("spot") => {
             let position = r.required("position", as_vec3);
@@ -355,10 +300,7 @@ fn read_light(r: &mut Reader) -> Option<Light> {
             let radius = r.optional("radius", as_positive);
             let (near, far) = (near?, far?);
             if far <= near {
-                r.problem(
-                    "far",
-                    format!("must be greater than `near` ({})", show(near)),
-                );
+                r.problem("far", format!("must be greater than `near` ({})", show(near)));
                 return None;
             }
             let kind = LightKind::Spot {
@@ -368,18 +310,10 @@ fn read_light(r: &mut Reader) -> Option<Light> {
                 near: near as f32,
                 far: far as f32,
             };
-            Light {
-                name: name?,
-                kind,
-                angular_diameter_deg: None,
-                radius: radius.map(|x| x as f32),
-            }
+            Light { name: name?, kind, angular_diameter_deg: None, radius: radius.map(|x| x as f32) }
         }
         Some(other) => {
-            r.problem(
-                "type",
-                format!("unknown light type \"{other}\"; expected directional or spot"),
-            );
+            r.problem("type", format!("unknown light type \"{other}\"; expected directional or spot"));
             r.ignore_unknown = true;
             return None;
         }
@@ -421,13 +355,7 @@ impl<'a, 'p> Reader<'a, 'p> {
     /// A reader over `value`, or `None` (reported) when it is not a JSON object.
     fn new(value: &'a Value, path: String, problems: &'p mut Problems) -> Option<Self> {
         match value.as_object() {
-            Some(map) => Some(Reader {
-                map,
-                path,
-                problems,
-                known: Vec::new(),
-                ignore_unknown: false,
-            }),
+            Some(map) => Some(Reader { map, path, problems, known: Vec::new(), ignore_unknown: false }),
             None => {
                 let message = format!("expected an object, found {}", describe(value));
                 problems.report(&path, message);
@@ -475,11 +403,7 @@ impl<'a, 'p> Reader<'a, 'p> {
     }
 
     /// A required field; `None` (reported) when missing or invalid.
-    fn required<T>(
-        &mut self,
-        key: &'static str,
-        conv: impl Fn(&Value) -> Result<T, String>,
-    ) -> Option<T> {
+    fn required<T>(&mut self, key: &'static str, conv: impl Fn(&Value) -> Result<T, String>) -> Option<T> {
         match self.get(key) {
             Some(v) => self.convert(key, v, conv),
             None => {
@@ -507,11 +431,7 @@ impl<'a, 'p> Reader<'a, 'p> {
     }
 
     /// An optional field; `None` when absent or invalid (reported).
-    fn optional<T>(
-        &mut self,
-        key: &'static str,
-        conv: impl Fn(&Value) -> Result<T, String>,
-    ) -> Option<T> {
+    fn optional<T>(&mut self, key: &'static str, conv: impl Fn(&Value) -> Result<T, String>) -> Option<T> {
         let v = self.get(key)?;
         self.convert(key, v, conv)
     }
@@ -544,12 +464,7 @@ impl<'a, 'p> Reader<'a, 'p> {
     }
 
     /// Reads every element of the array at `key` with `read`, skipping non-objects (reported).
-    fn each<T>(
-        &mut self,
-        key: &'static str,
-        items: &'a [Value],
-        read: impl Fn(&mut Reader) -> T,
-    ) -> Vec<T> {
+    fn each<T>(&mut self, key: &'static str, items: &'a [Value], read: impl Fn(&mut Reader) -> T) -> Vec<T> {
         let mut out = Vec::with_capacity(items.len());
         for (i, item) in items.iter().enumerate() {
             let path = format!("{}[{i}]", self.field_path(key));
@@ -571,10 +486,7 @@ impl<'a, 'p> Reader<'a, 'p> {
             if !self.known.contains(&key.as_str()) {
                 let path = self.field_path(key);
                 let allowed = self.known.join(", ");
-                self.problems.report(
-                    &path,
-                    format!("unknown field `{key}`; allowed fields: {allowed}"),
-                );
+                self.problems.report(&path, format!("unknown field `{key}`; allowed fields: {allowed}"));
             }
         }
     }
@@ -596,11 +508,7 @@ fn describe(v: &Value) -> String {
 
 /// A number as a user would write it: plain when moderate, in exponent form when huge or tiny.
 fn show(x: f64) -> String {
-    if x != 0.0 && !(1e-6..1e15).contains(&x.abs()) {
-        format!("{x:e}")
-    } else {
-        format!("{x}")
-    }
+    if x != 0.0 && !(1e-6..1e15).contains(&x.abs()) { format!("{x:e}") } else { format!("{x}") }
 }
 
 fn as_string(v: &Value) -> Result<String, String> {
@@ -612,16 +520,11 @@ fn as_string(v: &Value) -> Result<String, String> {
 
 fn as_name(v: &Value) -> Result<String, String> {
     let s = as_string(v)?;
-    if s.trim().is_empty() {
-        Err("must not be empty".into())
-    } else {
-        Ok(s)
-    }
+    if s.trim().is_empty() { Err("must not be empty".into()) } else { Ok(s) }
 }
 
 fn as_bool(v: &Value) -> Result<bool, String> {
-    v.as_bool()
-        .ok_or_else(|| format!("expected true or false, found {}", describe(v)))
+    v.as_bool().ok_or_else(|| format!("expected true or false, found {}", describe(v)))
 }
 
 /// A finite number that also fits in f32 (the precision of the scene's geometry).
@@ -629,9 +532,7 @@ fn as_number(v: &Value) -> Result<f64, String> {
     if let Some(token) = v.as_str().and_then(|s| s.strip_prefix(NON_FINITE_MARK)) {
         return Err(format!("{token} is not a finite number"));
     }
-    let x = v
-        .as_f64()
-        .ok_or_else(|| format!("expected a number, found {}", describe(v)))?;
+    let x = v.as_f64().ok_or_else(|| format!("expected a number, found {}", describe(v)))?;
     if !x.is_finite() || !(x as f32).is_finite() {
         return Err(format!("{} is out of the f32 range", show(x)));
     }
@@ -640,11 +541,7 @@ fn as_number(v: &Value) -> Result<f64, String> {
 
 fn as_positive(v: &Value) -> Result<f64, String> {
     let x = as_number(v)?;
-    if x > 0.0 {
-        Ok(x)
-    } else {
-        Err(format!("must be greater than 0, found {}", show(x)))
-    }
+    if x > 0.0 { Ok(x) } else { Err(format!("must be greater than 0, found {}", show(x))) }
 }
 
 fn open_range(lo: f64, hi: f64) -> impl Fn(&Value) -> Result<f64, String> {
@@ -653,10 +550,7 @@ fn open_range(lo: f64, hi: f64) -> impl Fn(&Value) -> Result<f64, String> {
         if x > lo && x < hi {
             Ok(x)
         } else {
-            Err(format!(
-                "must be between {lo} and {hi} (exclusive), found {}",
-                show(x)
-            ))
+            Err(format!("must be between {lo} and {hi} (exclusive), found {}", show(x)))
         }
     }
 }
@@ -669,10 +563,7 @@ fn count(min: u64, max: u64) -> impl Fn(&Value) -> Result<u32, String> {
             return Err(format!("expected a whole number, found {}", show(x)));
         }
         if x < min as f64 || x > max as f64 {
-            return Err(format!(
-                "must be between {min} and {max}, found {}",
-                show(x)
-            ));
+            return Err(format!("must be between {min} and {max}, found {}", show(x)));
         }
         Ok(x as u32)
     }
@@ -682,10 +573,7 @@ fn as_array_of<const N: usize>(v: &Value) -> Result<[f64; N], String> {
     let items = match v.as_array() {
         Some(items) if items.len() == N => items,
         _ => {
-            return Err(format!(
-                "expected an array of {N} numbers, found {}",
-                describe(v)
-            ));
+            return Err(format!("expected an array of {N} numbers, found {}", describe(v)));
         }
     };
     let mut out = [0.0; N];
@@ -698,10 +586,7 @@ fn as_array_of<const N: usize>(v: &Value) -> Result<[f64; N], String> {
 fn as_positive_array<const N: usize>(v: &Value) -> Result<[f64; N], String> {
     let a = as_array_of::<N>(v)?;
     match a.iter().position(|&x| x <= 0.0) {
-        Some(i) => Err(format!(
-            "component {i} must be greater than 0, found {}",
-            show(a[i])
-        )),
+        Some(i) => Err(format!("component {i} must be greater than 0, found {}", show(a[i]))),
         None => Ok(a),
     }
 }
@@ -740,18 +625,9 @@ mod tests {
         assert!(problems.is_empty(), "{problems:?}");
         let value = value.unwrap();
         assert_eq!(as_number(&value["a"][0]), Ok(1.0));
-        assert_eq!(
-            as_number(&value["a"][1]),
-            Err("-1e999 is not a finite number".into())
-        );
-        assert_eq!(
-            as_number(&value["a"][2]),
-            Err("2E+400 is not a finite number".into())
-        );
-        assert_eq!(
-            as_number(&value["b"]),
-            Err("1e999 is not a finite number".into())
-        );
+        assert_eq!(as_number(&value["a"][1]), Err("-1e999 is not a finite number".into()));
+        assert_eq!(as_number(&value["a"][2]), Err("2E+400 is not a finite number".into()));
+        assert_eq!(as_number(&value["b"]), Err("1e999 is not a finite number".into()));
         assert!(as_string(&value["b"]).is_err());
     }
 
@@ -760,10 +636,7 @@ mod tests {
         let (value, problems) = parse("{\"a\": 1e999,\n \"b\": nan}");
         assert!(value.is_none());
         assert_eq!(problems.len(), 1);
-        assert!(
-            problems[0].message.contains("at line 2 column 8"),
-            "{problems:?}"
-        );
+        assert!(problems[0].message.contains("at line 2 column 8"), "{problems:?}");
     }
 
     #[test]
@@ -772,9 +645,6 @@ mod tests {
         let desc = read_scene(&Value::Array(vec![]), &mut problems);
         assert!(desc.objects.is_empty());
         assert_eq!(problems.list.len(), 1);
-        assert_eq!(
-            problems.list[0].message,
-            "expected an object, found an array of 0 items"
-        );
+        assert_eq!(problems.list[0].message, "expected an object, found an array of 0 items");
     }
 }

@@ -24,9 +24,7 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
 pub fn load_scene_str(text: &str, source: &Path, base_dir: &Path) -> Result<Scene, SceneError> {
     let mut problems = Problems::new(source);
     let Some(root) = parse_json(text, &mut problems) else {
-        return Err(SceneError {
-            problems: problems.list,
-        });
+        return Err(SceneError { problems: problems.list });
     };
     let desc = read_scene(&root, &mut problems);
     let mut scene = Scene {
@@ -60,13 +58,7 @@ pub fn load_scene_str(text: &str, source: &Path, base_dir: &Path) -> Result<Scen
     if problems.list.is_empty() && scene.triangles.is_empty() {
         problems.report("objects", "the scene has no triangles");
     }
-    if problems.list.is_empty() {
-        Ok(scene)
-    } else {
-        Err(SceneError {
-            problems: problems.list,
-        })
-    }
+    if problems.list.is_empty() { Ok(scene) } else { Err(SceneError { problems: problems.list }) }
 }
 
 /// Transforms `mesh` to world space (each vertex rounded to f32 once, so shared vertices stay
@@ -82,11 +74,7 @@ fn add_object(scene: &mut Scene, object: &ObjectDesc, mesh: &IndexedMesh, proble
     };
     let path = format!("{}.{key}", object.path);
     let affine = transform.affine();
-    let world: Vec<Vec3> = mesh
-        .positions
-        .iter()
-        .map(|&p| affine.transform_point3(p).as_vec3())
-        .collect();
+    let world: Vec<Vec3> = mesh.positions.iter().map(|&p| affine.transform_point3(p).as_vec3()).collect();
     if world.iter().any(|v| !v.is_finite()) {
         problems.report(&path, "a vertex leaves the f32 range after the transform");
         return;
@@ -108,10 +96,7 @@ fn add_object(scene: &mut Scene, object: &ObjectDesc, mesh: &IndexedMesh, proble
     let count = scene.triangles.len() - first;
     scene.dropped_degenerate += dropped;
     if count == 0 {
-        problems.report(
-            &path,
-            format!("has no triangles ({dropped} degenerate dropped)"),
-        );
+        problems.report(&path, format!("has no triangles ({dropped} degenerate dropped)"));
     }
     match (u32::try_from(first), u32::try_from(count)) {
         (Ok(first_triangle), Ok(triangle_count)) => scene.objects.push(Object {

@@ -16,10 +16,7 @@ pub(crate) fn read_obj(path: &Path) -> Result<IndexedMesh, Vec<String>> {
     let text = String::from_utf8_lossy(&bytes);
     let bad = non_finite_vertices(&text);
     if !bad.is_empty() {
-        return Err(bad
-            .into_iter()
-            .map(|m| format!("mesh {shown}: {m}"))
-            .collect());
+        return Err(bad.into_iter().map(|m| format!("mesh {shown}: {m}")).collect());
     }
     // The update keeps compiling when tobj features add option fields.
     #[allow(clippy::needless_update)]
@@ -43,10 +40,7 @@ pub(crate) fn read_obj(path: &Path) -> Result<IndexedMesh, Vec<String>> {
             let p = DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
             if !p.is_finite() {
                 // The text scan above should have caught it; never let it through.
-                return Err(vec![format!(
-                    "mesh {shown}: non-finite vertex in `{}`",
-                    model.name
-                )]);
+                return Err(vec![format!("mesh {shown}: non-finite vertex in `{}`", model.name)]);
             }
             mesh.positions.push(p);
         }
@@ -72,9 +66,7 @@ fn non_finite_vertices(text: &str) -> Vec<String> {
             continue;
         }
         index += 1;
-        let non_finite = words
-            .take(3)
-            .any(|w| w.parse::<f32>().is_ok_and(|x| !x.is_finite()));
+        let non_finite = words.take(3).any(|w| w.parse::<f32>().is_ok_and(|x| !x.is_finite()));
         if non_finite {
             found.push((index, line_no + 1, line.trim()));
         }
@@ -85,10 +77,7 @@ fn non_finite_vertices(text: &str) -> Vec<String> {
         .map(|(i, l, text)| format!("vertex {i} (line {l}) has a non-finite coordinate: `{text}`"))
         .collect();
     if found.len() > MAX_LISTED {
-        messages.push(format!(
-            "{} more vertices have non-finite coordinates",
-            found.len() - MAX_LISTED
-        ));
+        messages.push(format!("{} more vertices have non-finite coordinates", found.len() - MAX_LISTED));
     }
     messages
 }

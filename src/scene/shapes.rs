@@ -16,23 +16,11 @@ pub enum Shape {
     /// An axis-aligned box centred at the origin.
     Box { size: [f64; 3] },
     /// A UV sphere centred at the origin; the poles are triangle fans.
-    Sphere {
-        radius: f64,
-        segments: u32,
-        rings: u32,
-    },
+    Sphere { radius: f64, segments: u32, rings: u32 },
     /// Axis y, from y = 0 to y = height, with both caps.
-    Cylinder {
-        radius: f64,
-        height: f64,
-        segments: u32,
-    },
+    Cylinder { radius: f64, height: f64, segments: u32 },
     /// Base disk at y = 0, apex at y = height.
-    Cone {
-        radius: f64,
-        height: f64,
-        segments: u32,
-    },
+    Cone { radius: f64, height: f64, segments: u32 },
 }
 
 /// Vertices and counter-clockwise index triangles.
@@ -46,13 +34,9 @@ impl Shape {
     /// Number of triangles `mesh()` will produce (checked before building huge meshes).
     pub fn triangle_count(&self) -> u64 {
         match *self {
-            Shape::Plane {
-                subdivisions: n, ..
-            } => 2 * n as u64 * n as u64,
+            Shape::Plane { subdivisions: n, .. } => 2 * n as u64 * n as u64,
             Shape::Box { .. } => 12,
-            Shape::Sphere {
-                segments, rings, ..
-            } => 2 * segments as u64 * (rings as u64 - 1),
+            Shape::Sphere { segments, rings, .. } => 2 * segments as u64 * (rings as u64 - 1),
             Shape::Cylinder { segments, .. } => 4 * segments as u64,
             Shape::Cone { segments, .. } => 2 * segments as u64,
         }
@@ -62,21 +46,9 @@ impl Shape {
         match *self {
             Shape::Plane { size, subdivisions } => plane(size, subdivisions),
             Shape::Box { size } => cuboid(size),
-            Shape::Sphere {
-                radius,
-                segments,
-                rings,
-            } => sphere(radius, segments, rings),
-            Shape::Cylinder {
-                radius,
-                height,
-                segments,
-            } => cylinder(radius, height, segments),
-            Shape::Cone {
-                radius,
-                height,
-                segments,
-            } => cone(radius, height, segments),
+            Shape::Sphere { radius, segments, rings } => sphere(radius, segments, rings),
+            Shape::Cylinder { radius, height, segments } => cylinder(radius, height, segments),
+            Shape::Cone { radius, height, segments } => cone(radius, height, segments),
         }
     }
 }
@@ -111,11 +83,7 @@ impl IndexedMesh {
     fn fan(&mut self, apex: u32, ring: u32, n: u32, above: bool) {
         for i in 0..n {
             let j = (i + 1) % n;
-            let tri = if above {
-                [ring + i, apex, ring + j]
-            } else {
-                [apex, ring + i, ring + j]
-            };
+            let tri = if above { [ring + i, apex, ring + j] } else { [apex, ring + i, ring + j] };
             self.triangles.push(tri);
         }
     }
@@ -150,22 +118,9 @@ fn cuboid(size: [f64; 3]) -> IndexedMesh {
         })
         .collect();
     // Each face as a quad, counter-clockwise seen from outside.
-    let faces = [
-        [1, 3, 7, 5],
-        [0, 4, 6, 2],
-        [2, 6, 7, 3],
-        [0, 1, 5, 4],
-        [4, 5, 7, 6],
-        [0, 2, 3, 1],
-    ];
-    let triangles = faces
-        .iter()
-        .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
-        .collect();
-    IndexedMesh {
-        positions,
-        triangles,
-    }
+    let faces = [[1, 3, 7, 5], [0, 4, 6, 2], [2, 6, 7, 3], [0, 1, 5, 4], [4, 5, 7, 6], [0, 2, 3, 1]];
+    let triangles = faces.iter().flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]]).collect();
+    IndexedMesh { positions, triangles }
 }
 
 fn sphere(radius: f64, segments: u32, rings: u32) -> IndexedMesh {
@@ -226,20 +181,13 @@ mod tests {
         }
         for (&(a, b), &n) in &edges {
             assert_eq!(n, 1, "edge {a}->{b} used {n} times");
-            assert_eq!(
-                edges.get(&(b, a)),
-                Some(&1),
-                "edge {a}->{b} has no opposite"
-            );
+            assert_eq!(edges.get(&(b, a)), Some(&1), "edge {a}->{b} has no opposite");
         }
     }
 
     fn signed_volume(m: &IndexedMesh) -> f64 {
         let p = |i: u32| m.positions[i as usize];
-        m.triangles
-            .iter()
-            .map(|t| p(t[0]).dot(p(t[1]).cross(p(t[2]))) / 6.0)
-            .sum()
+        m.triangles.iter().map(|t| p(t[0]).dot(p(t[1]).cross(p(t[2]))) / 6.0).sum()
     }
 
     fn min_area(m: &IndexedMesh) -> f64 {
@@ -251,75 +199,27 @@ mod tests {
     #[test]
     fn scene_shapes_closed_are_watertight_and_outward() {
         let cases = [
-            (
-                Shape::Box {
-                    size: [1.0, 2.0, 3.0],
-                },
-                6.0,
-                1e-12,
-            ),
-            (
-                Shape::Sphere {
-                    radius: 1.0,
-                    segments: 64,
-                    rings: 32,
-                },
-                4.0 / 3.0 * PI,
-                0.01,
-            ),
+            (Shape::Box { size: [1.0, 2.0, 3.0] }, 6.0, 1e-12),
+            (Shape::Sphere { radius: 1.0, segments: 64, rings: 32 }, 4.0 / 3.0 * PI, 0.01),
             // Two triangular pyramids on an equilateral triangle of circumradius 2.
-            (
-                Shape::Sphere {
-                    radius: 2.0,
-                    segments: 3,
-                    rings: 2,
-                },
-                4.0 * 3f64.sqrt(),
-                1e-12,
-            ),
-            (
-                Shape::Cylinder {
-                    radius: 1.0,
-                    height: 2.0,
-                    segments: 64,
-                },
-                2.0 * PI,
-                0.01,
-            ),
-            (
-                Shape::Cone {
-                    radius: 1.0,
-                    height: 3.0,
-                    segments: 64,
-                },
-                PI,
-                0.01,
-            ),
+            (Shape::Sphere { radius: 2.0, segments: 3, rings: 2 }, 4.0 * 3f64.sqrt(), 1e-12),
+            (Shape::Cylinder { radius: 1.0, height: 2.0, segments: 64 }, 2.0 * PI, 0.01),
+            (Shape::Cone { radius: 1.0, height: 3.0, segments: 64 }, PI, 0.01),
         ];
         for (shape, volume, tol) in cases {
             let m = shape.mesh();
-            assert_eq!(
-                m.triangles.len() as u64,
-                shape.triangle_count(),
-                "{shape:?}"
-            );
+            assert_eq!(m.triangles.len() as u64, shape.triangle_count(), "{shape:?}");
             assert_watertight(&m);
             let v = signed_volume(&m);
             assert!(v > 0.0, "{shape:?}: volume {v}");
-            assert!(
-                (v - volume).abs() <= tol * volume.abs().max(1.0),
-                "{shape:?}: {v}"
-            );
+            assert!((v - volume).abs() <= tol * volume.abs().max(1.0), "{shape:?}: {v}");
             assert!(min_area(&m) > 0.0, "{shape:?} has a degenerate triangle");
         }
     }
 
     #[test]
     fn scene_shapes_plane_faces_up() {
-        let shape = Shape::Plane {
-            size: [2.0, 4.0],
-            subdivisions: 3,
-        };
+        let shape = Shape::Plane { size: [2.0, 4.0], subdivisions: 3 };
         let m = shape.mesh();
         assert_eq!(m.triangles.len(), 18);
         let p = |i: u32| m.positions[i as usize];

@@ -11,11 +11,7 @@ pub struct Transform {
 
 impl Default for Transform {
     fn default() -> Self {
-        Transform {
-            scale: Vec3::ONE,
-            rotate_deg: Vec3::ZERO,
-            translate: Vec3::ZERO,
-        }
+        Transform { scale: Vec3::ONE, rotate_deg: Vec3::ZERO, translate: Vec3::ZERO }
     }
 }
 
@@ -23,21 +19,9 @@ impl Transform {
     /// The affine map `T · Rz · Ry · Rx · S`, in f64 so that each vertex is rounded to f32 once.
     pub fn affine(&self) -> DAffine3 {
         let [ax, ay, az] = self.rotate_deg.as_dvec3().to_array().map(sin_cos_deg);
-        let rx = DMat3::from_cols(
-            DVec3::X,
-            DVec3::new(0.0, ax.1, ax.0),
-            DVec3::new(0.0, -ax.0, ax.1),
-        );
-        let ry = DMat3::from_cols(
-            DVec3::new(ay.1, 0.0, -ay.0),
-            DVec3::Y,
-            DVec3::new(ay.0, 0.0, ay.1),
-        );
-        let rz = DMat3::from_cols(
-            DVec3::new(az.1, az.0, 0.0),
-            DVec3::new(-az.0, az.1, 0.0),
-            DVec3::Z,
-        );
+        let rx = DMat3::from_cols(DVec3::X, DVec3::new(0.0, ax.1, ax.0), DVec3::new(0.0, -ax.0, ax.1));
+        let ry = DMat3::from_cols(DVec3::new(ay.1, 0.0, -ay.0), DVec3::Y, DVec3::new(ay.0, 0.0, ay.1));
+        let rz = DMat3::from_cols(DVec3::new(az.1, az.0, 0.0), DVec3::new(-az.0, az.1, 0.0), DVec3::Z);
         let linear = rz * ry * rx * DMat3::from_diagonal(self.scale.as_dvec3());
         DAffine3::from_mat3_translation(linear, self.translate.as_dvec3())
     }
@@ -77,29 +61,16 @@ mod tests {
     use super::*;
 
     fn t(scale: [f32; 3], rot: [f32; 3], tr: [f32; 3]) -> Transform {
-        Transform {
-            scale: scale.into(),
-            rotate_deg: rot.into(),
-            translate: tr.into(),
-        }
+        Transform { scale: scale.into(), rotate_deg: rot.into(), translate: tr.into() }
     }
 
     #[test]
     fn scene_transform_right_handed_rotations() {
         let x = Vec3::X;
-        assert_eq!(
-            t([1.0; 3], [0.0, 90.0, 0.0], [0.0; 3]).apply(x),
-            Vec3::new(0.0, 0.0, -1.0)
-        );
+        assert_eq!(t([1.0; 3], [0.0, 90.0, 0.0], [0.0; 3]).apply(x), Vec3::new(0.0, 0.0, -1.0));
         assert_eq!(t([1.0; 3], [0.0, 0.0, 90.0], [0.0; 3]).apply(x), Vec3::Y);
-        assert_eq!(
-            t([1.0; 3], [90.0, 0.0, 0.0], [0.0; 3]).apply(Vec3::Y),
-            Vec3::Z
-        );
-        assert_eq!(
-            t([1.0; 3], [0.0, -270.0, 0.0], [0.0; 3]).apply(x),
-            Vec3::new(0.0, 0.0, -1.0)
-        );
+        assert_eq!(t([1.0; 3], [90.0, 0.0, 0.0], [0.0; 3]).apply(Vec3::Y), Vec3::Z);
+        assert_eq!(t([1.0; 3], [0.0, -270.0, 0.0], [0.0; 3]).apply(x), Vec3::new(0.0, 0.0, -1.0));
     }
 
     #[test]

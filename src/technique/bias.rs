@@ -6,8 +6,8 @@
 //! - `slope_scaled`: glPolygonOffset's `factor·m + units·r`, added to the caster depths while the
 //!   map is rasterized (OpenGL 4.6 §14.6.5; Vulkan "Depth Bias"); the test itself is plain.
 
-use super::{LayerNeeds, Sample, Technique, depth_test};
-use crate::raster::{Culling, DepthLayer, LightView};
+use super::{LayerNeeds, Sample, ShadeContext, Technique, depth_test};
+use crate::raster::Culling;
 
 pub struct NoBias;
 
@@ -16,7 +16,8 @@ impl Technique for NoBias {
         LayerNeeds::default()
     }
 
-    fn visibility(&self, s: &Sample, view: &LightView, nearest: &DepthLayer) -> f32 {
+    fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
+        let (view, nearest) = (ctx.view, ctx.layers.nearest);
         match view.project(s.position) {
             Some(uvd) => depth_test(nearest, uvd, 0.0),
             None => 1.0,
@@ -36,7 +37,8 @@ impl Technique for ConstantBias {
         LayerNeeds::default()
     }
 
-    fn visibility(&self, s: &Sample, view: &LightView, nearest: &DepthLayer) -> f32 {
+    fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
+        let (view, nearest) = (ctx.view, ctx.layers.nearest);
         let Some(uvd) = view.project(s.position) else {
             return 1.0;
         };
@@ -44,8 +46,7 @@ impl Technique for ConstantBias {
             ConstantBias::Depth(b) => b,
             ConstantBias::World(b_world) => {
                 let d_view = view.view_depth(s.position) as f64;
-                (view.depth_of_view_depth(d_view)
-                    - view.depth_of_view_depth(d_view - b_world as f64)) as f32
+                (view.depth_of_view_depth(d_view) - view.depth_of_view_depth(d_view - b_world as f64)) as f32
             }
         };
         depth_test(nearest, uvd, bias_depth)
@@ -65,10 +66,12 @@ impl Technique for SlopeScaledBias {
             culling: self.culling,
             slope_factor: self.factor,
             slope_units: self.units,
+            ..LayerNeeds::default()
         }
     }
 
-    fn visibility(&self, s: &Sample, view: &LightView, nearest: &DepthLayer) -> f32 {
+    fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
+        let (view, nearest) = (ctx.view, ctx.layers.nearest);
         match view.project(s.position) {
             Some(uvd) => depth_test(nearest, uvd, 0.0),
             None => 1.0,

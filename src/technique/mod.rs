@@ -4,60 +4,87 @@
 //! `Technique` is the trait the shading loop calls. Each family lives in its own file and cites
 //! its source; the exact formulas and our choices are in formulas.md.
 
+mod adaptive;
 mod bias;
+mod depth_layers;
 mod normal_offset;
+mod receiver_plane;
 mod shade;
 mod spec;
 
+pub use adaptive::{AdaptiveBias, EpsilonScale};
 pub use bias::{ConstantBias, NoBias, SlopeScaledBias};
+pub use depth_layers::{DualDepth, Midpoint, SecondDepth};
 pub use normal_offset::{NormalOffset, OffsetFalloff};
+pub use receiver_plane::{ReceiverPlane, receiver_plane_slope};
 pub use shade::{ShadeContext, shade_evaluated};
-pub use spec::{CullSpec, FalloffSpec, TechniqueSpec, TechniqueSpecError};
+pub use spec::{CullSpec, EpsilonSpec, FalloffSpec, TechniqueSpec, TechniqueSpecError};
 
-use crate::raster::{Culling, DepthLayer, LightView};
+use crate::raster::{Culling, DepthLayer};
 use glam::Vec3;
 
-/// One receiver: the G-buffer's surface point and its geometric normal, which faces the light.
+/// One receiver: the G-buffer's surface point, its geometric normal (which faces the light) and
+/// the scene triangle it lies on.
 #[derive(Clone, Copy, Debug)]
 pub struct Sample {
     pub position: Vec3,
     pub normal: Vec3,
+    pub triangle: u32,
 }
 
-/// How the technique's nearest depth layer must be rasterized (the depth format is the run's).
+/// How the technique's depth layers must be rasterized (the depth format is the run's).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LayerNeeds {
     pub culling: Culling,
     /// glPolygonOffset factor and units, applied while rasterizing.
     pub slope_factor: f32,
     pub slope_units: f32,
+    /// Whether the second-nearest surface z2 is read as well as the nearest z1.
+    pub second_layer: bool,
 }
 
 impl Default for LayerNeeds {
     fn default() -> Self {
-        LayerNeeds {
-            culling: Culling::None,
-            slope_factor: 0.0,
-            slope_units: 0.0,
-        }
+        LayerNeeds { culling: Culling::None, slope_factor: 0.0, slope_units: 0.0, second_layer: false }
     }
+}
+
+/// The depth layers of one light view: z1, and z2 when the technique asked for it.
+#[derive(Clone, Copy)]
+pub struct Layers<'a> {
+    pub nearest: &'a DepthLayer,
+    pub second: Option<&'a DepthLayer>,
 }
 
 /// A shadow test. Implementations do no I/O and hold only their parameters.
 pub trait Technique: Sync {
-    /// The depth layer this technique reads.
+    /// The depth layers this technique reads.
     fn layer_needs(&self) -> LayerNeeds;
     /// Visibility of `sample` in [0, 1] (1 = lit).
-    fn visibility(&self, sample: &Sample, view: &LightView, nearest: &DepthLayer) -> f32;
+    fn visibility(&self, sample: &Sample, ctx: &ShadeContext) -> f32;
+}
+
+/// The texel (x, row) holding map coordinates (u, v); a receiver outside the map is clamped to
+/// the border texel, as a clamp-to-edge sampler would.
+#[inline]
+pub fn texel_at(resolution: u32, u: f32, v: f32) -> (u32, u32) {
+    let n = resolution as f32;
+    let x = ((u * n).floor().max(0.0) as u32).min(resolution - 1);
+    let row = (((1.0 - v) * n).floor().max(0.0) as u32).min(resolution - 1);
+    (x, row)
+}
+
+/// The map coordinates (u, v) of the centre of texel (x, row).
+#[inline]
+pub fn texel_centre(resolution: u32, x: u32, row: u32) -> (f32, f32) {
+    let n = resolution as f32;
+    ((x as f32 + 0.5) / n, 1.0 - (row as f32 + 0.5) / n)
 }
 
 /// The classic depth comparison: lit when `d_receiver − bias ≤ d_map` at the texel holding
-/// (u, v); a receiver outside the map is clamped to the border texel, as a clamp-to-edge
-/// sampler would.
+/// (u, v).
 #[inline]
 pub fn depth_test(layer: &DepthLayer, uvd: Vec3, bias_depth: f32) -> f32 {
-    let n = layer.resolution;
-    let x = ((uvd.x * n as f32).floor().max(0.0) as u32).min(n - 1);
-    let row = (((1.0 - uvd.y) * n as f32).floor().max(0.0) as u32).min(n - 1);
+    let (x, row) = texel_at(layer.resolution, uvd.x, uvd.y);
     (uvd.z - bias_depth <= layer.at(x, row)) as u8 as f32
 }

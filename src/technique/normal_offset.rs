@@ -3,8 +3,7 @@
 //! projected, so both its map position and its depth change. g = sin θ follows RTR4's account of
 //! Holbert; `1 − N·L` is the variant of MJP's sample and Unity (formulas.md §2).
 
-use super::{LayerNeeds, Sample, Technique, depth_test};
-use crate::raster::{DepthLayer, LightView};
+use super::{LayerNeeds, Sample, ShadeContext, Technique, depth_test};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum OffsetFalloff {
@@ -25,7 +24,8 @@ impl Technique for NormalOffset {
         LayerNeeds::default()
     }
 
-    fn visibility(&self, s: &Sample, view: &LightView, nearest: &DepthLayer) -> f32 {
+    fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
+        let (view, nearest) = (ctx.view, ctx.layers.nearest);
         let to_light = match (view.to_light, view.position) {
             (Some(l), _) => l,
             (None, Some(pos)) => (pos - s.position).normalize(),
@@ -36,8 +36,7 @@ impl Technique for NormalOffset {
             OffsetFalloff::SinTheta => (1.0 - n_dot_l * n_dot_l).max(0.0).sqrt(),
             OffsetFalloff::OneMinusNDotL => 1.0 - n_dot_l,
         };
-        let moved =
-            s.position + s.normal * (self.scale_texels * view.texel_world_size(s.position) * g);
+        let moved = s.position + s.normal * (self.scale_texels * view.texel_world_size(s.position) * g);
         match view.project(moved) {
             Some(uvd) => depth_test(nearest, uvd, 0.0),
             None => 1.0,

@@ -67,14 +67,8 @@ impl SceneBvh {
                 depth: 0,
             };
         }
-        let obvhs_tris: Vec<Triangle> = tris
-            .iter()
-            .map(|t| Triangle {
-                v0: t[0].into(),
-                v1: t[1].into(),
-                v2: t[2].into(),
-            })
-            .collect();
+        let obvhs_tris: Vec<Triangle> =
+            tris.iter().map(|t| Triangle { v0: t[0].into(), v1: t[1].into(), v2: t[2].into() }).collect();
         // obvhs's `build_cwbvh_from_tris` without its debug validation, which panics on trees
         // deeper than its traversal stack (ours is sized to the tree). No spatial splits, so
         // every triangle is referenced once and the reordering below is a permutation.
@@ -97,12 +91,7 @@ impl SceneBvh {
             })
             .collect();
         let depth = tree_depth(&bvh);
-        SceneBvh {
-            bvh,
-            triangles,
-            scene_ids,
-            depth,
-        }
+        SceneBvh { bvh, triangles, scene_ids, depth }
     }
 
     /// The obvhs tree, whose primitive order is that of `triangles_in_tree_order`.
@@ -139,11 +128,7 @@ impl SceneBvh {
 
     fn reset(&self, s: &mut TraversalScratch, direction: Vec3A) {
         s.stack.clear();
-        s.current_group = if self.bvh.nodes.is_empty() {
-            UVec2::ZERO
-        } else {
-            uvec2(0, 0x8000_0000)
-        };
+        s.current_group = if self.bvh.nodes.is_empty() { UVec2::ZERO } else { uvec2(0, 0x8000_0000) };
         s.primitive_group = UVec2::ZERO;
         s.oct_inv4 = octant_inv4(direction);
         s.primitive_id = 0;
@@ -182,11 +167,7 @@ impl SceneBvh {
                         None => true,
                     };
                     if better {
-                        best = Some(Hit {
-                            triangle: id,
-                            t: h.t,
-                            barycentric: h.barycentric,
-                        });
+                        best = Some(Hit { triangle: id, t: h.t, barycentric: h.barycentric });
                         best_t = h.t;
                     }
                 }

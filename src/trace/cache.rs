@@ -43,8 +43,7 @@ pub fn reference_digest(scene: &Scene, camera: &Camera, light: &Light) -> String
     h.update(TRACER_VERSION.as_bytes());
     h.update(b"\0hard\0");
     h.update(scene.geometry_digest().as_bytes());
-    let floats =
-        |h: &mut Sha256, xs: &[f32]| xs.iter().for_each(|x| h.update(x.to_bits().to_le_bytes()));
+    let floats = |h: &mut Sha256, xs: &[f32]| xs.iter().for_each(|x| h.update(x.to_bits().to_le_bytes()));
     floats(&mut h, &camera.position.to_array());
     floats(&mut h, &camera.look_at.to_array());
     floats(&mut h, &camera.up.to_array());
@@ -56,13 +55,7 @@ pub fn reference_digest(scene: &Scene, camera: &Camera, light: &Light) -> String
             h.update(b"directional");
             floats(&mut h, &direction.to_array());
         }
-        LightKind::Spot {
-            position,
-            direction,
-            cone_deg,
-            near,
-            far,
-        } => {
+        LightKind::Spot { position, direction, cone_deg, near, far } => {
             h.update(b"spot");
             floats(&mut h, &position.to_array());
             floats(&mut h, &direction.to_array());
@@ -99,18 +92,12 @@ impl ReferenceCache {
             .ok()
             .and_then(|b| serde_json::from_slice::<Manifest>(&b).ok())
             .filter(|m| m.format == MANIFEST_FORMAT)
-            .unwrap_or_else(|| Manifest {
-                format: MANIFEST_FORMAT.into(),
-                entries: BTreeMap::new(),
-            })
+            .unwrap_or_else(|| Manifest { format: MANIFEST_FORMAT.into(), entries: BTreeMap::new() })
     }
 
     /// The digest recorded for a mask, if any.
     pub fn recorded_digest(&self, scene: &str, camera: &str, light: &str) -> Option<String> {
-        self.read_manifest()
-            .entries
-            .get(&key(scene, camera, light))
-            .map(|e| e.digest.clone())
+        self.read_manifest().entries.get(&key(scene, camera, light)).map(|e| e.digest.clone())
     }
 
     /// The path of a cached mask, relative to the cache folder.
@@ -119,13 +106,7 @@ impl ReferenceCache {
     }
 
     /// The cached mask when its recorded digest equals `digest` and the file decodes.
-    pub fn load(
-        &self,
-        scene: &str,
-        camera: &str,
-        light: &str,
-        digest: &str,
-    ) -> Option<CachedReference> {
+    pub fn load(&self, scene: &str, camera: &str, light: &str, digest: &str) -> Option<CachedReference> {
         let manifest = self.read_manifest();
         let entry = manifest.entries.get(&key(scene, camera, light))?;
         if entry.digest != digest {
@@ -135,11 +116,7 @@ impl ReferenceCache {
         if img.width() != entry.width || img.height() != entry.height {
             return None;
         }
-        Some(CachedReference {
-            width: img.width(),
-            height: img.height(),
-            codes: img.into_raw(),
-        })
+        Some(CachedReference { width: img.width(), height: img.height(), codes: img.into_raw() })
     }
 
     /// Writes a mask and records it in the manifest (both atomically).
@@ -154,19 +131,11 @@ impl ReferenceCache {
         codes: &[u8],
     ) -> std::io::Result<()> {
         let rel = Self::mask_path(scene, camera, light);
-        write_atomic(
-            &self.dir.join(&rel),
-            &encode_gray_png(width, height, codes)?,
-        )?;
+        write_atomic(&self.dir.join(&rel), &encode_gray_png(width, height, codes)?)?;
         let mut manifest = self.read_manifest();
         manifest.entries.insert(
             key(scene, camera, light),
-            ManifestEntry {
-                mask: rel,
-                digest: digest.into(),
-                width,
-                height,
-            },
+            ManifestEntry { mask: rel, digest: digest.into(), width, height },
         );
         let mut text = serde_json::to_string_pretty(&manifest).map_err(std::io::Error::other)?;
         text.push('\n');
@@ -188,23 +157,14 @@ impl ReferenceCache {
     ) -> std::io::Result<(super::HardReference, bool)> {
         let digest = reference_digest(scene, camera, light);
         if let Some(cached) = self.load(&scene.name, &camera.name, &light.name, &digest) {
-            let reference =
-                super::HardReference::from_mask_codes(cached.width, cached.height, &cached.codes);
+            let reference = super::HardReference::from_mask_codes(cached.width, cached.height, &cached.codes);
             if reference.mask_codes(gbuffer) == cached.codes {
                 return Ok((reference, true));
             }
         }
         let reference = super::trace_hard_reference(bvh, gbuffer, light);
         let codes = reference.mask_codes(gbuffer);
-        self.store(
-            &scene.name,
-            &camera.name,
-            &light.name,
-            &digest,
-            gbuffer.width,
-            gbuffer.height,
-            &codes,
-        )?;
+        self.store(&scene.name, &camera.name, &light.name, &digest, gbuffer.width, gbuffer.height, &codes)?;
         Ok((reference, false))
     }
 }

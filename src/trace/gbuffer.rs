@@ -60,13 +60,7 @@ pub fn to_light(light: &Light, p: DVec3) -> DVec3 {
 pub fn inside_light(light: &Light, p: DVec3) -> bool {
     match &light.kind {
         LightKind::Directional { .. } => true,
-        LightKind::Spot {
-            position,
-            direction,
-            cone_deg,
-            near,
-            far,
-        } => {
+        LightKind::Spot { position, direction, cone_deg, near, far } => {
             let axis = direction.as_dvec3().normalize();
             let offset = p - position.as_dvec3();
             let along = offset.dot(axis);
@@ -99,18 +93,13 @@ impl GBuffer {
                 |scratch, (y, ((((cls, pos), nrm), tri), obj))| {
                     for x in 0..w as usize {
                         let dir = camera.pixel_direction(&basis, x as u32, y as u32);
-                        let Some(hit) =
-                            bvh.closest_hit(scratch, camera.position, dir, 0.0, f32::INFINITY)
+                        let Some(hit) = bvh.closest_hit(scratch, camera.position, dir, 0.0, f32::INFINITY)
                         else {
                             continue;
                         };
                         let verts = &scene.triangles[hit.triangle as usize];
                         let p = barycentric_point(verts, hit.barycentric);
-                        let (v0, v1, v2) = (
-                            verts[0].as_dvec3(),
-                            verts[1].as_dvec3(),
-                            verts[2].as_dvec3(),
-                        );
+                        let (v0, v1, v2) = (verts[0].as_dvec3(), verts[1].as_dvec3(), verts[2].as_dvec3());
                         let mut ng = (v1 - v0).cross(v2 - v0).normalize();
                         if ng.dot(dir.as_dvec3()) > 0.0 {
                             ng = -ng;
@@ -131,18 +120,7 @@ impl GBuffer {
                     }
                 },
             );
-        let evaluated = (0..n as u32)
-            .filter(|&i| class[i as usize] == PixelClass::Evaluated)
-            .collect();
-        GBuffer {
-            width: w,
-            height: h,
-            class,
-            position,
-            normal,
-            triangle,
-            object,
-            evaluated,
-        }
+        let evaluated = (0..n as u32).filter(|&i| class[i as usize] == PixelClass::Evaluated).collect();
+        GBuffer { width: w, height: h, class, position, normal, triangle, object, evaluated }
     }
 }

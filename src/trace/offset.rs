@@ -11,22 +11,14 @@ const INT_SCALE: f32 = 256.0;
 /// `p` moved off its surface along `n` (unit, on the side the ray leaves towards).
 #[inline]
 pub fn offset_ray_origin(p: Vec3, n: Vec3) -> Vec3 {
-    let of_i = [
-        (INT_SCALE * n.x) as i32,
-        (INT_SCALE * n.y) as i32,
-        (INT_SCALE * n.z) as i32,
-    ];
+    let of_i = [(INT_SCALE * n.x) as i32, (INT_SCALE * n.y) as i32, (INT_SCALE * n.z) as i32];
     let p = p.to_array();
     let n = n.to_array();
     let mut out = [0.0f32; 3];
     for k in 0..3 {
         let shift = if p[k] < 0.0 { -of_i[k] } else { of_i[k] };
         let p_i = f32::from_bits((p[k].to_bits() as i32).wrapping_add(shift) as u32);
-        out[k] = if p[k].abs() < ORIGIN {
-            p[k] + FLOAT_SCALE * n[k]
-        } else {
-            p_i
-        };
+        out[k] = if p[k].abs() < ORIGIN { p[k] + FLOAT_SCALE * n[k] } else { p_i };
     }
     Vec3::from_array(out)
 }

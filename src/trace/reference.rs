@@ -49,10 +49,7 @@ impl HardReference {
         HardReference {
             width,
             height,
-            lit: codes
-                .iter()
-                .map(|&c| (c == MaskCode::Lit as u8) as u8)
-                .collect(),
+            lit: codes.iter().map(|&c| (c == MaskCode::Lit as u8) as u8).collect(),
         }
     }
 }
@@ -72,9 +69,7 @@ pub fn trace_hard_reference(bvh: &SceneBvh, gbuffer: &GBuffer, light: &Light) ->
                 let p = gbuffer.position[i];
                 let origin = offset_ray_origin(p, gbuffer.normal[i]);
                 let (dir, tmax) = match &light.kind {
-                    LightKind::Directional { .. } => {
-                        (to_light(light, p.as_dvec3()).as_vec3(), f32::INFINITY)
-                    }
+                    LightKind::Directional { .. } => (to_light(light, p.as_dvec3()).as_vec3(), f32::INFINITY),
                     LightKind::Spot { position, .. } => {
                         let to = position.as_dvec3() - origin.as_dvec3();
                         (to.normalize().as_vec3(), to.length() as f32)
@@ -84,9 +79,5 @@ pub fn trace_hard_reference(bvh: &SceneBvh, gbuffer: &GBuffer, light: &Light) ->
             }
         },
     );
-    HardReference {
-        width: gbuffer.width,
-        height: gbuffer.height,
-        lit,
-    }
+    HardReference { width: gbuffer.width, height: gbuffer.height, lit }
 }

@@ -5,10 +5,7 @@ use std::arch::x86_64::*;
 
 /// Four f32 lanes.
 #[derive(Clone, Copy)]
-pub struct F4(
-    #[cfg(target_arch = "x86_64")] __m128,
-    #[cfg(not(target_arch = "x86_64"))] [f32; 4],
-);
+pub struct F4(#[cfg(target_arch = "x86_64")] __m128, #[cfg(not(target_arch = "x86_64"))] [f32; 4]);
 
 /// Per-lane entry and exit distances of four boxes.
 pub struct Span4 {
@@ -29,23 +26,13 @@ impl F4 {
     #[inline(always)]
     pub fn from_u8(v: &[u8; 8], first: usize) -> Self {
         unsafe {
-            F4(_mm_set_ps(
-                v[first + 3] as f32,
-                v[first + 2] as f32,
-                v[first + 1] as f32,
-                v[first] as f32,
-            ))
+            F4(_mm_set_ps(v[first + 3] as f32, v[first + 2] as f32, v[first + 1] as f32, v[first] as f32))
         }
     }
     /// self · a + b, with two roundings (no fused multiply-add).
     #[inline(always)]
     pub fn mul_add(self, a: f32, b: f32) -> Self {
-        unsafe {
-            F4(_mm_add_ps(
-                _mm_mul_ps(self.0, _mm_set1_ps(a)),
-                _mm_set1_ps(b),
-            ))
-        }
+        unsafe { F4(_mm_add_ps(_mm_mul_ps(self.0, _mm_set1_ps(a)), _mm_set1_ps(b))) }
     }
     #[inline(always)]
     pub fn sub_scalar(self, a: f32) -> Self {
@@ -82,10 +69,7 @@ impl F4 {
         unsafe {
             let x = _mm_set1_ps(x);
             let mask = _mm_and_ps(_mm_cmple_ps(lo.0, x), _mm_cmple_ps(x, hi.0));
-            F4(_mm_or_ps(
-                _mm_and_ps(mask, _mm_set1_ps(inside)),
-                _mm_andnot_ps(mask, _mm_set1_ps(outside)),
-            ))
+            F4(_mm_or_ps(_mm_and_ps(mask, _mm_set1_ps(inside)), _mm_andnot_ps(mask, _mm_set1_ps(outside))))
         }
     }
 }
@@ -130,23 +114,14 @@ impl F4 {
     }
     #[inline(always)]
     fn select_between(lo: Self, hi: Self, x: f32, inside: f32, outside: f32) -> Self {
-        F4(std::array::from_fn(|k| {
-            if lo.0[k] <= x && x <= hi.0[k] {
-                inside
-            } else {
-                outside
-            }
-        }))
+        F4(std::array::from_fn(|k| if lo.0[k] <= x && x <= hi.0[k] { inside } else { outside }))
     }
 }
 
 impl Span4 {
     #[inline(always)]
     pub fn new(tmin: f32, tmax: f32) -> Self {
-        Span4 {
-            enter: F4::splat(tmin),
-            exit: F4::splat(tmax),
-        }
+        Span4 { enter: F4::splat(tmin), exit: F4::splat(tmax) }
     }
 
     /// Intersects with the slab distances [near, far], widened by the rounding slack.
@@ -159,13 +134,7 @@ impl Span4 {
     /// Along an axis the ray does not move: keep the lanes whose slab [lo, hi] holds `origin`.
     #[inline(always)]
     pub fn keep_if_between(&mut self, lo: F4, hi: F4, origin: f32) {
-        self.enter = self.enter.max(F4::select_between(
-            lo,
-            hi,
-            origin,
-            f32::NEG_INFINITY,
-            f32::INFINITY,
-        ));
+        self.enter = self.enter.max(F4::select_between(lo, hi, origin, f32::NEG_INFINITY, f32::INFINITY));
     }
 
     /// Bit k set where box k is entered no later than it is left.

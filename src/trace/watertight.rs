@@ -41,28 +41,12 @@ impl WatertightRay {
             std::mem::swap(&mut kx, &mut ky);
         }
         let sz = 1.0 / direction[kz];
-        WatertightRay {
-            origin,
-            direction,
-            kx,
-            ky,
-            kz,
-            sx: direction[kx] * sz,
-            sy: direction[ky] * sz,
-            sz,
-        }
+        WatertightRay { origin, direction, kx, ky, kz, sx: direction[kx] * sz, sy: direction[ky] * sz, sz }
     }
 
     /// The hit with t in the closed interval [tmin, tmax], from either side of the triangle.
     #[inline]
-    pub fn intersect(
-        &self,
-        v0: Vec3A,
-        v1: Vec3A,
-        v2: Vec3A,
-        tmin: f32,
-        tmax: f32,
-    ) -> Option<RayTriangleHit> {
+    pub fn intersect(&self, v0: Vec3A, v1: Vec3A, v2: Vec3A, tmin: f32, tmax: f32) -> Option<RayTriangleHit> {
         let (kx, ky, kz) = (self.kx, self.ky, self.kz);
         let a = v0 - self.origin;
         let b = v1 - self.origin;
@@ -100,10 +84,7 @@ impl WatertightRay {
         if !(t >= tmin && t <= tmax) {
             return None;
         }
-        Some(RayTriangleHit {
-            t,
-            barycentric: [u * inv_det, v * inv_det, w * inv_det],
-        })
+        Some(RayTriangleHit { t, barycentric: [u * inv_det, v * inv_det, w * inv_det] })
     }
 }
 
@@ -125,10 +106,7 @@ fn intersect_f64(xy: [f32; 6], z: [f32; 3], tmin: f32, tmax: f32) -> Option<RayT
     if !(t >= tmin && t <= tmax) {
         return None;
     }
-    Some(RayTriangleHit {
-        t,
-        barycentric: [(u / det) as f32, (v / det) as f32, (w / det) as f32],
-    })
+    Some(RayTriangleHit { t, barycentric: [(u / det) as f32, (v / det) as f32, (w / det) as f32] })
 }
 
 /// The point of a hit from the triangle's vertices and barycentrics, in f64 (not origin + t·dir).

@@ -15,8 +15,7 @@ pub fn bundled(name: &str) -> Scene {
 
 pub fn scene_from_json(json: &serde_json::Value) -> Scene {
     let text = serde_json::to_string(json).unwrap();
-    load_scene_str(&text, Path::new("test.json"), &repo().join("scenes"))
-        .unwrap_or_else(|e| panic!("{e}"))
+    load_scene_str(&text, Path::new("test.json"), &repo().join("scenes")).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// G-buffer and hard reference of the scene's first camera and light.
@@ -38,8 +37,7 @@ pub fn near_boundary(width: u32, height: u32, codes: &[u8]) -> Vec<bool> {
             'n: for dy in -1..=1 {
                 for dx in -1..=1 {
                     let (nx, ny) = (x + dx, y + dy);
-                    if nx >= 0 && ny >= 0 && nx < w && ny < h && codes[(ny * w + nx) as usize] != c
-                    {
+                    if nx >= 0 && ny >= 0 && nx < w && ny < h && codes[(ny * w + nx) as usize] != c {
                         out[(y * w + x) as usize] = true;
                         break 'n;
                     }
@@ -48,4 +46,22 @@ pub fn near_boundary(width: u32, height: u32, codes: &[u8]) -> Vec<bool> {
         }
     }
     out
+}
+
+/// Runs one technique on a traced G-buffer and scores it: (counts, visibility per evaluated pixel).
+pub fn score_technique(
+    scene: &Scene,
+    g: &GBuffer,
+    r: &HardReference,
+    spec: &shadowtruth::technique::TechniqueSpec,
+    resolution: u32,
+    format: shadowtruth::raster::DepthFormat,
+) -> (shadowtruth::metrics::Counts, Vec<f32>) {
+    use shadowtruth::technique::{ShadeContext, shade_evaluated};
+    let technique = spec.build();
+    let view = shadowtruth::raster::LightView::new(&scene.lights[0], scene.bounds(), resolution);
+    let (layers, _) = shadowtruth::plan::build_layers(scene, &view, format, &technique.layer_needs(), 1);
+    let ctx = ShadeContext::new(scene, &view, layers.as_layers());
+    let v = shade_evaluated(technique.as_ref(), g, &ctx);
+    (shadowtruth::metrics::score_hard(g, r, &v), v)
 }

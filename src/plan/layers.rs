@@ -1,0 +1,56 @@
+//! Building the depth layers a group of techniques reads, once per (light view, depth format,
+//! layer needs), timed as the median of repeats.
+
+use crate::metrics::{Stopwatch, median_ms};
+use crate::raster::{
+    DepthFormat, DepthLayer, LightView, RasterSettings, rasterize_nearest, rasterize_two_nearest,
+};
+use crate::scene::Scene;
+use crate::technique::{LayerNeeds, Layers};
+
+/// The depth layers of one group of techniques.
+pub struct BuiltLayers {
+    pub nearest: DepthLayer,
+    pub second: Option<DepthLayer>,
+}
+
+impl BuiltLayers {
+    pub fn as_layers(&self) -> Layers<'_> {
+        Layers { nearest: &self.nearest, second: self.second.as_ref() }
+    }
+
+    pub fn memory_bytes(&self) -> usize {
+        self.nearest.memory_bytes() + self.second.as_ref().map_or(0, DepthLayer::memory_bytes)
+    }
+}
+
+/// Rasterizes the layers `needs` asks for, `repeats` times; returns the last build and the
+/// median time in milliseconds.
+pub fn build_layers(
+    scene: &Scene,
+    view: &LightView,
+    format: DepthFormat,
+    needs: &LayerNeeds,
+    repeats: usize,
+) -> (BuiltLayers, f64) {
+    let settings = RasterSettings {
+        format,
+        culling: needs.culling,
+        slope_factor: needs.slope_factor,
+        slope_units: needs.slope_units,
+    };
+    let mut times = Vec::new();
+    let mut built = None;
+    for _ in 0..repeats.max(1) {
+        let sw = Stopwatch::start();
+        let layers = if needs.second_layer {
+            let (nearest, second) = rasterize_two_nearest(scene, view, &settings);
+            BuiltLayers { nearest, second: Some(second) }
+        } else {
+            BuiltLayers { nearest: rasterize_nearest(scene, view, &settings), second: None }
+        };
+        times.push(sw.ms());
+        built = Some(layers);
+    }
+    (built.expect("at least one build"), median_ms(&times))
+}

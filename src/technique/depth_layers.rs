@@ -1,0 +1,84 @@
+//! Techniques that compare against more than the nearest surface (formulas.md §4).
+//!
+//! - `second_depth` (Wang & Molnar, UNC TR94-019, 1994): the map holds the back faces of closed
+//!   objects (front faces culled) and both sides of open ones; lit when `z_ref ≤ z_map`.
+//!   Receivers facing away from the light are never evaluated (N·L ≤ 0 is attached shadow).
+//! - `midpoint` (Woo, "The Shadow Depth Map Revisited", Graphics Gems III, 1992): the threshold
+//!   halfway between the two nearest surfaces z1 < z2.
+//! - `dual` (Weiskopf & Ertl, "Shadow Mapping Based on Dual Depth Layers", Eurographics 2003):
+//!   `z1 + min((z2 − z1)/2, z_offset)`.
+//!
+//! Where a texel has no second surface, z2 is the far plane (the cleared value 1). Midpoint is
+//! computed as `z1 + (z2 − z1)/2`, the same arithmetic as dual, so that dual with an offset of
+//! at least ½ is midpoint bit for bit and dual with offset 0 is the plain test.
+
+use super::{LayerNeeds, Sample, ShadeContext, Technique, texel_at};
+use crate::raster::Culling;
+
+pub struct SecondDepth {
+    pub bias_depth: f32,
+}
+
+impl Technique for SecondDepth {
+    fn layer_needs(&self) -> LayerNeeds {
+        LayerNeeds { culling: Culling::FrontFacesOfClosed, ..LayerNeeds::default() }
+    }
+
+    fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
+        match ctx.view.project(s.position) {
+            Some(uvd) => super::depth_test(ctx.layers.nearest, uvd, self.bias_depth),
+            None => 1.0,
+        }
+    }
+}
+
+fn layer_culling(cull_back_faces: bool) -> Culling {
+    if cull_back_faces { Culling::BackFacesOfClosed } else { Culling::None }
+}
+
+/// Lit when `z_ref ≤ z1 + min((z2 − z1)/2, z_offset)`.
+fn dual_test(s: &Sample, ctx: &ShadeContext, z_offset: f32) -> f32 {
+    let Some(uvd) = ctx.view.project(s.position) else { return 1.0 };
+    let z1_map = ctx.layers.nearest;
+    let z2_map = ctx.layers.second.expect("the second depth layer was requested");
+    let (x, row) = texel_at(z1_map.resolution, uvd.x, uvd.y);
+    let (z1, z2) = (z1_map.at(x, row), z2_map.at(x, row));
+    (uvd.z <= z1 + ((z2 - z1) * 0.5).min(z_offset)) as u8 as f32
+}
+
+pub struct Midpoint {
+    pub cull_back_faces: bool,
+}
+
+impl Technique for Midpoint {
+    fn layer_needs(&self) -> LayerNeeds {
+        LayerNeeds {
+            culling: layer_culling(self.cull_back_faces),
+            second_layer: true,
+            ..LayerNeeds::default()
+        }
+    }
+
+    fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
+        dual_test(s, ctx, f32::INFINITY)
+    }
+}
+
+pub struct DualDepth {
+    pub z_offset: f32,
+    pub cull_back_faces: bool,
+}
+
+impl Technique for DualDepth {
+    fn layer_needs(&self) -> LayerNeeds {
+        LayerNeeds {
+            culling: layer_culling(self.cull_back_faces),
+            second_layer: true,
+            ..LayerNeeds::default()
+        }
+    }
+
+    fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
+        dual_test(s, ctx, self.z_offset)
+    }
+}

@@ -1,0 +1,49 @@
+//! Receiver-plane depth bias (Isidoro, "Shadow Mapping: GPU-based Tips and Techniques", GDC 2006;
+//! formulas.md §3). The receiver's depth is tilted along its own plane to the point where the
+//! map was sampled: `z_c = z + z_u·(u_c − u) + z_v·(v_c − v)` at the centre (u_c, v_c) of the
+//! texel that holds the receiver. A GPU takes (z_u, z_v) from screen-space derivatives; we take
+//! them exactly from the hit triangle's plane in (u, v, d) space (planes stay planes under the
+//! light's projection). No clamp; `bias_depth` adds a constant bias only when asked.
+
+use super::{LayerNeeds, Sample, ShadeContext, Technique, texel_at, texel_centre};
+use crate::raster::LightView;
+use glam::{DVec2, Vec3};
+
+pub struct ReceiverPlane {
+    pub bias_depth: f32,
+}
+
+/// (∂d/∂u, ∂d/∂v) of the plane through a triangle's three projected vertices, in f64; None when
+/// a vertex lies behind the light or the triangle is seen edge-on from the light.
+pub fn receiver_plane_slope(view: &LightView, tri: &[Vec3; 3]) -> Option<(f64, f64)> {
+    let p0 = view.project(tri[0])?.as_dvec3();
+    let p1 = view.project(tri[1])?.as_dvec3();
+    let p2 = view.project(tri[2])?.as_dvec3();
+    let (e1, e2) = (p1 - p0, p2 - p0);
+    let det = DVec2::new(e1.x, e1.y).perp_dot(DVec2::new(e2.x, e2.y));
+    if det.abs() < 1e-300 {
+        return None;
+    }
+    let z_u = (e1.z * e2.y - e2.z * e1.y) / det;
+    let z_v = (e1.x * e2.z - e2.x * e1.z) / det;
+    Some((z_u, z_v))
+}
+
+impl Technique for ReceiverPlane {
+    fn layer_needs(&self) -> LayerNeeds {
+        LayerNeeds::default()
+    }
+
+    fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
+        let Some(uvd) = ctx.view.project(s.position) else { return 1.0 };
+        let map = ctx.layers.nearest;
+        let (x, row) = texel_at(map.resolution, uvd.x, uvd.y);
+        let (u_c, v_c) = texel_centre(map.resolution, x, row);
+        let tri = &ctx.scene.triangles[s.triangle as usize];
+        let z_c = match receiver_plane_slope(ctx.view, tri) {
+            Some((z_u, z_v)) => uvd.z + (z_u * (u_c - uvd.x) as f64 + z_v * (v_c - uvd.y) as f64) as f32,
+            None => uvd.z,
+        };
+        (z_c - self.bias_depth <= map.at(x, row)) as u8 as f32
+    }
+}
