@@ -30,20 +30,26 @@ pub struct AdaptiveBias {
 /// Ehm et al.'s cap on the 1/(N·L)² factor.
 const EHM_THRESHOLD: f32 = 100.0;
 
-impl Technique for AdaptiveBias {
-    fn layer_needs(&self) -> LayerNeeds {
-        LayerNeeds::default()
-    }
+/// One adaptive comparison: the texel read, the depth compared (`min(d_occluder, d_receiver)`)
+/// and the epsilon subtracted from it. Lit when `compared − epsilon ≤ map(texel)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AdaptiveTest {
+    pub texel: (u32, u32),
+    pub occluder_depth: Option<f32>,
+    pub compared_depth: f32,
+    pub epsilon: f32,
+}
 
-    fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
+impl AdaptiveBias {
+    /// The comparison for `s`, or None when the receiver lies behind the light.
+    pub fn test(&self, s: &Sample, ctx: &ShadeContext) -> Option<AdaptiveTest> {
         let view = ctx.view;
-        let Some(uvd) = view.project(s.position) else { return 1.0 };
-        let map = ctx.layers.nearest;
-        let (x, row) = texel_at(map.resolution, uvd.x, uvd.y);
-        let d_occluder = potential_occluder_depth(s, ctx, texel_centre(map.resolution, x, row));
-        let d_compared = d_occluder.map_or(uvd.z, |d| d.min(uvd.z));
+        let uvd = view.project(s.position)?;
+        let resolution = ctx.layers.nearest.resolution;
+        let texel = texel_at(resolution, uvd.x, uvd.y);
+        let occluder_depth = potential_occluder_depth(s, ctx, texel_centre(resolution, texel.0, texel.1));
         let (n, f) = (view.near, view.far);
-        let d_eps = d_occluder.unwrap_or(uvd.z);
+        let d_eps = occluder_depth.unwrap_or(uvd.z);
         let world_tolerance = self.k * ctx.scene_scale;
         let mut epsilon = match view.projection {
             Projection::Orthographic { .. } => world_tolerance / (f - n),
@@ -56,12 +62,28 @@ impl Technique for AdaptiveBias {
             let to_light = match (view.to_light, view.position) {
                 (Some(l), _) => l,
                 (None, Some(p)) => (p - s.position).normalize(),
-                (None, None) => return 1.0,
+                (None, None) => return None,
             };
             let n_dot_l = s.normal.dot(to_light);
             epsilon *= (1.0 / (n_dot_l * n_dot_l)).min(EHM_THRESHOLD);
         }
-        (d_compared - epsilon <= map.at(x, row)) as u8 as f32
+        let compared_depth = occluder_depth.map_or(uvd.z, |d| d.min(uvd.z));
+        Some(AdaptiveTest { texel, occluder_depth, compared_depth, epsilon })
+    }
+}
+
+impl Technique for AdaptiveBias {
+    fn layer_needs(&self) -> LayerNeeds {
+        LayerNeeds::default()
+    }
+
+    fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
+        match self.test(s, ctx) {
+            Some(t) => {
+                (t.compared_depth - t.epsilon <= ctx.layers.nearest.at(t.texel.0, t.texel.1)) as u8 as f32
+            }
+            None => 1.0,
+        }
     }
 }
 

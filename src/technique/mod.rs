@@ -12,7 +12,7 @@ mod receiver_plane;
 mod shade;
 mod spec;
 
-pub use adaptive::{AdaptiveBias, EpsilonScale};
+pub use adaptive::{AdaptiveBias, AdaptiveTest, EpsilonScale};
 pub use bias::{ConstantBias, NoBias, SlopeScaledBias};
 pub use depth_layers::{DualDepth, Midpoint, SecondDepth};
 pub use normal_offset::{NormalOffset, OffsetFalloff};
