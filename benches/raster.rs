@@ -3,9 +3,7 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::Vec3;
-use shadowtruth::raster::{
-    DepthLayer, LightView, RasterSettings, rasterize_nearest, rasterize_nearest_into,
-};
+use shadowtruth::raster::{DepthLayer, LightView, RasterSettings, rasterize_nearest, rasterize_nearest_into};
 use shadowtruth::scene::{Light, LightKind, Object, Scene};
 use std::hint::black_box;
 
@@ -15,23 +13,12 @@ fn sphere_over_plane(rings: usize, segments: usize) -> Scene {
     let point = |i: usize, j: usize| {
         let theta = std::f32::consts::PI * i as f32 / rings as f32;
         let phi = std::f32::consts::TAU * j as f32 / segments as f32;
-        centre
-            + radius
-                * Vec3::new(
-                    theta.sin() * phi.cos(),
-                    theta.cos(),
-                    theta.sin() * phi.sin(),
-                )
+        centre + radius * Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin())
     };
     let mut triangles = vec![];
     for i in 0..rings {
         for j in 0..segments {
-            let (a, b, c, d) = (
-                point(i, j),
-                point(i + 1, j),
-                point(i + 1, j + 1),
-                point(i, j + 1),
-            );
+            let (a, b, c, d) = (point(i, j), point(i + 1, j), point(i + 1, j + 1), point(i, j + 1));
             for t in [[a, c, b], [a, d, c]] {
                 if (t[1] - t[0]).cross(t[2] - t[0]).length_squared() > 0.0 {
                     triangles.push(t);
@@ -40,34 +27,16 @@ fn sphere_over_plane(rings: usize, segments: usize) -> Scene {
         }
     }
     let sphere_count = triangles.len() as u32;
-    triangles.push([
-        Vec3::new(-4.0, 0.0, -4.0),
-        Vec3::new(4.0, 0.0, 4.0),
-        Vec3::new(4.0, 0.0, -4.0),
-    ]);
-    triangles.push([
-        Vec3::new(-4.0, 0.0, -4.0),
-        Vec3::new(-4.0, 0.0, 4.0),
-        Vec3::new(4.0, 0.0, 4.0),
-    ]);
+    triangles.push([Vec3::new(-4.0, 0.0, -4.0), Vec3::new(4.0, 0.0, 4.0), Vec3::new(4.0, 0.0, -4.0)]);
+    triangles.push([Vec3::new(-4.0, 0.0, -4.0), Vec3::new(-4.0, 0.0, 4.0), Vec3::new(4.0, 0.0, 4.0)]);
     let mut triangle_object = vec![0u32; sphere_count as usize];
     triangle_object.extend([1, 1]);
     Scene {
         name: "sphere_over_plane".into(),
         source: Default::default(),
         objects: vec![
-            Object {
-                name: "sphere".into(),
-                closed: true,
-                first_triangle: 0,
-                triangle_count: sphere_count,
-            },
-            Object {
-                name: "ground".into(),
-                closed: false,
-                first_triangle: sphere_count,
-                triangle_count: 2,
-            },
+            Object { name: "sphere".into(), closed: true, first_triangle: 0, triangle_count: sphere_count },
+            Object { name: "ground".into(), closed: false, first_triangle: sphere_count, triangle_count: 2 },
         ],
         triangles,
         triangle_object,
@@ -81,16 +50,11 @@ fn bench_raster(c: &mut Criterion) {
     let scene = sphere_over_plane(72, 72);
     let sun = Light {
         name: "sun".into(),
-        kind: LightKind::Directional {
-            direction: Vec3::new(-0.3, -1.0, -0.2).normalize(),
-        },
+        kind: LightKind::Directional { direction: Vec3::new(-0.3, -1.0, -0.2).normalize() },
         angular_diameter_deg: None,
         radius: None,
     };
-    let mut group = c.benchmark_group(format!(
-        "rasterize_nearest_{}_triangles",
-        scene.triangles.len()
-    ));
+    let mut group = c.benchmark_group(format!("rasterize_nearest_{}_triangles", scene.triangles.len()));
     group.sample_size(10);
     for resolution in [1024, 4096] {
         let view = LightView::new(&sun, scene.bounds(), resolution);

@@ -25,8 +25,7 @@ fn scene(objects: Vec<(Vec<[Vec3; 3]>, bool)>) -> Scene {
             first_triangle: s.triangles.len() as u32,
             triangle_count: tris.len() as u32,
         });
-        s.triangle_object
-            .extend(std::iter::repeat_n(i as u32, tris.len()));
+        s.triangle_object.extend(std::iter::repeat_n(i as u32, tris.len()));
         s.triangles.extend(tris);
     }
     s
@@ -44,12 +43,7 @@ fn texel_view(n: u32) -> LightView {
     );
     LightView {
         resolution: n,
-        projection: Projection::Orthographic {
-            left: 0.0,
-            right: n as f32,
-            bottom: -(n as f32),
-            top: 0.0,
-        },
+        projection: Projection::Orthographic { left: 0.0, right: n as f32, bottom: -(n as f32), top: 0.0 },
         light_from_world: Mat4::from_scale(Vec3::new(1.0, 1.0, -1.0)),
         clip_from_world,
         near: 0.0,
@@ -120,16 +114,10 @@ fn quad_split_along_a_diagonal_covers_each_texel_once() {
         &texel_view(32),
         &RasterSettings::default(),
     );
-    let covered: Vec<(u32, u32)> = (0..32 * 32)
-        .filter(|&i| count[i as usize] == 1)
-        .map(|i| (i % 32, i / 32))
-        .collect();
+    let covered: Vec<(u32, u32)> =
+        (0..32 * 32).filter(|&i| count[i as usize] == 1).map(|i| (i % 32, i / 32)).collect();
     assert_eq!(covered.len(), 16 * 14);
-    assert!(
-        covered
-            .iter()
-            .all(|&(x, y)| (4..20).contains(&x) && (3..17).contains(&y))
-    );
+    assert!(covered.iter().all(|&(x, y)| (4..20).contains(&x) && (3..17).contains(&y)));
 }
 
 #[test]
@@ -147,17 +135,10 @@ fn fan_around_a_shared_vertex_covers_each_texel_once() {
         .map(|k| {
             let (a, b) = (v(ring[k]), v(ring[(k + 1) % ring.len()]));
             // Mixed windings: both are rasterized.
-            if k % 2 == 0 {
-                [v(centre), a, b]
-            } else {
-                [b, v(centre), a]
-            }
+            if k % 2 == 0 { [v(centre), a, b] } else { [b, v(centre), a] }
         })
         .collect();
-    let outline: Vec<(f64, f64)> = ring
-        .iter()
-        .map(|&q| (q.0 as f32 as f64, q.1 as f32 as f64))
-        .collect();
+    let outline: Vec<(f64, f64)> = ring.iter().map(|&q| (q.0 as f32 as f64, q.1 as f32 as f64)).collect();
     assert_exact_cover(tris, &outline, 32);
 }
 
@@ -189,35 +170,21 @@ fn jittered_grid_mesh_is_watertight() {
         for i in 0..cells {
             let at = |i: usize, j: usize| grid[j * (cells + 1) + i];
             let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
-            let pair = if (i + j) % 2 == 0 {
-                [[a, b, c], [a, c, d]]
-            } else {
-                [[a, b, d], [b, c, d]]
-            };
+            let pair = if (i + j) % 2 == 0 { [[a, b, c], [a, c, d]] } else { [[a, b, d], [b, c, d]] };
             for (k, t) in pair.into_iter().enumerate() {
-                tris.push(if (i + k) % 3 == 0 {
-                    [t[0], t[2], t[1]]
-                } else {
-                    t
-                });
+                tris.push(if (i + k) % 3 == 0 { [t[0], t[2], t[1]] } else { t });
             }
         }
     }
-    let outline = [
-        (x0 as f64, y0 as f64),
-        (x1 as f64, y0 as f64),
-        (x1 as f64, y1 as f64),
-        (x0 as f64, y1 as f64),
-    ];
+    let outline =
+        [(x0 as f64, y0 as f64), (x1 as f64, y0 as f64), (x1 as f64, y1 as f64), (x0 as f64, y1 as f64)];
     assert_exact_cover(tris, &outline, 64);
 }
 
 fn sun(direction: Vec3) -> Light {
     Light {
         name: "sun".into(),
-        kind: LightKind::Directional {
-            direction: direction.normalize(),
-        },
+        kind: LightKind::Directional { direction: direction.normalize() },
         angular_diameter_deg: None,
         radius: None,
     }
@@ -225,18 +192,10 @@ fn sun(direction: Vec3) -> Light {
 
 #[test]
 fn depth_is_the_triangle_plane_at_texel_centres() {
-    let tri = [
-        Vec3::new(-2.1, 0.3, -1.7),
-        Vec3::new(2.6, 1.9, -0.4),
-        Vec3::new(-0.7, -0.2, 2.3),
-    ];
+    let tri = [Vec3::new(-2.1, 0.3, -1.7), Vec3::new(2.6, 1.9, -0.4), Vec3::new(-0.7, -0.2, 2.3)];
     let s = scene(vec![(vec![tri], false)]);
     let n = 256;
-    let view = LightView::new(
-        &sun(Vec3::new(-0.3, -1.0, -0.2)),
-        (Vec3::splat(-3.0), Vec3::splat(3.0)),
-        n,
-    );
+    let view = LightView::new(&sun(Vec3::new(-0.3, -1.0, -0.2)), (Vec3::splat(-3.0), Vec3::splat(3.0)), n);
     let layer = rasterize_nearest(&s, &view, &RasterSettings::default());
 
     // Exact projection of the f32 vertices: raster (x, y) in texels and depth d, in f64.
@@ -295,41 +254,22 @@ fn depth_is_the_triangle_plane_at_texel_centres() {
         }
     }
     assert!(covered > 1000, "{covered}");
-    assert!(
-        worst <= tolerance,
-        "worst {worst:e} > tolerance {tolerance:e}"
-    );
+    assert!(worst <= tolerance, "worst {worst:e} > tolerance {tolerance:e}");
 }
 
 /// 12 triangles of the box [lo, hi], counter-clockwise seen from outside.
 fn box_triangles(lo: Vec3, hi: Vec3) -> Vec<[Vec3; 3]> {
     let centre = 0.5 * (lo + hi);
-    let corner = |i: usize| {
-        Vec3::new(
-            [lo.x, hi.x][i & 1],
-            [lo.y, hi.y][(i >> 1) & 1],
-            [lo.z, hi.z][(i >> 2) & 1],
-        )
-    };
-    let faces = [
-        [0, 1, 3, 2],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 3, 7, 6],
-        [0, 2, 6, 4],
-        [1, 3, 7, 5],
-    ];
+    let corner =
+        |i: usize| Vec3::new([lo.x, hi.x][i & 1], [lo.y, hi.y][(i >> 1) & 1], [lo.z, hi.z][(i >> 2) & 1]);
+    let faces = [[0, 1, 3, 2], [4, 5, 7, 6], [0, 1, 5, 4], [2, 3, 7, 6], [0, 2, 6, 4], [1, 3, 7, 5]];
     let mut out = vec![];
     for f in faces {
         let q = f.map(corner);
         for t in [[q[0], q[1], q[2]], [q[0], q[2], q[3]]] {
             let outward = (t[0] + t[1] + t[2]) / 3.0 - centre;
             let normal = (t[1] - t[0]).cross(t[2] - t[0]);
-            out.push(if normal.dot(outward) > 0.0 {
-                t
-            } else {
-                [t[0], t[2], t[1]]
-            });
+            out.push(if normal.dot(outward) > 0.0 { t } else { [t[0], t[2], t[1]] });
         }
     }
     out
@@ -341,16 +281,8 @@ fn culling_applies_to_closed_objects_only() {
     // An open ground quad wound clockwise from above (its normal points down, away from the
     // light): open objects are two-sided, never culled.
     let ground = vec![
-        [
-            Vec3::new(-4.0, 0.0, -4.0),
-            Vec3::new(4.0, 0.0, -4.0),
-            Vec3::new(4.0, 0.0, 4.0),
-        ],
-        [
-            Vec3::new(-4.0, 0.0, -4.0),
-            Vec3::new(4.0, 0.0, 4.0),
-            Vec3::new(-4.0, 0.0, 4.0),
-        ],
+        [Vec3::new(-4.0, 0.0, -4.0), Vec3::new(4.0, 0.0, -4.0), Vec3::new(4.0, 0.0, 4.0)],
+        [Vec3::new(-4.0, 0.0, -4.0), Vec3::new(4.0, 0.0, 4.0), Vec3::new(-4.0, 0.0, 4.0)],
     ];
     let s = scene(vec![(cube, true), (ground, false)]);
     // Straight down from above: the box's top and bottom and the ground are each at one depth.
@@ -373,44 +305,20 @@ fn culling_applies_to_closed_objects_only() {
 
 fn assert_culling(s: &Scene, view: &LightView) {
     let depth_at = |culling: Culling, p: Vec3| {
-        let layer = rasterize_nearest(
-            s,
-            view,
-            &RasterSettings {
-                culling,
-                ..Default::default()
-            },
-        );
+        let layer = rasterize_nearest(s, view, &RasterSettings { culling, ..Default::default() });
         let q = view.project(p).unwrap();
         let (x, row) = layer.texel_of(q.x, q.y).unwrap();
         layer.at(x, row)
     };
     let depth_of = |p: Vec3| view.project(p).unwrap().z;
-    let (top, bottom, floor) = (
-        Vec3::new(0.1, 2.0, 0.1),
-        Vec3::new(0.1, 0.5, 0.1),
-        Vec3::new(3.1, 0.0, 3.1),
-    );
+    let (top, bottom, floor) = (Vec3::new(0.1, 2.0, 0.1), Vec3::new(0.1, 0.5, 0.1), Vec3::new(3.1, 0.0, 3.1));
     let close = |a: f32, b: f32| (a - b).abs() < 1e-5;
 
     assert!(close(depth_at(Culling::None, top), depth_of(top)));
-    assert!(
-        close(depth_at(Culling::BackFacesOfClosed, top), depth_of(top)),
-        "the nearest face stays"
-    );
-    assert!(
-        close(depth_at(Culling::FrontFacesOfClosed, top), depth_of(bottom)),
-        "the far face remains"
-    );
-    for culling in [
-        Culling::None,
-        Culling::BackFacesOfClosed,
-        Culling::FrontFacesOfClosed,
-    ] {
-        assert!(
-            close(depth_at(culling, floor), depth_of(floor)),
-            "open ground under {culling:?}"
-        );
+    assert!(close(depth_at(Culling::BackFacesOfClosed, top), depth_of(top)), "the nearest face stays");
+    assert!(close(depth_at(Culling::FrontFacesOfClosed, top), depth_of(bottom)), "the far face remains");
+    for culling in [Culling::None, Culling::BackFacesOfClosed, Culling::FrontFacesOfClosed] {
+        assert!(close(depth_at(culling, floor), depth_of(floor)), "open ground under {culling:?}");
     }
 }
 
@@ -430,11 +338,7 @@ fn spot_light_clips_a_triangle_crossing_the_near_plane() {
     };
     // Two vertices below the light, one above it (behind the light's plane): unclipped, that
     // vertex would project through w < 0 and wrap onto the wrong side of the map.
-    let tri = [
-        Vec3::new(-3.0, -2.0, -1.0),
-        Vec3::new(3.0, -2.5, -1.5),
-        Vec3::new(0.5, 3.0, 2.5),
-    ];
+    let tri = [Vec3::new(-3.0, -2.0, -1.0), Vec3::new(3.0, -2.5, -1.5), Vec3::new(0.5, 3.0, 2.5)];
     let s = scene(vec![(vec![tri], false)]);
     let n = 64;
     let view = LightView::new(&lamp, s.bounds(), n);
@@ -448,17 +352,14 @@ fn spot_light_clips_a_triangle_crossing_the_near_plane() {
     let (mut inside, mut outside) = (0, 0);
     for row in 0..n {
         for col in 0..n {
-            let (x, y) = (
-                2.0 * (col as f64 + 0.5) / n as f64 - 1.0,
-                1.0 - 2.0 * (row as f64 + 0.5) / n as f64,
-            );
+            let (x, y) =
+                (2.0 * (col as f64 + 0.5) / n as f64 - 1.0, 1.0 - 2.0 * (row as f64 + 0.5) / n as f64);
             // Ray through the texel centre; it hits the plane at view depth D (the ray's view z
             // component is −1 per unit of D).
             let dir = world_from_light.transform_vector3(DVec3::new(x * t, y * t, -1.0));
             let depth = normal.dot(v[0] - eye) / normal.dot(dir);
             let hit = eye + dir * depth;
-            let bary =
-                |a: DVec3, b: DVec3| (b - a).cross(hit - a).dot(normal) / normal.length_squared();
+            let bary = |a: DVec3, b: DVec3| (b - a).cross(hit - a).dot(normal) / normal.length_squared();
             let margin = [bary(v[0], v[1]), bary(v[1], v[2]), bary(v[2], v[0])]
                 .into_iter()
                 .fold(f64::INFINITY, f64::min);
@@ -467,10 +368,7 @@ fn spot_light_clips_a_triangle_crossing_the_near_plane() {
             if depth.is_finite() && margin > 0.02 && depth > near * 1.05 && depth < far * 0.95 {
                 inside += 1;
                 let expected = view.depth_of_view_depth(depth);
-                assert!(
-                    (stored as f64 - expected).abs() < 1e-4,
-                    "({col}, {row}) {stored} vs {expected}"
-                );
+                assert!((stored as f64 - expected).abs() < 1e-4, "({col}, {row}) {stored} vs {expected}");
             } else if depth.is_nan() || depth <= near * 0.95 || margin < -0.02 {
                 outside += 1;
                 assert_eq!(stored, 1.0, "({col}, {row}) must be empty (D = {depth})");
@@ -492,17 +390,10 @@ fn polygon_offset_adds_factor_times_slope_plus_units_times_r() {
     let (factor, units) = (2.0f32, 4.0f32);
     let m = 5.0 / 1024.0;
     // Max vertex depth 0.25 + 230/1024 ∈ [0.25, 0.5): e = −2, r = 2^(−2−23) for f32.
-    for (format, r) in [
-        (DepthFormat::F32, 2f64.powi(-25)),
-        (DepthFormat::Unorm16, 1.0 / 65535.0),
-    ] {
+    for (format, r) in [(DepthFormat::F32, 2f64.powi(-25)), (DepthFormat::Unorm16, 1.0 / 65535.0)] {
         let offset = factor as f64 * m + units as f64 * r;
-        let settings = RasterSettings {
-            format,
-            culling: Culling::None,
-            slope_factor: factor,
-            slope_units: units,
-        };
+        let settings =
+            RasterSettings { format, culling: Culling::None, slope_factor: factor, slope_units: units };
         let layer = rasterize_nearest(&s, &view, &settings);
         let mut covered = 0;
         for row in 0..64 {
@@ -523,10 +414,7 @@ fn polygon_offset_adds_factor_times_slope_plus_units_times_r() {
         assert!(covered > 500);
     }
     // Worked numbers: o = 2·5/1024 + 4·2^−25 = 0.009765625 + 1.1920929e−7.
-    assert_eq!(
-        2.0 * m + 4.0 * 2f64.powi(-25),
-        0.009_765_625 + 1.192_092_895_507_812_5e-7
-    );
+    assert_eq!(2.0 * m + 4.0 * 2f64.powi(-25), 0.009_765_625 + 1.192_092_895_507_812_5e-7);
 }
 
 /// A UV sphere of `rings × segments` quads, counter-clockwise from outside.
@@ -536,23 +424,12 @@ fn sphere(centre: Vec3, radius: f32, rings: usize, segments: usize) -> Vec<[Vec3
             std::f32::consts::PI * i as f32 / rings as f32,
             std::f32::consts::TAU * j as f32 / segments as f32,
         );
-        centre
-            + radius
-                * Vec3::new(
-                    theta.sin() * phi.cos(),
-                    theta.cos(),
-                    theta.sin() * phi.sin(),
-                )
+        centre + radius * Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin())
     };
     let mut out = vec![];
     for i in 0..rings {
         for j in 0..segments {
-            let (a, b, c, d) = (
-                point(i, j),
-                point(i + 1, j),
-                point(i + 1, j + 1),
-                point(i, j + 1),
-            );
+            let (a, b, c, d) = (point(i, j), point(i + 1, j), point(i + 1, j + 1), point(i, j + 1));
             for t in [[a, c, b], [a, d, c]] {
                 if (t[1] - t[0]).cross(t[2] - t[0]).length_squared() > 0.0 {
                     out.push(t);
@@ -566,21 +443,10 @@ fn sphere(centre: Vec3, radius: f32, rings: usize, segments: usize) -> Vec<[Vec3
 #[test]
 fn thread_count_does_not_change_a_bit() {
     let ground = vec![
-        [
-            Vec3::new(-5.0, 0.0, -5.0),
-            Vec3::new(5.0, 0.0, 5.0),
-            Vec3::new(5.0, 0.0, -5.0),
-        ],
-        [
-            Vec3::new(-5.0, 0.0, -5.0),
-            Vec3::new(-5.0, 0.0, 5.0),
-            Vec3::new(5.0, 0.0, 5.0),
-        ],
+        [Vec3::new(-5.0, 0.0, -5.0), Vec3::new(5.0, 0.0, 5.0), Vec3::new(5.0, 0.0, -5.0)],
+        [Vec3::new(-5.0, 0.0, -5.0), Vec3::new(-5.0, 0.0, 5.0), Vec3::new(5.0, 0.0, 5.0)],
     ];
-    let s = scene(vec![
-        (sphere(Vec3::new(0.3, 1.5, -0.2), 1.2, 24, 48), true),
-        (ground, false),
-    ]);
+    let s = scene(vec![(sphere(Vec3::new(0.3, 1.5, -0.2), 1.2, 24, 48), true), (ground, false)]);
     let view = LightView::new(&sun(Vec3::new(-0.3, -1.0, -0.2)), s.bounds(), 300);
     let settings = RasterSettings {
         format: DepthFormat::Unorm24,
@@ -589,10 +455,7 @@ fn thread_count_does_not_change_a_bit() {
         slope_units: 2.0,
     };
     let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| rasterize_nearest(&s, &view, &settings))
             .depth
             .iter()
@@ -612,11 +475,7 @@ fn hostile_input_does_not_panic() {
     let tris = vec![
         [nan, Vec3::ZERO, Vec3::X],
         [huge, Vec3::ZERO, Vec3::Y],
-        [
-            Vec3::new(-1e6, 0.0, -1e6),
-            Vec3::new(1e6, 0.0, -1e6),
-            Vec3::new(0.0, 0.0, 1e6),
-        ],
+        [Vec3::new(-1e6, 0.0, -1e6), Vec3::new(1e6, 0.0, -1e6), Vec3::new(0.0, 0.0, 1e6)],
         [Vec3::ZERO, Vec3::X, Vec3::X * 2.0],
     ];
     let mut s = scene(vec![(tris, true)]);
@@ -637,11 +496,7 @@ fn hostile_input_does_not_panic() {
         for n in [0, 1, 2, 33] {
             let bounds = (Vec3::splat(-2.0), Vec3::splat(2.0));
             let view = LightView::new(&light, bounds, n);
-            let settings = RasterSettings {
-                slope_factor: 1.0,
-                slope_units: 1.0,
-                ..Default::default()
-            };
+            let settings = RasterSettings { slope_factor: 1.0, slope_units: 1.0, ..Default::default() };
             let layer = rasterize_nearest(&s, &view, &settings);
             assert_eq!(layer.depth.len(), (n * n) as usize);
             assert!(layer.depth.iter().all(|d| (0.0..=1.0).contains(d)));
@@ -649,10 +504,5 @@ fn hostile_input_does_not_panic() {
     }
     let empty = scene(vec![]);
     let view = LightView::new(&sun(Vec3::NEG_Y), empty.bounds(), 8);
-    assert!(
-        rasterize_nearest(&empty, &view, &RasterSettings::default())
-            .depth
-            .iter()
-            .all(|&d| d == 1.0)
-    );
+    assert!(rasterize_nearest(&empty, &view, &RasterSettings::default()).depth.iter().all(|&d| d == 1.0));
 }

@@ -63,10 +63,7 @@ fn intersection(a: Vec4, b: Vec4, plane: usize, guard: f32) -> Vec4 {
 /// Clips triangle `tri` (clip-space vertices) to the depth range and the guard band `guard`
 /// (≥ 1). Returns an empty polygon when nothing is left.
 pub(crate) fn clip_triangle(tri: [Vec4; 3], guard: f32) -> ClippedPolygon {
-    let mut out = ClippedPolygon {
-        len: 3,
-        vertices: [Vec4::ZERO; MAX_CLIPPED_VERTICES],
-    };
+    let mut out = ClippedPolygon { len: 3, vertices: [Vec4::ZERO; MAX_CLIPPED_VERTICES] };
     out.vertices[..3].copy_from_slice(&tri);
 
     // Fast paths by outcodes (bit i set: outside plane i): entirely inside every plane (the
@@ -113,22 +110,15 @@ mod tests {
 
     #[test]
     fn inside_triangle_is_unchanged() {
-        let t = [
-            Vec4::new(0.0, 0.0, 0.5, 1.0),
-            Vec4::new(0.5, 0.0, 0.5, 1.0),
-            Vec4::new(0.0, 0.5, 0.2, 1.0),
-        ];
+        let t = [Vec4::new(0.0, 0.0, 0.5, 1.0), Vec4::new(0.5, 0.0, 0.5, 1.0), Vec4::new(0.0, 0.5, 0.2, 1.0)];
         let p = clip_triangle(t, 4.0);
         assert_eq!(p.as_slice(), &t);
     }
 
     #[test]
     fn near_plane_cuts_a_corner_into_a_quad() {
-        let t = [
-            Vec4::new(0.0, 0.0, -0.5, 1.0),
-            Vec4::new(0.5, 0.0, 0.5, 1.0),
-            Vec4::new(0.0, 0.5, 0.5, 1.0),
-        ];
+        let t =
+            [Vec4::new(0.0, 0.0, -0.5, 1.0), Vec4::new(0.5, 0.0, 0.5, 1.0), Vec4::new(0.0, 0.5, 0.5, 1.0)];
         let p = clip_triangle(t, 4.0);
         assert_eq!(p.len, 4);
         assert!(p.as_slice().iter().all(|v| v.z >= 0.0));
@@ -137,20 +127,13 @@ mod tests {
 
     #[test]
     fn outside_one_plane_is_empty() {
-        let t = [
-            Vec4::new(0.0, 0.0, 1.5, 1.0),
-            Vec4::new(0.5, 0.0, 1.2, 1.0),
-            Vec4::new(0.0, 0.5, 1.1, 1.0),
-        ];
+        let t = [Vec4::new(0.0, 0.0, 1.5, 1.0), Vec4::new(0.5, 0.0, 1.2, 1.0), Vec4::new(0.0, 0.5, 1.1, 1.0)];
         assert_eq!(clip_triangle(t, 4.0).len, 0);
     }
 
     #[test]
     fn shared_edges_get_identical_cut_points() {
-        let (a, b) = (
-            Vec4::new(0.1, 0.2, -0.3, 1.0),
-            Vec4::new(0.7, -0.2, 0.9, 1.0),
-        );
+        let (a, b) = (Vec4::new(0.1, 0.2, -0.3, 1.0), Vec4::new(0.7, -0.2, 0.9, 1.0));
         assert_eq!(intersection(a, b, 0, 4.0), intersection(b, a, 0, 4.0));
     }
 }

@@ -60,11 +60,7 @@ impl DepthFormat {
             return (1.0 / ((1u64 << bits) - 1) as f64) as f32;
         }
         let biased = ((max_depth.to_bits() >> 23) & 0xff) as i32;
-        let e = if max_depth.is_nan() || max_depth <= 0.0 || biased == 0 {
-            -126
-        } else {
-            biased - 127
-        };
+        let e = if max_depth.is_nan() || max_depth <= 0.0 || biased == 0 { -126 } else { biased - 127 };
         // 2^(e − 23) ≥ 2^−149, the smallest subnormal: exact in f32.
         2f64.powi(e - 23) as f32
     }
@@ -116,14 +112,8 @@ mod tests {
 
     #[test]
     fn unorm_r_is_one_code() {
-        assert_eq!(
-            DepthFormat::Unorm16.min_resolvable_difference(0.3),
-            (1.0f64 / 65535.0) as f32
-        );
-        assert_eq!(
-            DepthFormat::Unorm24.min_resolvable_difference(0.9),
-            (1.0f64 / 16_777_215.0) as f32
-        );
+        assert_eq!(DepthFormat::Unorm16.min_resolvable_difference(0.3), (1.0f64 / 65535.0) as f32);
+        assert_eq!(DepthFormat::Unorm24.min_resolvable_difference(0.9), (1.0f64 / 16_777_215.0) as f32);
     }
 
     #[test]

@@ -11,10 +11,7 @@ pub struct DepthLayer {
 
 impl DepthLayer {
     pub fn new_empty(resolution: u32) -> Self {
-        DepthLayer {
-            resolution,
-            depth: vec![1.0; resolution as usize * resolution as usize],
-        }
+        DepthLayer { resolution, depth: vec![1.0; resolution as usize * resolution as usize] }
     }
 
     /// Depth of texel (x, row); both must be < resolution.
@@ -29,11 +26,7 @@ impl DepthLayer {
         let n = self.resolution as f32;
         let x = (u * n).floor();
         let y = ((1.0 - v) * n).floor();
-        if x >= 0.0 && y >= 0.0 && x < n && y < n {
-            Some((x as u32, y as u32))
-        } else {
-            None
-        }
+        if x >= 0.0 && y >= 0.0 && x < n && y < n { Some((x as u32, y as u32)) } else { None }
     }
 
     /// Bytes of depth data.

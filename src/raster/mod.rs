@@ -10,6 +10,4 @@ mod rasterize;
 pub use depth_format::DepthFormat;
 pub use layer::DepthLayer;
 pub use projection::{LightView, Projection};
-pub use rasterize::{
-    Culling, RasterSettings, rasterize_coverage, rasterize_nearest, rasterize_nearest_into,
-};
+pub use rasterize::{Culling, RasterSettings, rasterize_coverage, rasterize_nearest, rasterize_nearest_into};

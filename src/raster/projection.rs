@@ -7,12 +7,7 @@ use glam::{DMat4, DVec3, DVec4, Mat4, Vec3};
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Projection {
     /// Light-view bounds of the map (x from left to right, y from bottom to top).
-    Orthographic {
-        left: f32,
-        right: f32,
-        bottom: f32,
-        top: f32,
-    },
+    Orthographic { left: f32, right: f32, bottom: f32, top: f32 },
     /// Symmetric frustum of half-angle `atan(tan_half_fov)`; square map.
     Perspective { tan_half_fov: f32 },
 }
@@ -47,16 +42,10 @@ impl LightView {
     /// Matrices are built in f64 and rounded once to f32. Never panics.
     pub fn new(light: &Light, scene_bounds: (Vec3, Vec3), resolution: u32) -> Self {
         match light.kind {
-            LightKind::Directional { direction } => {
-                directional(direction, scene_bounds, resolution)
+            LightKind::Directional { direction } => directional(direction, scene_bounds, resolution),
+            LightKind::Spot { position, direction, cone_deg, near, far } => {
+                spot(position, direction, cone_deg, near, far, resolution)
             }
-            LightKind::Spot {
-                position,
-                direction,
-                cone_deg,
-                near,
-                far,
-            } => spot(position, direction, cone_deg, near, far, resolution),
         }
     }
 
@@ -69,11 +58,7 @@ impl LightView {
             return None;
         }
         let inv_w = 1.0 / c.w;
-        Some(Vec3::new(
-            0.5 * c.x * inv_w + 0.5,
-            0.5 * c.y * inv_w + 0.5,
-            c.z * inv_w,
-        ))
+        Some(Vec3::new(0.5 * c.x * inv_w + 0.5, 0.5 * c.y * inv_w + 0.5, c.z * inv_w))
     }
 
     /// Distance of `p` along the light's axis (the view-space −z).
@@ -96,12 +81,7 @@ impl LightView {
     pub fn texel_world_size(&self, p: Vec3) -> f32 {
         let n = self.resolution as f32;
         match self.projection {
-            Projection::Orthographic {
-                left,
-                right,
-                bottom,
-                top,
-            } => (right - left).max(top - bottom) / n,
+            Projection::Orthographic { left, right, bottom, top } => (right - left).max(top - bottom) / n,
             Projection::Perspective { tan_half_fov } => 2.0 * self.view_depth(p) * tan_half_fov / n,
         }
     }
@@ -116,11 +96,7 @@ fn unit_direction(direction: Vec3) -> DVec3 {
 /// vector is world y unless `forward` is within ~8° of it (|forward·y| > 0.99), then world x:
 /// a fixed choice per direction, so the map does not spin as a light moves slightly.
 fn light_from_world(eye: DVec3, forward: DVec3) -> DMat4 {
-    let up_hint = if forward.y.abs() > 0.99 {
-        DVec3::X
-    } else {
-        DVec3::Y
-    };
+    let up_hint = if forward.y.abs() > 0.99 { DVec3::X } else { DVec3::Y };
     let right = forward.cross(up_hint).normalize();
     let up = right.cross(forward);
     DMat4::from_cols(
@@ -172,16 +148,8 @@ fn directional(direction: Vec3, scene_bounds: (Vec3, Vec3), resolution: u32) -> 
     // x/y fit the corners exactly; a flat extent (bounds seen edge-on) gets a small width so
     // that the projection stays invertible.
     let min_extent = 1e-3 * scale;
-    let (left, right) = if max.x > min.x {
-        (min.x, max.x)
-    } else {
-        padded(min.x, max.x, min_extent)
-    };
-    let (bottom, top) = if max.y > min.y {
-        (min.y, max.y)
-    } else {
-        padded(min.y, max.y, min_extent)
-    };
+    let (left, right) = if max.x > min.x { (min.x, max.x) } else { padded(min.x, max.x, min_extent) };
+    let (bottom, top) = if max.y > min.y { (min.y, max.y) } else { padded(min.y, max.y, min_extent) };
     let (near, far) = padded(min.z, max.z, min_extent);
 
     // d = (D − n)/(f − n) with D = −z_view; x, y map [left, right], [bottom, top] to [−1, 1].
@@ -209,35 +177,16 @@ fn directional(direction: Vec3, scene_bounds: (Vec3, Vec3), resolution: u32) -> 
     }
 }
 
-fn spot(
-    position: Vec3,
-    direction: Vec3,
-    cone_deg: f32,
-    near: f32,
-    far: f32,
-    resolution: u32,
-) -> LightView {
+fn spot(position: Vec3, direction: Vec3, cone_deg: f32, near: f32, far: f32, resolution: u32) -> LightView {
     let forward = unit_direction(direction);
     let eye = position.as_dvec3();
     let eye = if eye.is_finite() { eye } else { DVec3::ZERO };
     let light_from_world = light_from_world(eye, forward);
 
-    let cone_deg = if cone_deg.is_finite() {
-        (cone_deg as f64).clamp(0.01, 179.0)
-    } else {
-        90.0
-    };
+    let cone_deg = if cone_deg.is_finite() { (cone_deg as f64).clamp(0.01, 179.0) } else { 90.0 };
     let tan_half_fov = (0.5 * cone_deg).to_radians().tan();
-    let n = if near.is_finite() && near > 0.0 {
-        near as f64
-    } else {
-        1e-3
-    };
-    let f = if far.is_finite() && far as f64 > n * (1.0 + 1e-6) {
-        far as f64
-    } else {
-        2.0 * n
-    };
+    let n = if near.is_finite() && near > 0.0 { near as f64 } else { 1e-3 };
+    let f = if far.is_finite() && far as f64 > n * (1.0 + 1e-6) { far as f64 } else { 2.0 * n };
 
     // w = D = −z_view, z = f(D − n)/(f − n), so z/w = f(D − n)/(D(f − n)) (D3D [0, 1] depth).
     let s = 1.0 / tan_half_fov;
@@ -249,9 +198,7 @@ fn spot(
     );
     LightView {
         resolution,
-        projection: Projection::Perspective {
-            tan_half_fov: tan_half_fov as f32,
-        },
+        projection: Projection::Perspective { tan_half_fov: tan_half_fov as f32 },
         light_from_world: light_from_world.as_mat4(),
         clip_from_world: (clip_from_light * light_from_world).as_mat4(),
         near: n as f32,
@@ -266,18 +213,11 @@ mod tests {
     use super::*;
 
     fn light(kind: LightKind) -> Light {
-        Light {
-            name: "l".into(),
-            kind,
-            angular_diameter_deg: None,
-            radius: None,
-        }
+        Light { name: "l".into(), kind, angular_diameter_deg: None, radius: None }
     }
 
     fn sun(direction: Vec3) -> Light {
-        light(LightKind::Directional {
-            direction: direction.normalize(),
-        })
+        light(LightKind::Directional { direction: direction.normalize() })
     }
 
     fn lamp() -> Light {
@@ -293,20 +233,14 @@ mod tests {
     /// World point at view depth `d` on the light's axis (offset sideways by `side` in view x).
     fn on_axis(view: &LightView, d: f64, side: f64) -> Vec3 {
         let world_from_light = view.light_from_world.as_dmat4().inverse();
-        world_from_light
-            .transform_point3(DVec3::new(side, 0.0, -d))
-            .as_vec3()
+        world_from_light.transform_point3(DVec3::new(side, 0.0, -d)).as_vec3()
     }
 
     const BOUNDS: (Vec3, Vec3) = (Vec3::new(-5.0, 0.0, -4.0), Vec3::new(5.0, 2.5, 4.0));
 
     #[test]
     fn directional_corners_project_into_the_map() {
-        for dir in [
-            Vec3::new(-0.3, -1.0, -0.2),
-            Vec3::new(0.0, -1.0, 0.0),
-            Vec3::new(1.0, -0.1, 0.3),
-        ] {
+        for dir in [Vec3::new(-0.3, -1.0, -0.2), Vec3::new(0.0, -1.0, 0.0), Vec3::new(1.0, -0.1, 0.3)] {
             let view = LightView::new(&sun(dir), BOUNDS, 512);
             assert!(view.near > 0.0 && view.far > view.near);
             let (lo, hi) = BOUNDS;
@@ -319,10 +253,7 @@ mod tests {
                 );
                 let p = view.project(c).unwrap();
                 let eps = 1e-5;
-                assert!(
-                    p.x > -eps && p.x < 1.0 + eps && p.y > -eps && p.y < 1.0 + eps,
-                    "{dir} {p}"
-                );
+                assert!(p.x > -eps && p.x < 1.0 + eps && p.y > -eps && p.y < 1.0 + eps, "{dir} {p}");
                 // Padded depth range: strictly inside.
                 assert!(p.z > 0.0 && p.z < 1.0, "{dir} {p}");
                 umin = umin.min(p.x);
@@ -357,20 +288,13 @@ mod tests {
         for d in [0.6, 1.0, 2.5, 7.0, 20.0, 29.0] {
             let p = view.project(on_axis(&view, d, 0.2 * d)).unwrap();
             let expected = view.depth_of_view_depth(d);
-            assert!(
-                (p.z as f64 - expected).abs() < 4e-6,
-                "{d}: {} vs {expected}",
-                p.z
-            );
+            assert!((p.z as f64 - expected).abs() < 4e-6, "{d}: {} vs {expected}", p.z);
             assert!(((view.view_depth(on_axis(&view, d, 0.0)) as f64) - d).abs() < 1e-4 * d);
         }
         // The cone edge maps to the map edge: a point at half-angle cone/2 in view x.
         let t = (35f64).to_radians().tan();
         let edge = view.project(on_axis(&view, 4.0, 4.0 * t)).unwrap();
-        assert!(
-            (edge.x - 1.0).abs() < 1e-5 && (edge.y - 0.5).abs() < 1e-5,
-            "{edge}"
-        );
+        assert!((edge.x - 1.0).abs() < 1e-5 && (edge.y - 0.5).abs() < 1e-5, "{edge}");
     }
 
     #[test]
@@ -383,14 +307,8 @@ mod tests {
         let point = (Vec3::ONE, Vec3::ONE);
         let v = LightView::new(&sun(Vec3::new(0.2, -1.0, 0.5)), point, 64);
         assert!(v.clip_from_world.is_finite() && v.near > 0.0 && v.far > v.near);
-        let zero = light(LightKind::Directional {
-            direction: Vec3::ZERO,
-        });
-        assert!(
-            LightView::new(&zero, BOUNDS, 64)
-                .clip_from_world
-                .is_finite()
-        );
+        let zero = light(LightKind::Directional { direction: Vec3::ZERO });
+        assert!(LightView::new(&zero, BOUNDS, 64).clip_from_world.is_finite());
         let bad_spot = light(LightKind::Spot {
             position: Vec3::ZERO,
             direction: Vec3::ZERO,

@@ -58,10 +58,7 @@ pub fn rasterize_nearest(scene: &Scene, view: &LightView, settings: &RasterSetti
     let n = view.resolution as usize;
     // Zeroed memory comes lazily from the system; each band then initialises its own rows in
     // parallel, while they are in cache.
-    let mut layer = DepthLayer {
-        resolution: view.resolution,
-        depth: vec![0.0; n * n],
-    };
+    let mut layer = DepthLayer { resolution: view.resolution, depth: vec![0.0; n * n] };
     rasterize_nearest_into(scene, view, settings, &mut layer);
     layer
 }
@@ -101,15 +98,7 @@ pub fn rasterize_nearest_into(
 pub fn rasterize_coverage(scene: &Scene, view: &LightView, settings: &RasterSettings) -> Vec<u32> {
     let n = view.resolution as usize;
     let mut count = vec![0u32; n * n];
-    rasterize_into(
-        scene,
-        view,
-        settings,
-        &mut count,
-        |_| {},
-        |count, _| *count += 1,
-        |_| {},
-    );
+    rasterize_into(scene, view, settings, &mut count, |_| {}, |count, _| *count += 1, |_| {});
     count
 }
 
@@ -203,29 +192,26 @@ fn rasterize_into<T, I, F, R>(
     let chunks = setup_triangles(scene, view, settings);
     let bands = bin_by_band(&chunks, n);
 
-    buffer
-        .par_chunks_mut(BAND_ROWS as usize * n as usize)
-        .enumerate()
-        .for_each(|(band, texels)| {
-            let first_row = band as u32 * BAND_ROWS;
-            let last_row = first_row + (texels.len() / n as usize) as u32 - 1;
-            init(texels);
-            for &tri in &bands.triangles[bands.start[band]..bands.start[band + 1]] {
-                for row in tri.rows.0.max(first_row)..=tri.rows.1.min(last_row) {
-                    let Some((lo, hi)) = tri.span(row) else {
-                        continue;
-                    };
-                    let z_row = tri.depth_row_start(row);
-                    let line = &mut texels[(row - first_row) as usize * n as usize..][..n as usize];
-                    // i32 → f32 column conversions vectorize; the arithmetic per texel is
-                    // `z_row + dz_dx·(col + col_offset)` whatever the span or band.
-                    for (col, texel) in (lo as i32..).zip(&mut line[lo as usize..=hi as usize]) {
-                        fragment(texel, z_row + tri.dz_dx * (col as f32 + tri.col_offset));
-                    }
+    buffer.par_chunks_mut(BAND_ROWS as usize * n as usize).enumerate().for_each(|(band, texels)| {
+        let first_row = band as u32 * BAND_ROWS;
+        let last_row = first_row + (texels.len() / n as usize) as u32 - 1;
+        init(texels);
+        for &tri in &bands.triangles[bands.start[band]..bands.start[band + 1]] {
+            for row in tri.rows.0.max(first_row)..=tri.rows.1.min(last_row) {
+                let Some((lo, hi)) = tri.span(row) else {
+                    continue;
+                };
+                let z_row = tri.depth_row_start(row);
+                let line = &mut texels[(row - first_row) as usize * n as usize..][..n as usize];
+                // i32 → f32 column conversions vectorize; the arithmetic per texel is
+                // `z_row + dz_dx·(col + col_offset)` whatever the span or band.
+                for (col, texel) in (lo as i32..).zip(&mut line[lo as usize..=hi as usize]) {
+                    fragment(texel, z_row + tri.dz_dx * (col as f32 + tri.col_offset));
                 }
             }
-            finish(texels);
-        });
+        }
+        finish(texels);
+    });
 }
 
 /// Triangles per band of `BAND_ROWS` rows (CSR: band b owns `triangles[start[b]..start[b + 1]]`),
@@ -237,8 +223,7 @@ struct Bands<'a> {
 
 fn bin_by_band(chunks: &[Vec<RasterTriangle>], resolution: u32) -> Bands<'_> {
     let band_count = resolution.div_ceil(BAND_ROWS) as usize;
-    let bands_of =
-        |t: &RasterTriangle| (t.rows.0 / BAND_ROWS) as usize..=(t.rows.1 / BAND_ROWS) as usize;
+    let bands_of = |t: &RasterTriangle| (t.rows.0 / BAND_ROWS) as usize..=(t.rows.1 / BAND_ROWS) as usize;
     let mut start = vec![0usize; band_count + 1];
     for t in chunks.iter().flatten() {
         for b in bands_of(t) {
@@ -250,10 +235,7 @@ fn bin_by_band(chunks: &[Vec<RasterTriangle>], resolution: u32) -> Bands<'_> {
     }
     let mut fill = start.clone();
     let Some(any) = chunks.iter().flatten().next() else {
-        return Bands {
-            start,
-            triangles: Vec::new(),
-        };
+        return Bands { start, triangles: Vec::new() };
     };
     let mut triangles = vec![any; start[band_count]]; // every slot is overwritten below
     for t in chunks.iter().flatten() {
@@ -267,11 +249,7 @@ fn bin_by_band(chunks: &[Vec<RasterTriangle>], resolution: u32) -> Bands<'_> {
 
 /// Projects, clips, culls and sets up every scene triangle, in scene order (parallel over
 /// fixed chunks of the scene, kept in order: deterministic).
-fn setup_triangles(
-    scene: &Scene,
-    view: &LightView,
-    settings: &RasterSettings,
-) -> Vec<Vec<RasterTriangle>> {
+fn setup_triangles(scene: &Scene, view: &LightView, settings: &RasterSettings) -> Vec<Vec<RasterTriangle>> {
     scene
         .triangles
         .par_chunks(SETUP_CHUNK)
@@ -367,13 +345,9 @@ fn setup_triangle(
     };
     for k in 1..len - 1 {
         let fan = [0, k, k + 1];
-        if let Some(t) = raster_triangle(
-            fan.map(|i| (xs[i], ys[i], zs[i])),
-            view.resolution,
-            settings,
-            offset_on,
-            r,
-        ) {
+        if let Some(t) =
+            raster_triangle(fan.map(|i| (xs[i], ys[i], zs[i])), view.resolution, settings, offset_on, r)
+        {
             out.push(t);
         }
     }
@@ -386,9 +360,7 @@ fn centre_range(coordinates: &[i64], resolution: u32) -> Option<(i64, i64)> {
     let lo = *coordinates.iter().min()?;
     let hi = *coordinates.iter().max()?;
     let first = (lo - HALF_TEXEL + SUBTEXEL - 1).div_euclid(SUBTEXEL).max(0);
-    let last = (hi - HALF_TEXEL)
-        .div_euclid(SUBTEXEL)
-        .min(resolution as i64 - 1);
+    let last = (hi - HALF_TEXEL).div_euclid(SUBTEXEL).min(resolution as i64 - 1);
     (first <= last).then_some((first, last))
 }
 
@@ -493,10 +465,7 @@ mod tests {
     fn top_and_left_edges_own_the_centres_on_them() {
         // Right triangle with its top edge on y = 2.5 and its left edge on x = 2.5 (centres of
         // row 2 and column 2), hypotenuse from (8.5, 2.5) to (2.5, 8.5) through centres.
-        for order in [
-            [(2.5, 2.5), (8.5, 2.5), (2.5, 8.5)],
-            [(2.5, 2.5), (2.5, 8.5), (8.5, 2.5)],
-        ] {
+        for order in [[(2.5, 2.5), (8.5, 2.5), (2.5, 8.5)], [(2.5, 2.5), (2.5, 8.5), (8.5, 2.5)]] {
             let t = tri(order);
             assert!(covered(&t, 2, 2), "top-left corner");
             assert!(covered(&t, 5, 2), "top edge");
@@ -516,10 +485,7 @@ mod tests {
         let t = tri([(1.3, 0.7), (14.2, 5.51), (4.9, 15.0)]);
         for row in 0..16u32 {
             for col in 0..16u32 {
-                let (px, py) = (
-                    col as i64 * SUBTEXEL + HALF_TEXEL,
-                    row as i64 * SUBTEXEL + HALF_TEXEL,
-                );
+                let (px, py) = (col as i64 * SUBTEXEL + HALF_TEXEL, row as i64 * SUBTEXEL + HALF_TEXEL);
                 let inside = (0..3).all(|i| {
                     let j = (i + 1) % 3;
                     let e = (t.x[j] - t.x[i]) * (py - t.y[i]) - (t.y[j] - t.y[i]) * (px - t.x[i]);
