@@ -8,7 +8,13 @@ pub enum LightKind {
     Directional { direction: Vec3 },
     /// A point light with a cone: `direction` is the unit axis, `cone_deg` the full cone angle,
     /// `near` and `far` the depth range along the axis.
-    Spot { position: Vec3, direction: Vec3, cone_deg: f32, near: f32, far: f32 },
+    Spot {
+        position: Vec3,
+        direction: Vec3,
+        cone_deg: f32,
+        near: f32,
+        far: f32,
+    },
 }
 
 #[derive(Clone, Debug, PartialEq)]
