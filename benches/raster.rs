@@ -1,9 +1,12 @@
 //! Depth rasterization speed: a tessellated sphere (~10k triangles) over a ground plane, seen
-//! from a directional light, at 1024² and 4096², into a fresh and into a reused layer.
+//! from a directional light, at 1024² and 4096², into a fresh and into a reused layer, and the
+//! two nearest surfaces.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::Vec3;
-use shadowtruth::raster::{DepthLayer, LightView, RasterSettings, rasterize_nearest, rasterize_nearest_into};
+use shadowtruth::raster::{
+    DepthLayer, LightView, RasterSettings, rasterize_nearest, rasterize_nearest_into, rasterize_two_nearest,
+};
 use shadowtruth::scene::{Light, LightKind, Object, Scene};
 use std::hint::black_box;
 
@@ -66,6 +69,10 @@ fn bench_raster(c: &mut Criterion) {
         let mut layer = DepthLayer::new_empty(resolution);
         group.bench_function(format!("{resolution}_reused_layer"), |b| {
             b.iter(|| rasterize_nearest_into(black_box(&scene), &view, &settings, &mut layer))
+        });
+        // The two nearest surfaces (z1, z2) in one pass, for the depth-layer techniques.
+        group.bench_function(format!("{resolution}_two_nearest"), |b| {
+            b.iter(|| black_box(rasterize_two_nearest(black_box(&scene), &view, &settings)))
         });
     }
     group.finish();

@@ -109,14 +109,20 @@ pub fn rasterize_two_nearest(
         settings,
         &mut pairs,
         |band| band.fill([1.0, 1.0]),
+        // Branch-free, so that the span loop vectorizes: a nearer fragment pushes z1 down to
+        // z2; one strictly between them replaces z2; one equal to z1 is the same surface.
         |[z1, z2], z| {
             let z = z.clamp(0.0, 1.0);
-            if z < *z1 {
-                *z2 = *z1;
-                *z1 = z;
-            } else if z > *z1 && z < *z2 {
-                *z2 = z;
-            }
+            let nearer = z < *z1;
+            let between = z > *z1 && z < *z2;
+            *z2 = if nearer {
+                *z1
+            } else if between {
+                z
+            } else {
+                *z2
+            };
+            *z1 = if nearer { z } else { *z1 };
         },
         |band| {
             if format != DepthFormat::F32 {
@@ -124,9 +130,14 @@ pub fn rasterize_two_nearest(
             }
         },
     );
-    let nearest = DepthLayer { resolution: view.resolution, depth: pairs.iter().map(|p| p[0]).collect() };
-    let second = DepthLayer { resolution: view.resolution, depth: pairs.iter().map(|p| p[1]).collect() };
-    (nearest, second)
+    let (nearest, second) = rayon::join(
+        || pairs.par_iter().with_min_len(1 << 16).map(|p| p[0]).collect(),
+        || pairs.par_iter().with_min_len(1 << 16).map(|p| p[1]).collect(),
+    );
+    (
+        DepthLayer { resolution: view.resolution, depth: nearest },
+        DepthLayer { resolution: view.resolution, depth: second },
+    )
 }
 
 /// How many times each texel (row-major, row 0 at the top) is covered by a rasterized
