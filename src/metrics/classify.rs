@@ -14,6 +14,16 @@ pub struct Counts {
     pub evaluated: u64,
     pub false_shadow: u64,
     pub false_lit: u64,
+    /// False pixels within one texel footprint of a reference shadow boundary (see
+    /// `attribution`); 0 until `Counts::with_attribution` fills them in.
+    #[serde(default)]
+    pub aliasing: u64,
+    /// Other false shadows.
+    #[serde(default)]
+    pub acne: u64,
+    /// Other false lits.
+    #[serde(default)]
+    pub leak: u64,
 }
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -36,7 +46,7 @@ impl Counts {
 }
 
 /// Scores `visibility` (one value per evaluated pixel, in `gbuffer.evaluated` order) against the
-/// hard reference.
+/// hard reference. The attribution fields stay 0 (see `attribution::attribute`).
 pub fn score_hard(gbuffer: &GBuffer, reference: &HardReference, visibility: &[f32]) -> Counts {
     assert_eq!(visibility.len(), gbuffer.evaluated.len(), "one visibility per evaluated pixel");
     let mut c = Counts { pixels: gbuffer.pixel_count() as u64, ..Counts::default() };

@@ -1,0 +1,625 @@
+//! Error attribution: why a pixel is wrong. Every false pixel of a run (DESIGN.md, Metrics) is
+//! put in exactly one class:
+//!
+//! - **aliasing**: the pixel lies within one shadow-map texel footprint of a reference shadow
+//!   boundary, so no shadow map of this resolution can be expected to get it right;
+//! - **acne**: any other false shadow (reference lit, technique shadowed);
+//! - **leak**: any other false lit (reference shadowed, technique lit).
+//!
+//! Definitions, exactly as computed:
+//!
+//! - A pixel is *false* with the ½ threshold of `score_hard`: on an evaluated pixel (one of
+//!   `GBuffer::evaluated`; `visibility[k]` belongs to pixel `gbuffer.evaluated[k]`) the technique
+//!   says lit when `v ≥ ½`, the reference says lit when `HardReference::lit[i] == 1`; the pixel
+//!   is false when the two differ. Hence `aliasing + acne + leak == false_shadow + false_lit`.
+//! - Every evaluated pixel i has a light-map position `(u, v)` from
+//!   `LightView::project(gbuffer.position[i])`, kept in texel units `(u·N, v·N)`,
+//!   N = `view.resolution` (`LightUv`, computed once per G-buffer and view).
+//! - A false pixel p is *within one texel footprint of a reference shadow boundary* when some
+//!   other evaluated pixel q in its search window (below) has a reference value different from
+//!   p's and a light-map position within one texel of p's on both axes:
+//!   `|u_p − u_q|·N ≤ 1` and `|v_p − v_q|·N ≤ 1`. A reference boundary lies between two such
+//!   samples, hence within one texel of p. Pixels that do not project (w ≤ 0) have no position:
+//!   they are never a q, and as a p they are acne or leak.
+//! - The search window is the square of radius R pixels around p (clipped to the image), where
+//!   R is meant to cover one texel on screen. It is estimated from p's own 4-neighbours
+//!   (x ± 1, y ± 1) that are evaluated, project, and show the same object as p: each gives a uv
+//!   step per pixel `s = max(|Δu|, |Δv|)·N` (texels per pixel), and with the smallest of them
+//!   `R = ceil(1 / s_min) + 1`, clamped to [1, 64]. When no neighbour qualifies, R = 64.
+//!   **The cap**: a boundary sample farther than 64 pixels from p on screen (in x or y) is not
+//!   found, and such a pixel counts as acne or leak. The estimate is local (p's own
+//!   neighbours), so on a strongly sheared or curved projection a boundary sample one texel
+//!   away in uv may lie just outside the window; the `+ 1` absorbs most of that.
+//!
+//! Cost: only false pixels are searched, in parallel; a window is scanned only when a
+//! summed-area table says it holds a pixel with the opposite reference value, and the scan stops
+//! at the first boundary sample. The search allocates nothing. The counts are sums of
+//! independent per-pixel decisions, so they are identical for any thread count.
+
+use super::classify::Counts;
+use crate::raster::LightView;
+use crate::trace::{GBuffer, HardReference, PixelClass};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// The largest search radius in pixels (see the module documentation).
+pub const MAX_RADIUS: usize = 64;
+
+/// The false pixels of one run, by cause.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Attribution {
+    /// False pixels within one texel footprint of a reference shadow boundary.
+    pub aliasing: u64,
+    /// Other false shadows (reference lit, technique shadowed).
+    pub acne: u64,
+    /// Other false lits (reference shadowed, technique lit).
+    pub leak: u64,
+}
+
+impl Attribution {
+    /// All false pixels.
+    pub fn total(&self) -> u64 {
+        self.aliasing + self.acne + self.leak
+    }
+}
+
+impl Counts {
+    /// These counts with the attribution filled in.
+    pub fn with_attribution(self, a: Attribution) -> Counts {
+        Counts {
+            aliasing: a.aliasing,
+            acne: a.acne,
+            leak: a.leak,
+            ..self
+        }
+    }
+}
+
+/// The uv of every evaluated pixel, shared by every run at the same (camera, light, resolution).
+pub struct LightUv {
+    width: u32,
+    height: u32,
+    resolution: u32,
+    /// Per pixel (row-major), the light-map position in texels `(u·N, v·N)`; NaN for pixels
+    /// that are not evaluated or do not project.
+    texel: Vec<[f32; 2]>,
+}
+
+impl LightUv {
+    /// Projects every evaluated pixel of `gbuffer` into `view` (in parallel over rows).
+    pub fn new(gbuffer: &GBuffer, view: &LightView) -> LightUv {
+        let w = gbuffer.width as usize;
+        let n = view.resolution as f32;
+        let mut texel = vec![[f32::NAN; 2]; gbuffer.pixel_count()];
+        if w > 0 {
+            texel.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
+                for (x, out) in row.iter_mut().enumerate() {
+                    let i = y * w + x;
+                    if gbuffer.class[i] != PixelClass::Evaluated {
+                        continue;
+                    }
+                    if let Some(p) = view.project(gbuffer.position[i]) {
+                        *out = [p.x * n, p.y * n];
+                    }
+                }
+            });
+        }
+        LightUv {
+            width: gbuffer.width,
+            height: gbuffer.height,
+            resolution: view.resolution,
+            texel,
+        }
+    }
+
+    /// The shadow-map resolution N these positions are measured in.
+    pub fn resolution(&self) -> u32 {
+        self.resolution
+    }
+
+    /// The light-map position of pixel `i` in texels `(u·N, v·N)`, if it is evaluated and
+    /// projects.
+    pub fn texel(&self, i: usize) -> Option<[f32; 2]> {
+        let t = self.texel[i];
+        (!t[0].is_nan() && !t[1].is_nan()).then_some(t)
+    }
+}
+
+/// Classes every false pixel of `visibility` (one value per evaluated pixel, in
+/// `gbuffer.evaluated` order) as aliasing, acne or leak; see the module documentation.
+pub fn attribute(
+    gbuffer: &GBuffer,
+    reference: &HardReference,
+    visibility: &[f32],
+    light_uv: &LightUv,
+) -> Attribution {
+    assert_eq!(
+        visibility.len(),
+        gbuffer.evaluated.len(),
+        "one visibility per evaluated pixel"
+    );
+    assert_eq!(
+        (light_uv.width, light_uv.height),
+        (gbuffer.width, gbuffer.height),
+        "the light uv belongs to this G-buffer"
+    );
+    assert_eq!(reference.lit.len(), gbuffer.pixel_count());
+
+    let any_false = gbuffer
+        .evaluated
+        .par_iter()
+        .zip(visibility.par_iter())
+        .any(|(&i, &v)| (reference.lit[i as usize] != 0) != (v >= 0.5));
+    if !any_false {
+        return Attribution::default();
+    }
+    let table = OppositeTable::new(light_uv, reference);
+    let search = Search {
+        gbuffer,
+        lit: &reference.lit,
+        uv: light_uv,
+        table: &table,
+    };
+
+    gbuffer
+        .evaluated
+        .par_iter()
+        .zip(visibility.par_iter())
+        .with_min_len(4096)
+        .map(|(&i, &v)| {
+            let i = i as usize;
+            let r_lit = reference.lit[i] != 0;
+            let v_lit = v >= 0.5;
+            if r_lit == v_lit {
+                Attribution::default()
+            } else if search.near_boundary(i) {
+                Attribution {
+                    aliasing: 1,
+                    ..Attribution::default()
+                }
+            } else if r_lit {
+                Attribution {
+                    acne: 1,
+                    ..Attribution::default()
+                }
+            } else {
+                Attribution {
+                    leak: 1,
+                    ..Attribution::default()
+                }
+            }
+        })
+        .reduce(Attribution::default, |a, b| Attribution {
+            aliasing: a.aliasing + b.aliasing,
+            acne: a.acne + b.acne,
+            leak: a.leak + b.leak,
+        })
+}
+
+/// Summed-area tables of the pixels that can be a boundary sample q (evaluated, projecting),
+/// split by their reference value: whether a window holds any pixel of the opposite value is
+/// then O(1).
+struct OppositeTable {
+    /// Row stride: width + 1.
+    stride: usize,
+    /// `lit[(y)·stride + x]`: count of lit candidates in [0, x) × [0, y).
+    lit: Vec<u32>,
+    /// The same for shadowed candidates.
+    shadowed: Vec<u32>,
+}
+
+impl OppositeTable {
+    fn new(uv: &LightUv, reference: &HardReference) -> Self {
+        let (w, h) = (uv.width as usize, uv.height as usize);
+        let stride = w + 1;
+        let mut lit = vec![0u32; stride * (h + 1)];
+        let mut shadowed = vec![0u32; stride * (h + 1)];
+        for y in 0..h {
+            let (mut row_lit, mut row_shadowed) = (0u32, 0u32);
+            for x in 0..w {
+                let i = y * w + x;
+                if uv.texel(i).is_some() {
+                    if reference.lit[i] != 0 {
+                        row_lit += 1;
+                    } else {
+                        row_shadowed += 1;
+                    }
+                }
+                let above = y * stride + x + 1;
+                let here = (y + 1) * stride + x + 1;
+                lit[here] = lit[above] + row_lit;
+                shadowed[here] = shadowed[above] + row_shadowed;
+            }
+        }
+        OppositeTable {
+            stride,
+            lit,
+            shadowed,
+        }
+    }
+
+    /// Candidates with reference value `lit` in the inclusive window [x0, x1] × [y0, y1].
+    fn count(&self, lit: bool, x0: usize, y0: usize, x1: usize, y1: usize) -> u32 {
+        let t = if lit { &self.lit } else { &self.shadowed };
+        let s = self.stride;
+        t[(y1 + 1) * s + x1 + 1] + t[y0 * s + x0] - t[y0 * s + x1 + 1] - t[(y1 + 1) * s + x0]
+    }
+}
+
+struct Search<'a> {
+    gbuffer: &'a GBuffer,
+    lit: &'a [u8],
+    uv: &'a LightUv,
+    table: &'a OppositeTable,
+}
+
+impl Search<'_> {
+    /// Whether pixel `i` has a boundary sample q in its window (see the module documentation).
+    fn near_boundary(&self, i: usize) -> bool {
+        let Some(tp) = self.uv.texel(i) else {
+            return false;
+        };
+        let (w, h) = (self.uv.width as usize, self.uv.height as usize);
+        let (x, y) = (i % w, i / w);
+        let r = window_radius(self.gbuffer, self.uv, x, y);
+        let (x0, x1) = (x.saturating_sub(r), (x + r).min(w - 1));
+        let (y0, y1) = (y.saturating_sub(r), (y + r).min(h - 1));
+        let p_lit = self.lit[i] != 0;
+        if self.table.count(!p_lit, x0, y0, x1, y1) == 0 {
+            return false;
+        }
+        let p_code = self.lit[i];
+        for qy in y0..=y1 {
+            let row = qy * w;
+            for q in row + x0..=row + x1 {
+                if self.lit[q] == p_code {
+                    continue;
+                }
+                let tq = self.uv.texel[q];
+                // NaN (no position) fails both comparisons.
+                if (tq[0] - tp[0]).abs() <= 1.0 && (tq[1] - tp[1]).abs() <= 1.0 {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+}
+
+/// The search radius R of pixel (x, y): `ceil(1 / s_min) + 1` clamped to [1, 64], `s_min` the
+/// smallest uv step per pixel (in texels, max over u and v) to a 4-neighbour that is evaluated,
+/// projects and shows the same object; 64 when there is none.
+fn window_radius(gbuffer: &GBuffer, uv: &LightUv, x: usize, y: usize) -> usize {
+    let (w, h) = (uv.width as usize, uv.height as usize);
+    let i = y * w + x;
+    let Some(tp) = uv.texel(i) else {
+        return MAX_RADIUS;
+    };
+    let object = gbuffer.object[i];
+    let mut smallest = f32::INFINITY;
+    let neighbours = [
+        (x > 0).then(|| i - 1),
+        (x + 1 < w).then(|| i + 1),
+        (y > 0).then(|| i - w),
+        (y + 1 < h).then(|| i + w),
+    ];
+    for q in neighbours.into_iter().flatten() {
+        if gbuffer.object[q] != object {
+            continue;
+        }
+        if let Some(tq) = uv.texel(q) {
+            let step = (tq[0] - tp[0]).abs().max((tq[1] - tp[1]).abs());
+            smallest = smallest.min(step);
+        }
+    }
+    if smallest == f32::INFINITY {
+        return MAX_RADIUS; // no neighbour helps
+    }
+    // A zero step (a texel wider than the screen can tell) gives 1/0 = ∞: the cap.
+    let r = (1.0 / smallest).ceil() + 1.0;
+    if r.is_finite() && r < MAX_RADIUS as f32 {
+        (r as usize).max(1)
+    } else {
+        MAX_RADIUS
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::raster::Projection;
+    use glam::{Mat4, Vec3, Vec4};
+
+    const N: u32 = 4;
+
+    /// An orthographic view of resolution 4 whose texel coordinates (u·N, v·N) are the world
+    /// (x, y): clip x = 2x/N − 1, so u = x/N. Exact in binary for the values used here.
+    fn view() -> LightView {
+        let s = 2.0 / N as f32;
+        let clip_from_world = Mat4::from_cols(
+            Vec4::new(s, 0.0, 0.0, 0.0),
+            Vec4::new(0.0, s, 0.0, 0.0),
+            Vec4::new(0.0, 0.0, 0.5, 0.0),
+            Vec4::new(-1.0, -1.0, 0.5, 1.0),
+        );
+        LightView {
+            resolution: N,
+            projection: Projection::Orthographic {
+                left: 0.0,
+                right: N as f32,
+                bottom: 0.0,
+                top: N as f32,
+            },
+            light_from_world: Mat4::IDENTITY,
+            clip_from_world,
+            near: 0.0,
+            far: 1.0,
+            to_light: Some(Vec3::Z),
+            position: None,
+        }
+    }
+
+    /// A pixel of a hand-made G-buffer: object and texel position, or background.
+    #[derive(Clone, Copy)]
+    enum Px {
+        Bg,
+        At(u32, f32, f32),
+    }
+
+    fn gbuffer(width: u32, height: u32, pixels: &[Px]) -> GBuffer {
+        assert_eq!(pixels.len(), (width * height) as usize);
+        let mut g = GBuffer {
+            width,
+            height,
+            class: vec![PixelClass::Background; pixels.len()],
+            position: vec![Vec3::ZERO; pixels.len()],
+            normal: vec![Vec3::Z; pixels.len()],
+            triangle: vec![u32::MAX; pixels.len()],
+            object: vec![u32::MAX; pixels.len()],
+            evaluated: Vec::new(),
+        };
+        for (i, px) in pixels.iter().enumerate() {
+            if let Px::At(object, tu, tv) = *px {
+                g.class[i] = PixelClass::Evaluated;
+                g.position[i] = Vec3::new(tu, tv, 0.0);
+                g.triangle[i] = 0;
+                g.object[i] = object;
+                g.evaluated.push(i as u32);
+            }
+        }
+        g
+    }
+
+    fn reference(lit: &[u8], g: &GBuffer) -> HardReference {
+        HardReference {
+            width: g.width,
+            height: g.height,
+            lit: lit.to_vec(),
+        }
+    }
+
+    /// One row of 8 pixels on object 0, half a texel apart (R = ceil(1/0.5) + 1 = 3), and a
+    /// second row whose pixel 3 shows object 1 at a chosen texel position; the rest of that
+    /// row is background. Pixel 2 of the first row (texel x = 1) is the false pixel.
+    fn scene(other: (f32, f32)) -> GBuffer {
+        let mut px = vec![Px::Bg; 16];
+        for (k, p) in px.iter_mut().enumerate().take(8) {
+            *p = Px::At(0, 0.5 * k as f32, 0.0);
+        }
+        px[8 + 3] = Px::At(1, other.0, other.1);
+        gbuffer(8, 2, &px)
+    }
+
+    fn run(g: &GBuffer, lit: &[u8], visibility_of: impl Fn(usize) -> f32) -> Attribution {
+        let r = reference(lit, g);
+        let v: Vec<f32> = g
+            .evaluated
+            .iter()
+            .map(|&i| visibility_of(i as usize))
+            .collect();
+        attribute(g, &r, &v, &LightUv::new(g, &view()))
+    }
+
+    #[test]
+    fn light_uv_holds_texel_positions_of_evaluated_pixels_only() {
+        let g = scene((1.0, 1.0));
+        let uv = LightUv::new(&g, &view());
+        assert_eq!(uv.texel(2), Some([1.0, 0.0]));
+        assert_eq!(uv.texel(11), Some([1.0, 1.0]));
+        assert_eq!(uv.texel(8), None);
+        assert_eq!(uv.resolution(), N);
+    }
+
+    #[test]
+    fn radius_follows_the_smallest_uv_step_and_the_cap() {
+        let g = scene((1.0, 1.0));
+        let uv = LightUv::new(&g, &view());
+        assert_eq!(window_radius(&g, &uv, 2, 0), 3, "half a texel per pixel");
+        // Object 1 stands alone (its neighbours are background or another object).
+        assert_eq!(window_radius(&g, &uv, 3, 1), MAX_RADIUS);
+        // Four texels per pixel: ceil(1/4) + 1 = 2.
+        let px: Vec<Px> = (0..3).map(|k| Px::At(0, 4.0 * k as f32, 0.0)).collect();
+        let g = gbuffer(3, 1, &px);
+        let uv = LightUv::new(&g, &view());
+        assert_eq!(window_radius(&g, &uv, 1, 0), 2);
+        // A tiny step (a texel covers many pixels) is clamped to the cap.
+        let px: Vec<Px> = (0..3).map(|k| Px::At(0, 1e-3 * k as f32, 0.0)).collect();
+        let g = gbuffer(3, 1, &px);
+        let uv = LightUv::new(&g, &view());
+        assert_eq!(window_radius(&g, &uv, 1, 0), MAX_RADIUS);
+    }
+
+    /// The first row is lit in truth except as noted; pixel 11 (object 1) carries the other
+    /// reference value. Pixel 2 is false, every other pixel right.
+    fn false_shadow_at_2(other: (f32, f32)) -> Attribution {
+        let g = scene(other);
+        let mut lit = vec![0u8; 16];
+        lit[..8].fill(1);
+        run(&g, &lit, |i| if i == 2 { 0.0 } else { lit[i] as f32 })
+    }
+
+    #[test]
+    fn a_false_shadow_one_texel_from_a_boundary_is_aliasing() {
+        // q at exactly one texel in v (and 0 in u), one row down.
+        let a = false_shadow_at_2((1.0, 1.0));
+        assert_eq!(
+            a,
+            Attribution {
+                aliasing: 1,
+                acne: 0,
+                leak: 0
+            }
+        );
+        // Exactly one texel on both axes.
+        let a = false_shadow_at_2((2.0, -1.0));
+        assert_eq!(
+            a,
+            Attribution {
+                aliasing: 1,
+                acne: 0,
+                leak: 0
+            }
+        );
+    }
+
+    #[test]
+    fn a_false_shadow_two_texels_from_a_boundary_is_acne() {
+        // Same pixel on screen, two texels away in v: no boundary within one texel.
+        let a = false_shadow_at_2((1.0, 2.0));
+        assert_eq!(
+            a,
+            Attribution {
+                aliasing: 0,
+                acne: 1,
+                leak: 0
+            }
+        );
+        // Two texels in u, zero in v.
+        let a = false_shadow_at_2((3.0, 0.0));
+        assert_eq!(
+            a,
+            Attribution {
+                aliasing: 0,
+                acne: 1,
+                leak: 0
+            }
+        );
+        // Just over one texel.
+        let a = false_shadow_at_2((1.0, 1.0 + 1.0 / 64.0));
+        assert_eq!(
+            a,
+            Attribution {
+                aliasing: 0,
+                acne: 1,
+                leak: 0
+            }
+        );
+    }
+
+    #[test]
+    fn a_false_lit_is_aliasing_or_leak_by_the_same_rule() {
+        let leak_at_2 = |other: (f32, f32)| {
+            let g = scene(other);
+            let mut lit = vec![0u8; 16];
+            lit[8 + 3] = 1;
+            run(&g, &lit, |i| if i == 2 { 1.0 } else { lit[i] as f32 })
+        };
+        assert_eq!(
+            leak_at_2((0.0, 1.0)),
+            Attribution {
+                aliasing: 1,
+                acne: 0,
+                leak: 0
+            }
+        );
+        assert_eq!(
+            leak_at_2((-1.0, 1.0)),
+            Attribution {
+                aliasing: 0,
+                acne: 0,
+                leak: 1
+            }
+        );
+    }
+
+    #[test]
+    fn the_boundary_is_searched_within_the_window_only() {
+        // A row of 12 pixels, half a texel apart (R = 3); the reference turns shadowed at
+        // pixel 7 and the false shadow sits at pixel 3: 4 pixels (2 texels) away, out of
+        // reach. At pixel 4 (3 pixels, 1.5 texels) still acne; at pixel 5 (2 pixels, 1 texel)
+        // aliasing.
+        let px: Vec<Px> = (0..12).map(|k| Px::At(0, 0.5 * k as f32, 0.0)).collect();
+        let g = gbuffer(12, 1, &px);
+        let lit: Vec<u8> = (0..12).map(|k| (k < 7) as u8).collect();
+        let at = |p: usize| run(&g, &lit, |i| if i == p { 0.0 } else { lit[i] as f32 });
+        assert_eq!(
+            at(3),
+            Attribution {
+                aliasing: 0,
+                acne: 1,
+                leak: 0
+            }
+        );
+        assert_eq!(
+            at(4),
+            Attribution {
+                aliasing: 0,
+                acne: 1,
+                leak: 0
+            }
+        );
+        assert_eq!(
+            at(5),
+            Attribution {
+                aliasing: 1,
+                acne: 0,
+                leak: 0
+            }
+        );
+        // The pixel on the shadowed side of the boundary, falsely lit: aliasing.
+        let a = run(&g, &lit, |i| if i == 8 { 1.0 } else { lit[i] as f32 });
+        assert_eq!(
+            a,
+            Attribution {
+                aliasing: 1,
+                acne: 0,
+                leak: 0
+            }
+        );
+    }
+
+    #[test]
+    fn background_pixels_never_make_a_boundary() {
+        // Pixel 11 is background (reference 0) right next to a lit false-shadow pixel.
+        let mut px = vec![Px::Bg; 16];
+        for (k, p) in px.iter_mut().enumerate().take(8) {
+            *p = Px::At(0, 0.5 * k as f32, 0.0);
+        }
+        let g = gbuffer(8, 2, &px);
+        let mut lit = vec![0u8; 16];
+        lit[..8].fill(1);
+        let a = run(&g, &lit, |i| if i == 3 { 0.0 } else { 1.0 });
+        assert_eq!(
+            a,
+            Attribution {
+                aliasing: 0,
+                acne: 1,
+                leak: 0
+            }
+        );
+    }
+
+    #[test]
+    fn counts_take_the_attribution() {
+        let c = Counts {
+            false_shadow: 3,
+            ..Counts::default()
+        }
+        .with_attribution(Attribution {
+            aliasing: 1,
+            acne: 2,
+            leak: 0,
+        });
+        assert_eq!((c.false_shadow, c.aliasing, c.acne, c.leak), (3, 1, 2, 0));
+    }
+}
