@@ -6,10 +6,10 @@ mod common;
 
 use common::{bundled, scene_from_json, trace_first};
 use serde_json::json;
-use shadowtruth::metrics::{Attribution, Counts, LightUv, attribute, score_hard};
-use shadowtruth::raster::{DepthFormat, LightView, RasterSettings, rasterize_nearest};
+use shadowtruth::metrics::{Attribution, Counts, LightUv, attribute};
+use shadowtruth::raster::{DepthFormat, LightView};
 use shadowtruth::scene::Scene;
-use shadowtruth::technique::{CullSpec, FalloffSpec, ShadeContext, TechniqueSpec, shade_evaluated};
+use shadowtruth::technique::{CullSpec, FalloffSpec, TechniqueSpec};
 use shadowtruth::trace::{GBuffer, HardReference};
 
 /// Shades `spec` at `resolution` and returns its counts with the attribution filled in.
@@ -20,27 +20,10 @@ fn run(
     spec: &TechniqueSpec,
     resolution: u32,
 ) -> (Counts, Attribution) {
-    let technique = spec.build();
-    let needs = technique.layer_needs();
+    let (counts, v) = common::score_technique(scene, g, r, spec, resolution, DepthFormat::F32);
     let view = LightView::new(&scene.lights[0], scene.bounds(), resolution);
-    let settings = RasterSettings {
-        format: DepthFormat::F32,
-        culling: needs.culling,
-        slope_factor: needs.slope_factor,
-        slope_units: needs.slope_units,
-    };
-    let layer = rasterize_nearest(scene, &view, &settings);
-    let v = shade_evaluated(
-        technique.as_ref(),
-        &ShadeContext {
-            gbuffer: g,
-            view: &view,
-            nearest: &layer,
-        },
-    );
-    let uv = LightUv::new(g, &view);
-    let a = attribute(g, r, &v, &uv);
-    (score_hard(g, r, &v).with_attribution(a), a)
+    let a = attribute(g, r, &v, &LightUv::new(g, &view));
+    (counts.with_attribution(a), a)
 }
 
 fn tilted_plane() -> Scene {
@@ -76,10 +59,7 @@ fn sum_holds(c: &Counts, a: &Attribution) -> bool {
 fn without_a_shadow_boundary_every_error_is_acne() {
     let scene = tilted_plane();
     let (g, r) = trace_first(&scene);
-    assert!(
-        g.evaluated.iter().all(|&i| r.lit[i as usize] != 0),
-        "the lone plane is lit in truth"
-    );
+    assert!(g.evaluated.iter().all(|&i| r.lit[i as usize] != 0), "the lone plane is lit in truth");
     let (c, a) = run(&scene, &g, &r, &TechniqueSpec::None, 512);
     assert!(c.false_shadow > 0, "a plain depth test at 45° shows acne");
     assert_eq!(a.aliasing, 0, "{a:?}");
@@ -92,32 +72,19 @@ fn without_a_shadow_boundary_every_error_is_acne() {
 fn a_well_biased_map_errs_at_the_shadow_boundary_only() {
     let scene = bundled("plane_box");
     let (g, r) = trace_first(&scene);
-    let slope = TechniqueSpec::SlopeScaled {
-        factor: 2.0,
-        units: 4.0,
-        cull: CullSpec::None,
-    };
+    let slope = TechniqueSpec::SlopeScaled { factor: 2.0, units: 4.0, cull: CullSpec::None };
     let (c, a) = run(&scene, &g, &r, &slope, 512);
     let wrong = c.false_shadow + c.false_lit;
     assert!(sum_holds(&c, &a), "{a:?} vs {c:?}");
-    assert!(
-        a.aliasing > 0,
-        "a 512² map cannot follow the box's shadow edge: {a:?}"
-    );
-    assert!(
-        a.aliasing * 10 >= wrong * 9,
-        "the remaining errors lie at the boundary: {a:?} of {wrong}"
-    );
+    assert!(a.aliasing > 0, "a 512² map cannot follow the box's shadow edge: {a:?}");
+    assert!(a.aliasing * 10 >= wrong * 9, "the remaining errors lie at the boundary: {a:?} of {wrong}");
 }
 
 #[test]
 fn a_huge_constant_bias_is_attributed_to_leaks() {
     let scene = contact_scene();
     let (g, r) = trace_first(&scene);
-    let huge = TechniqueSpec::Constant {
-        bias_depth: None,
-        bias_world: Some(0.5),
-    };
+    let huge = TechniqueSpec::Constant { bias_depth: None, bias_world: Some(0.5) };
     let (c, a) = run(&scene, &g, &r, &huge, 2048);
     assert!(sum_holds(&c, &a), "{a:?} vs {c:?}");
     assert!(a.leak > 0, "the detached contact shadow leaks: {a:?}");
@@ -129,23 +96,10 @@ fn a_huge_constant_bias_is_attributed_to_leaks() {
 fn the_classes_add_up_to_the_false_pixels() {
     let techniques = [
         TechniqueSpec::None,
-        TechniqueSpec::Constant {
-            bias_depth: Some(0.002),
-            bias_world: None,
-        },
-        TechniqueSpec::Constant {
-            bias_depth: None,
-            bias_world: Some(0.3),
-        },
-        TechniqueSpec::SlopeScaled {
-            factor: 1.5,
-            units: 2.0,
-            cull: CullSpec::None,
-        },
-        TechniqueSpec::NormalOffset {
-            scale_texels: 1.0,
-            falloff: FalloffSpec::default(),
-        },
+        TechniqueSpec::Constant { bias_depth: Some(0.002), bias_world: None },
+        TechniqueSpec::Constant { bias_depth: None, bias_world: Some(0.3) },
+        TechniqueSpec::SlopeScaled { factor: 1.5, units: 2.0, cull: CullSpec::None },
+        TechniqueSpec::NormalOffset { scale_texels: 1.0, falloff: FalloffSpec::default() },
     ];
     let mut classes_seen = Attribution::default();
     for name in ["plane_box", "spot"] {
@@ -154,11 +108,7 @@ fn the_classes_add_up_to_the_false_pixels() {
         for spec in &techniques {
             for resolution in [64, 256, 1024] {
                 let (c, a) = run(&scene, &g, &r, spec, resolution);
-                assert!(
-                    sum_holds(&c, &a),
-                    "{name} {} {resolution}: {a:?} vs {c:?}",
-                    spec.label()
-                );
+                assert!(sum_holds(&c, &a), "{name} {} {resolution}: {a:?} vs {c:?}", spec.label());
                 classes_seen.aliasing += a.aliasing;
                 classes_seen.acne += a.acne;
                 classes_seen.leak += a.leak;
@@ -175,29 +125,12 @@ fn the_classes_add_up_to_the_false_pixels() {
 fn the_attribution_is_the_same_on_one_and_two_threads() {
     let scene = bundled("plane_box");
     let (g, r) = trace_first(&scene);
-    let specs = [
-        TechniqueSpec::None,
-        TechniqueSpec::Constant {
-            bias_depth: None,
-            bias_world: Some(0.3),
-        },
-    ];
+    let specs = [TechniqueSpec::None, TechniqueSpec::Constant { bias_depth: None, bias_world: Some(0.3) }];
     let on = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
-            specs
-                .iter()
-                .map(|s| run(&scene, &g, &r, s, 256).1)
-                .collect::<Vec<_>>()
-        })
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| specs.iter().map(|s| run(&scene, &g, &r, s, 256).1).collect::<Vec<_>>())
     };
     let one = on(1);
-    assert!(
-        one.iter().all(|a| a.aliasing + a.acne + a.leak > 0),
-        "{one:?}"
-    );
+    assert!(one.iter().all(|a| a.aliasing + a.acne + a.leak > 0), "{one:?}");
     assert_eq!(one, on(2));
 }

@@ -50,7 +50,9 @@ fn adaptive_bias_of_a_tilted_plane_under_an_orthographic_light() {
         let theta = theta_deg.to_radians();
         // A receiver on a plane tilted by θ about z, at a point off its texel centre.
         let normal = Vec3::new(theta.sin() as f32, theta.cos() as f32, 0.0);
-        let position = Vec3::new(1.234, 1.0, -2.345);
+        // Deep enough below the near plane that the tangent plane meets the texel ray inside
+        // the frustum (otherwise the receiver depth is used, as the guard says).
+        let position = Vec3::new(1.234, -0.5, -2.345);
         let s = Sample { position, normal, triangle: 0 };
         for (k, scale) in [(1e-4f32, EpsilonScale::Original), (1e-4, EpsilonScale::Ehm)] {
             let t = AdaptiveBias { k, epsilon: scale }.test(&s, &ctx).expect("in front of the light");

@@ -66,12 +66,7 @@ impl Attribution {
 impl Counts {
     /// These counts with the attribution filled in.
     pub fn with_attribution(self, a: Attribution) -> Counts {
-        Counts {
-            aliasing: a.aliasing,
-            acne: a.acne,
-            leak: a.leak,
-            ..self
-        }
+        Counts { aliasing: a.aliasing, acne: a.acne, leak: a.leak, ..self }
     }
 }
 
@@ -104,12 +99,7 @@ impl LightUv {
                 }
             });
         }
-        LightUv {
-            width: gbuffer.width,
-            height: gbuffer.height,
-            resolution: view.resolution,
-            texel,
-        }
+        LightUv { width: gbuffer.width, height: gbuffer.height, resolution: view.resolution, texel }
     }
 
     /// The shadow-map resolution N these positions are measured in.
@@ -133,11 +123,7 @@ pub fn attribute(
     visibility: &[f32],
     light_uv: &LightUv,
 ) -> Attribution {
-    assert_eq!(
-        visibility.len(),
-        gbuffer.evaluated.len(),
-        "one visibility per evaluated pixel"
-    );
+    assert_eq!(visibility.len(), gbuffer.evaluated.len(), "one visibility per evaluated pixel");
     assert_eq!(
         (light_uv.width, light_uv.height),
         (gbuffer.width, gbuffer.height),
@@ -154,12 +140,7 @@ pub fn attribute(
         return Attribution::default();
     }
     let table = OppositeTable::new(light_uv, reference);
-    let search = Search {
-        gbuffer,
-        lit: &reference.lit,
-        uv: light_uv,
-        table: &table,
-    };
+    let search = Search { gbuffer, lit: &reference.lit, uv: light_uv, table: &table };
 
     gbuffer
         .evaluated
@@ -173,20 +154,11 @@ pub fn attribute(
             if r_lit == v_lit {
                 Attribution::default()
             } else if search.near_boundary(i) {
-                Attribution {
-                    aliasing: 1,
-                    ..Attribution::default()
-                }
+                Attribution { aliasing: 1, ..Attribution::default() }
             } else if r_lit {
-                Attribution {
-                    acne: 1,
-                    ..Attribution::default()
-                }
+                Attribution { acne: 1, ..Attribution::default() }
             } else {
-                Attribution {
-                    leak: 1,
-                    ..Attribution::default()
-                }
+                Attribution { leak: 1, ..Attribution::default() }
             }
         })
         .reduce(Attribution::default, |a, b| Attribution {
@@ -231,11 +203,7 @@ impl OppositeTable {
                 shadowed[here] = shadowed[above] + row_shadowed;
             }
         }
-        OppositeTable {
-            stride,
-            lit,
-            shadowed,
-        }
+        OppositeTable { stride, lit, shadowed }
     }
 
     /// Candidates with reference value `lit` in the inclusive window [x0, x1] × [y0, y1].
@@ -317,11 +285,7 @@ fn window_radius(gbuffer: &GBuffer, uv: &LightUv, x: usize, y: usize) -> usize {
     }
     // A zero step (a texel wider than the screen can tell) gives 1/0 = ∞: the cap.
     let r = (1.0 / smallest).ceil() + 1.0;
-    if r.is_finite() && r < MAX_RADIUS as f32 {
-        (r as usize).max(1)
-    } else {
-        MAX_RADIUS
-    }
+    if r.is_finite() && r < MAX_RADIUS as f32 { (r as usize).max(1) } else { MAX_RADIUS }
 }
 
 #[cfg(test)]
@@ -344,12 +308,7 @@ mod tests {
         );
         LightView {
             resolution: N,
-            projection: Projection::Orthographic {
-                left: 0.0,
-                right: N as f32,
-                bottom: 0.0,
-                top: N as f32,
-            },
+            projection: Projection::Orthographic { left: 0.0, right: N as f32, bottom: 0.0, top: N as f32 },
             light_from_world: Mat4::IDENTITY,
             clip_from_world,
             near: 0.0,
@@ -391,11 +350,7 @@ mod tests {
     }
 
     fn reference(lit: &[u8], g: &GBuffer) -> HardReference {
-        HardReference {
-            width: g.width,
-            height: g.height,
-            lit: lit.to_vec(),
-        }
+        HardReference { width: g.width, height: g.height, lit: lit.to_vec() }
     }
 
     /// One row of 8 pixels on object 0, half a texel apart (R = ceil(1/0.5) + 1 = 3), and a
@@ -412,11 +367,7 @@ mod tests {
 
     fn run(g: &GBuffer, lit: &[u8], visibility_of: impl Fn(usize) -> f32) -> Attribution {
         let r = reference(lit, g);
-        let v: Vec<f32> = g
-            .evaluated
-            .iter()
-            .map(|&i| visibility_of(i as usize))
-            .collect();
+        let v: Vec<f32> = g.evaluated.iter().map(|&i| visibility_of(i as usize)).collect();
         attribute(g, &r, &v, &LightUv::new(g, &view()))
     }
 
@@ -462,58 +413,23 @@ mod tests {
     fn a_false_shadow_one_texel_from_a_boundary_is_aliasing() {
         // q at exactly one texel in v (and 0 in u), one row down.
         let a = false_shadow_at_2((1.0, 1.0));
-        assert_eq!(
-            a,
-            Attribution {
-                aliasing: 1,
-                acne: 0,
-                leak: 0
-            }
-        );
+        assert_eq!(a, Attribution { aliasing: 1, acne: 0, leak: 0 });
         // Exactly one texel on both axes.
         let a = false_shadow_at_2((2.0, -1.0));
-        assert_eq!(
-            a,
-            Attribution {
-                aliasing: 1,
-                acne: 0,
-                leak: 0
-            }
-        );
+        assert_eq!(a, Attribution { aliasing: 1, acne: 0, leak: 0 });
     }
 
     #[test]
     fn a_false_shadow_two_texels_from_a_boundary_is_acne() {
         // Same pixel on screen, two texels away in v: no boundary within one texel.
         let a = false_shadow_at_2((1.0, 2.0));
-        assert_eq!(
-            a,
-            Attribution {
-                aliasing: 0,
-                acne: 1,
-                leak: 0
-            }
-        );
+        assert_eq!(a, Attribution { aliasing: 0, acne: 1, leak: 0 });
         // Two texels in u, zero in v.
         let a = false_shadow_at_2((3.0, 0.0));
-        assert_eq!(
-            a,
-            Attribution {
-                aliasing: 0,
-                acne: 1,
-                leak: 0
-            }
-        );
+        assert_eq!(a, Attribution { aliasing: 0, acne: 1, leak: 0 });
         // Just over one texel.
         let a = false_shadow_at_2((1.0, 1.0 + 1.0 / 64.0));
-        assert_eq!(
-            a,
-            Attribution {
-                aliasing: 0,
-                acne: 1,
-                leak: 0
-            }
-        );
+        assert_eq!(a, Attribution { aliasing: 0, acne: 1, leak: 0 });
     }
 
     #[test]
@@ -524,22 +440,8 @@ mod tests {
             lit[8 + 3] = 1;
             run(&g, &lit, |i| if i == 2 { 1.0 } else { lit[i] as f32 })
         };
-        assert_eq!(
-            leak_at_2((0.0, 1.0)),
-            Attribution {
-                aliasing: 1,
-                acne: 0,
-                leak: 0
-            }
-        );
-        assert_eq!(
-            leak_at_2((-1.0, 1.0)),
-            Attribution {
-                aliasing: 0,
-                acne: 0,
-                leak: 1
-            }
-        );
+        assert_eq!(leak_at_2((0.0, 1.0)), Attribution { aliasing: 1, acne: 0, leak: 0 });
+        assert_eq!(leak_at_2((-1.0, 1.0)), Attribution { aliasing: 0, acne: 0, leak: 1 });
     }
 
     #[test]
@@ -552,40 +454,12 @@ mod tests {
         let g = gbuffer(12, 1, &px);
         let lit: Vec<u8> = (0..12).map(|k| (k < 7) as u8).collect();
         let at = |p: usize| run(&g, &lit, |i| if i == p { 0.0 } else { lit[i] as f32 });
-        assert_eq!(
-            at(3),
-            Attribution {
-                aliasing: 0,
-                acne: 1,
-                leak: 0
-            }
-        );
-        assert_eq!(
-            at(4),
-            Attribution {
-                aliasing: 0,
-                acne: 1,
-                leak: 0
-            }
-        );
-        assert_eq!(
-            at(5),
-            Attribution {
-                aliasing: 1,
-                acne: 0,
-                leak: 0
-            }
-        );
+        assert_eq!(at(3), Attribution { aliasing: 0, acne: 1, leak: 0 });
+        assert_eq!(at(4), Attribution { aliasing: 0, acne: 1, leak: 0 });
+        assert_eq!(at(5), Attribution { aliasing: 1, acne: 0, leak: 0 });
         // The pixel on the shadowed side of the boundary, falsely lit: aliasing.
         let a = run(&g, &lit, |i| if i == 8 { 1.0 } else { lit[i] as f32 });
-        assert_eq!(
-            a,
-            Attribution {
-                aliasing: 1,
-                acne: 0,
-                leak: 0
-            }
-        );
+        assert_eq!(a, Attribution { aliasing: 1, acne: 0, leak: 0 });
     }
 
     #[test]
@@ -599,23 +473,12 @@ mod tests {
         let mut lit = vec![0u8; 16];
         lit[..8].fill(1);
         let a = run(&g, &lit, |i| if i == 3 { 0.0 } else { 1.0 });
-        assert_eq!(
-            a,
-            Attribution {
-                aliasing: 0,
-                acne: 1,
-                leak: 0
-            }
-        );
+        assert_eq!(a, Attribution { aliasing: 0, acne: 1, leak: 0 });
     }
 
     #[test]
     fn counts_take_the_attribution() {
-        let c = Counts {
-            false_shadow: 3,
-            ..Counts::default()
-        }
-        .with_attribution(Attribution {
+        let c = Counts { false_shadow: 3, ..Counts::default() }.with_attribution(Attribution {
             aliasing: 1,
             acne: 2,
             leak: 0,

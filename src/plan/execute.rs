@@ -4,7 +4,7 @@
 
 use super::Plan;
 use super::build_layers;
-use crate::metrics::{Stopwatch, median_ms, score_hard};
+use crate::metrics::{LightUv, Stopwatch, attribute, median_ms, score_hard};
 use crate::raster::LightView;
 use crate::report::{ReportWriter, RunRecord, SceneRecord, Timings};
 use crate::scene::{Scene, SceneError, load_scene};
@@ -139,6 +139,7 @@ pub fn execute(
             };
             for &resolution in &plan.resolutions {
                 let view = LightView::new(light, bounds, resolution);
+                let light_uv = LightUv::new(&gbuffer, &view);
                 for &format in &plan.depth_formats {
                     // Techniques grouped by the layers they read: each set is rasterized once.
                     let mut groups: Vec<(LayerNeeds, Vec<usize>)> = Vec::new();
@@ -170,7 +171,8 @@ pub fn execute(
                                 shade_ms.push(sw.ms());
                             }
                             let shade_ms = median_ms(&shade_ms);
-                            let counts = score_hard(&gbuffer, &reference, &visibility);
+                            let counts = score_hard(&gbuffer, &reference, &visibility)
+                                .with_attribution(attribute(&gbuffer, &reference, &visibility, &light_uv));
                             let record = RunRecord {
                                 scene: scene.name.clone(),
                                 camera: camera.name.clone(),

@@ -3,24 +3,31 @@
 
 use crate::metrics::{Stopwatch, median_ms};
 use crate::raster::{
-    DepthFormat, DepthLayer, LightView, RasterSettings, rasterize_nearest, rasterize_two_nearest,
+    DepthFormat, DepthLayer, DepthPairLayer, LightView, RasterSettings, rasterize_nearest,
+    rasterize_two_nearest,
 };
 use crate::scene::Scene;
 use crate::technique::{LayerNeeds, Layers};
 
 /// The depth layers of one group of techniques.
-pub struct BuiltLayers {
-    pub nearest: DepthLayer,
-    pub second: Option<DepthLayer>,
+pub enum BuiltLayers {
+    Nearest(DepthLayer),
+    TwoNearest(DepthPairLayer),
 }
 
 impl BuiltLayers {
     pub fn as_layers(&self) -> Layers<'_> {
-        Layers { nearest: &self.nearest, second: self.second.as_ref() }
+        match self {
+            BuiltLayers::Nearest(l) => Layers::Nearest(l),
+            BuiltLayers::TwoNearest(l) => Layers::TwoNearest(l),
+        }
     }
 
     pub fn memory_bytes(&self) -> usize {
-        self.nearest.memory_bytes() + self.second.as_ref().map_or(0, DepthLayer::memory_bytes)
+        match self {
+            BuiltLayers::Nearest(l) => l.memory_bytes(),
+            BuiltLayers::TwoNearest(l) => l.memory_bytes(),
+        }
     }
 }
 
@@ -44,10 +51,9 @@ pub fn build_layers(
     for _ in 0..repeats.max(1) {
         let sw = Stopwatch::start();
         let layers = if needs.second_layer {
-            let (nearest, second) = rasterize_two_nearest(scene, view, &settings);
-            BuiltLayers { nearest, second: Some(second) }
+            BuiltLayers::TwoNearest(rasterize_two_nearest(scene, view, &settings))
         } else {
-            BuiltLayers { nearest: rasterize_nearest(scene, view, &settings), second: None }
+            BuiltLayers::Nearest(rasterize_nearest(scene, view, &settings))
         };
         times.push(sw.ms());
         built = Some(layers);

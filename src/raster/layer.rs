@@ -34,3 +34,24 @@ impl DepthLayer {
         self.depth.len() * std::mem::size_of::<f32>()
     }
 }
+
+/// The two nearest distinct depths (z1, z2) per texel, interleaved so that a lookup reads both
+/// from one cache line. Same texel layout as `DepthLayer`; empty entries hold 1.0.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DepthPairLayer {
+    pub resolution: u32,
+    pub depth: Vec<[f32; 2]>,
+}
+
+impl DepthPairLayer {
+    /// (z1, z2) of texel (x, row); both must be < resolution.
+    #[inline]
+    pub fn at(&self, x: u32, row: u32) -> [f32; 2] {
+        self.depth[row as usize * self.resolution as usize + x as usize]
+    }
+
+    /// Bytes of depth data.
+    pub fn memory_bytes(&self) -> usize {
+        self.depth.len() * std::mem::size_of::<[f32; 2]>()
+    }
+}

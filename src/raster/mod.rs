@@ -8,7 +8,7 @@ mod projection;
 mod rasterize;
 
 pub use depth_format::DepthFormat;
-pub use layer::DepthLayer;
+pub use layer::{DepthLayer, DepthPairLayer};
 pub use projection::{LightView, Projection};
 pub use rasterize::{
     Culling, RasterSettings, rasterize_coverage, rasterize_nearest, rasterize_nearest_into,

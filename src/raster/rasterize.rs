@@ -19,7 +19,7 @@
 //! state crossing rows), so the split never changes the result.
 
 use super::clip::clip_triangle;
-use super::{DepthFormat, DepthLayer, LightView};
+use super::{DepthFormat, DepthLayer, DepthPairLayer, LightView};
 use crate::scene::Scene;
 use rayon::prelude::*;
 
@@ -95,13 +95,10 @@ pub fn rasterize_nearest_into(
 /// The two nearest distinct depths per texel, (z1, z2) with z1 < z2 — CPU depth peeling: z2 is
 /// the nearest fragment strictly behind z1, as a second pass testing `d > z1` would keep. Texels
 /// with fewer surfaces hold the cleared value 1. z1 equals `rasterize_nearest`'s layer.
-pub fn rasterize_two_nearest(
-    scene: &Scene,
-    view: &LightView,
-    settings: &RasterSettings,
-) -> (DepthLayer, DepthLayer) {
+pub fn rasterize_two_nearest(scene: &Scene, view: &LightView, settings: &RasterSettings) -> DepthPairLayer {
     let n = view.resolution as usize;
-    let mut pairs = vec![[1.0f32; 2]; n * n];
+    // Zeroed memory comes lazily from the system; each band initialises its own rows.
+    let mut pairs = vec![[0.0f32; 2]; n * n];
     let format = settings.format;
     rasterize_into(
         scene,
@@ -130,14 +127,7 @@ pub fn rasterize_two_nearest(
             }
         },
     );
-    let (nearest, second) = rayon::join(
-        || pairs.par_iter().with_min_len(1 << 16).map(|p| p[0]).collect(),
-        || pairs.par_iter().with_min_len(1 << 16).map(|p| p[1]).collect(),
-    );
-    (
-        DepthLayer { resolution: view.resolution, depth: nearest },
-        DepthLayer { resolution: view.resolution, depth: second },
-    )
+    DepthPairLayer { resolution: view.resolution, depth: pairs }
 }
 
 /// How many times each texel (row-major, row 0 at the top) is covered by a rasterized

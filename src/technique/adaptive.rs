@@ -45,7 +45,7 @@ impl AdaptiveBias {
     pub fn test(&self, s: &Sample, ctx: &ShadeContext) -> Option<AdaptiveTest> {
         let view = ctx.view;
         let uvd = view.project(s.position)?;
-        let resolution = ctx.layers.nearest.resolution;
+        let resolution = ctx.layers.resolution();
         let texel = texel_at(resolution, uvd.x, uvd.y);
         let occluder_depth = potential_occluder_depth(s, ctx, texel_centre(resolution, texel.0, texel.1));
         let (n, f) = (view.near, view.far);
@@ -80,7 +80,7 @@ impl Technique for AdaptiveBias {
     fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
         match self.test(s, ctx) {
             Some(t) => {
-                (t.compared_depth - t.epsilon <= ctx.layers.nearest.at(t.texel.0, t.texel.1)) as u8 as f32
+                (t.compared_depth - t.epsilon <= ctx.layers.nearest().at(t.texel.0, t.texel.1)) as u8 as f32
             }
             None => 1.0,
         }

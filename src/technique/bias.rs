@@ -17,7 +17,7 @@ impl Technique for NoBias {
     }
 
     fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
-        let (view, nearest) = (ctx.view, ctx.layers.nearest);
+        let (view, nearest) = (ctx.view, ctx.layers.nearest());
         match view.project(s.position) {
             Some(uvd) => depth_test(nearest, uvd, 0.0),
             None => 1.0,
@@ -38,7 +38,7 @@ impl Technique for ConstantBias {
     }
 
     fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
-        let (view, nearest) = (ctx.view, ctx.layers.nearest);
+        let (view, nearest) = (ctx.view, ctx.layers.nearest());
         let Some(uvd) = view.project(s.position) else {
             return 1.0;
         };
@@ -71,7 +71,7 @@ impl Technique for SlopeScaledBias {
     }
 
     fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
-        let (view, nearest) = (ctx.view, ctx.layers.nearest);
+        let (view, nearest) = (ctx.view, ctx.layers.nearest());
         match view.project(s.position) {
             Some(uvd) => depth_test(nearest, uvd, 0.0),
             None => 1.0,

@@ -26,7 +26,7 @@ impl Technique for SecondDepth {
 
     fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
         match ctx.view.project(s.position) {
-            Some(uvd) => super::depth_test(ctx.layers.nearest, uvd, self.bias_depth),
+            Some(uvd) => super::depth_test(ctx.layers.nearest(), uvd, self.bias_depth),
             None => 1.0,
         }
     }
@@ -39,10 +39,9 @@ fn layer_culling(cull_back_faces: bool) -> Culling {
 /// Lit when `z_ref ≤ z1 + min((z2 − z1)/2, z_offset)`.
 fn dual_test(s: &Sample, ctx: &ShadeContext, z_offset: f32) -> f32 {
     let Some(uvd) = ctx.view.project(s.position) else { return 1.0 };
-    let z1_map = ctx.layers.nearest;
-    let z2_map = ctx.layers.second.expect("the second depth layer was requested");
-    let (x, row) = texel_at(z1_map.resolution, uvd.x, uvd.y);
-    let (z1, z2) = (z1_map.at(x, row), z2_map.at(x, row));
+    let pairs = ctx.layers.two_nearest();
+    let (x, row) = texel_at(pairs.resolution, uvd.x, uvd.y);
+    let [z1, z2] = pairs.at(x, row);
     (uvd.z <= z1 + ((z2 - z1) * 0.5).min(z_offset)) as u8 as f32
 }
 

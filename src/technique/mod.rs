@@ -20,7 +20,7 @@ pub use receiver_plane::{ReceiverPlane, receiver_plane_slope};
 pub use shade::{ShadeContext, shade_evaluated};
 pub use spec::{CullSpec, EpsilonSpec, FalloffSpec, TechniqueSpec, TechniqueSpecError};
 
-use crate::raster::{Culling, DepthLayer};
+use crate::raster::{Culling, DepthLayer, DepthPairLayer};
 use glam::Vec3;
 
 /// One receiver: the G-buffer's surface point, its geometric normal (which faces the light) and
@@ -49,11 +49,36 @@ impl Default for LayerNeeds {
     }
 }
 
-/// The depth layers of one light view: z1, and z2 when the technique asked for it.
+/// The depth layers a technique reads: the nearest surface, or the two nearest (z1, z2).
 #[derive(Clone, Copy)]
-pub struct Layers<'a> {
-    pub nearest: &'a DepthLayer,
-    pub second: Option<&'a DepthLayer>,
+pub enum Layers<'a> {
+    Nearest(&'a DepthLayer),
+    TwoNearest(&'a DepthPairLayer),
+}
+
+impl<'a> Layers<'a> {
+    /// The nearest layer; only techniques that asked for it (`second_layer == false`) call this.
+    pub fn nearest(&self) -> &'a DepthLayer {
+        match self {
+            Layers::Nearest(l) => l,
+            Layers::TwoNearest(_) => panic!("the technique asked for two layers"),
+        }
+    }
+
+    /// The two nearest layers; only techniques that asked for them call this.
+    pub fn two_nearest(&self) -> &'a DepthPairLayer {
+        match self {
+            Layers::TwoNearest(l) => l,
+            Layers::Nearest(_) => panic!("the technique asked for the nearest layer only"),
+        }
+    }
+
+    pub fn resolution(&self) -> u32 {
+        match self {
+            Layers::Nearest(l) => l.resolution,
+            Layers::TwoNearest(l) => l.resolution,
+        }
+    }
 }
 
 /// A shadow test. Implementations do no I/O and hold only their parameters.

@@ -25,7 +25,7 @@ impl Technique for NormalOffset {
     }
 
     fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
-        let (view, nearest) = (ctx.view, ctx.layers.nearest);
+        let (view, nearest) = (ctx.view, ctx.layers.nearest());
         let to_light = match (view.to_light, view.position) {
             (Some(l), _) => l,
             (None, Some(pos)) => (pos - s.position).normalize(),

@@ -36,7 +36,7 @@ impl Technique for ReceiverPlane {
 
     fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
         let Some(uvd) = ctx.view.project(s.position) else { return 1.0 };
-        let map = ctx.layers.nearest;
+        let map = ctx.layers.nearest();
         let (x, row) = texel_at(map.resolution, uvd.x, uvd.y);
         let (u_c, v_c) = texel_centre(map.resolution, x, row);
         let tri = &ctx.scene.triangles[s.triangle as usize];
