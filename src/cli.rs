@@ -5,7 +5,9 @@ use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use shadowtruth::metrics::{Stopwatch, median_ms};
 use shadowtruth::plan::{Event, Plan, execute, read_plan};
-use shadowtruth::report::{Report, ReportWriter, write_mask_png, write_world_obj};
+use shadowtruth::report::{
+    PageAssets, Report, ReportWriter, read_report, write_mask_png, write_report_outputs, write_world_obj,
+};
 use shadowtruth::scene::{Scene, load_scene};
 use shadowtruth::trace::{GBuffer, SceneBvh, trace_hard_reference};
 use std::collections::BTreeMap;
@@ -37,6 +39,15 @@ enum Command {
     /// Write the scene's world-space triangles as OBJ (one `o` group per object), with
     /// coordinates that read back as the same f32 values.
     ExportObj(ExportObjArgs),
+    /// Re-render report.csv, the plots and index.html of a report folder from its report.json,
+    /// without running anything.
+    Report(ReportArgs),
+}
+
+#[derive(Args)]
+struct ReportArgs {
+    /// A report folder (holding report.json).
+    dir: PathBuf,
 }
 
 #[derive(Args)]
@@ -101,6 +112,18 @@ pub fn run(cli: Cli) -> Result<u8> {
     match cli.command {
         Command::Run(a) => run_plan(a),
         Command::Reference(a) => reference(a),
+        Command::Report(a) => {
+            let report = read_report(&a.dir).map_err(anyhow::Error::msg)?;
+            let dir = if a.dir.is_dir() {
+                a.dir.clone()
+            } else {
+                a.dir.parent().unwrap_or(Path::new(".")).to_path_buf()
+            };
+            write_report_outputs(&dir, &report, page_assets(&dir, &report))
+                .with_context(|| format!("writing into {}", dir.display()))?;
+            println!("{}", dir.join("index.html").display());
+            Ok(0)
+        }
         Command::ExportObj(a) => {
             let scene = load_scene(&a.scene)?;
             write_world_obj(&scene, &a.out).with_context(|| format!("writing {}", a.out.display()))?;
@@ -179,14 +202,18 @@ fn run_plan(a: RunArgs) -> Result<u8> {
         Event::Stage(s) => bar.set_message(s),
         Event::RunDone(_) => bar.inc(1),
     })?;
+    bar.set_message("figures, plots and index.html");
+    write_report_outputs(&a.out, writer.report(), page_assets(&a.out, writer.report()))
+        .with_context(|| format!("writing into {}", a.out.display()))?;
     bar.finish_and_clear();
     if !a.quiet {
         print_table(writer.report());
         println!(
-            "{} runs in {:.1} s; report: {}",
+            "{} runs in {:.1} s; report: {} (open {})",
             writer.report().runs.len(),
             started.elapsed().as_secs_f64(),
-            writer.path().display()
+            writer.path().display(),
+            a.out.join("index.html").display()
         );
     }
     Ok(0)
@@ -295,4 +322,20 @@ fn print_trace_timing(
         rays.1,
         primary_ms.len()
     );
+}
+
+/// The figures already written under `dir/figures/`: scene grids and references, in name order.
+fn page_assets(dir: &Path, _report: &Report) -> PageAssets {
+    let mut figures: Vec<(String, String)> = std::fs::read_dir(dir.join("figures"))
+        .map(|entries| {
+            entries
+                .filter_map(|e| e.ok())
+                .filter_map(|e| e.file_name().into_string().ok())
+                .filter(|n| n.ends_with(".grid.png") || n.ends_with(".reference.png"))
+                .map(|n| (format!("figures/{n}"), n.trim_end_matches(".png").replace('.', " ")))
+                .collect()
+        })
+        .unwrap_or_default();
+    figures.sort();
+    PageAssets { figures, ..PageAssets::default() }
 }

@@ -1,0 +1,301 @@
+//! Plots (SVG and PNG) of a report: error rate against each swept parameter, error against
+//! shadow-map resolution, and shading cost against error with the Pareto front marked.
+//! Drawn with plotters; text uses the bundled DejaVu Sans, so no system font is needed.
+
+use super::{Report, RunRecord};
+use crate::atomic_file::{encode_rgb_png, write_atomic};
+use plotters::prelude::*;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// One chart: series of (x, y) points, optionally a Pareto front drawn over them.
+#[derive(Clone, Debug)]
+pub struct Chart {
+    /// File stem under `plots/`.
+    pub stem: String,
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub log_x: bool,
+    /// Series drawn as lines with markers (`points_only` draws markers alone).
+    pub series: Vec<(String, Vec<(f64, f64)>)>,
+    pub points_only: bool,
+    pub pareto: Option<Vec<(f64, f64)>>,
+}
+
+const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+
+fn register_font() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        // The bundled font parses; a failure would only lose the text, not the plot.
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
+    });
+}
+
+/// The lowest error drawn (in %): exact zeros sit on this line of the log axis.
+const Y_FLOOR: f64 = 1e-4;
+
+fn error_percent(r: &RunRecord) -> f64 {
+    (100.0 * r.rates.error).max(Y_FLOOR)
+}
+
+/// A number with at most three significant digits, for axis labels.
+fn compact(x: f64) -> String {
+    if x == 0.0 {
+        return "0".into();
+    }
+    let magnitude = x.abs().log10().floor();
+    if !(-3.0..5.0).contains(&magnitude) {
+        return format!("{x:.1e}");
+    }
+    let decimals = (2.0 - magnitude).max(0.0) as usize;
+    let text = format!("{x:.decimals$}");
+    if text.contains('.') { text.trim_end_matches('0').trim_end_matches('.').to_string() } else { text }
+}
+
+fn file_safe(s: &str) -> String {
+    s.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect()
+}
+
+/// Every chart of a report.
+pub fn charts(report: &Report) -> Vec<Chart> {
+    let mut out = Vec::new();
+    out.extend(parameter_sweeps(report));
+    out.extend(resolution_charts(report));
+    out.extend(cost_charts(report));
+    out
+}
+
+/// Error against each numeric parameter that varies while everything else about the run is
+/// fixed; one series per resolution.
+fn parameter_sweeps(report: &Report) -> Vec<Chart> {
+    // (scene/camera/light, technique, format, parameter, the other parameters) → resolution → points
+    type Key = (String, String, String, String, String);
+    let mut groups: BTreeMap<Key, BTreeMap<u32, Vec<(f64, f64)>>> = BTreeMap::new();
+    for r in &report.runs {
+        for (name, value) in &r.parameters {
+            let Some(x) = value.as_f64() else { continue };
+            let mut others = r.parameters.clone();
+            others.remove(name);
+            let key = (
+                format!("{}/{}/{}", r.scene, r.camera, r.light),
+                r.technique.clone(),
+                r.depth_format.clone(),
+                name.clone(),
+                serde_json::Value::Object(others).to_string(),
+            );
+            groups.entry(key).or_default().entry(r.resolution).or_default().push((x, error_percent(r)));
+        }
+    }
+    groups
+        .into_iter()
+        .filter(|(_, by_res)| by_res.values().any(|p| p.len() >= 2))
+        .map(|((view, technique, format, param, others), by_res)| {
+            let xs: Vec<f64> = by_res.values().flatten().map(|p| p.0).collect();
+            let (lo, hi) = xs.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));
+            let others_text = others.trim_matches(|c| c == '{' || c == '}').replace('"', "");
+            Chart {
+                stem: file_safe(&format!("sweep_{view}_{technique}_{param}_{format}_{others_text}")),
+                title: format!(
+                    "{view}: {technique} {}{}",
+                    if others_text.is_empty() { String::new() } else { format!("({others_text}) ") },
+                    format
+                ),
+                x_label: param,
+                y_label: "error (% of evaluated pixels; 0 drawn at 1e-4)".into(),
+                log_x: lo > 0.0 && hi / lo > 20.0,
+                series: by_res
+                    .into_iter()
+                    .map(|(res, mut pts)| {
+                        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+                        (format!("{res}²"), pts)
+                    })
+                    .collect(),
+                points_only: false,
+                pareto: None,
+            }
+        })
+        .collect()
+}
+
+/// Error against resolution, one series per technique setting.
+fn resolution_charts(report: &Report) -> Vec<Chart> {
+    let mut groups: BTreeMap<(String, String), BTreeMap<String, Vec<(f64, f64)>>> = BTreeMap::new();
+    for r in &report.runs {
+        let view = format!("{}/{}/{}", r.scene, r.camera, r.light);
+        groups
+            .entry((view, r.depth_format.clone()))
+            .or_default()
+            .entry(r.label.clone())
+            .or_default()
+            .push((r.resolution as f64, error_percent(r)));
+    }
+    groups
+        .into_iter()
+        .filter(|(_, s)| s.values().any(|p| p.len() >= 2))
+        .map(|((view, format), series)| Chart {
+            stem: file_safe(&format!("resolution_{view}_{format}")),
+            title: format!("{view}: error against shadow-map resolution ({format})"),
+            x_label: "shadow-map resolution (texels per side)".into(),
+            y_label: "error (% of evaluated pixels; 0 drawn at 1e-4)".into(),
+            log_x: true,
+            series: series
+                .into_iter()
+                .map(|(label, mut pts)| {
+                    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+                    (label, pts)
+                })
+                .collect(),
+            points_only: false,
+            pareto: None,
+        })
+        .collect()
+}
+
+/// The points not dominated by another (cheaper and no worse, or no dearer and better),
+/// sorted by cost.
+pub fn pareto_front(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let mut sorted: Vec<(f64, f64)> = points.to_vec();
+    sorted.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    let mut front: Vec<(f64, f64)> = Vec::new();
+    for p in sorted {
+        if front.last().is_none_or(|last| p.1 < last.1) {
+            front.push(p);
+        }
+    }
+    front
+}
+
+/// Shading cost against error at each resolution, one point per technique setting, with the
+/// Pareto front.
+fn cost_charts(report: &Report) -> Vec<Chart> {
+    let mut groups: BTreeMap<(String, u32, String), Vec<(String, (f64, f64))>> = BTreeMap::new();
+    for r in &report.runs {
+        let view = format!("{}/{}/{}", r.scene, r.camera, r.light);
+        groups
+            .entry((view, r.resolution, r.depth_format.clone()))
+            .or_default()
+            .push((r.label.clone(), (r.timings.ns_per_pixel, error_percent(r))));
+    }
+    groups
+        .into_iter()
+        .filter(|(_, pts)| pts.len() >= 2)
+        .map(|((view, res, format), pts)| {
+            let all: Vec<(f64, f64)> = pts.iter().map(|p| p.1).collect();
+            Chart {
+                stem: file_safe(&format!("cost_{view}_{res}_{format}")),
+                title: format!("{view}: cost against error at {res}² ({format})"),
+                x_label: "shading cost (ns per evaluated pixel)".into(),
+                y_label: "error (% of evaluated pixels; 0 drawn at 1e-4)".into(),
+                log_x: false,
+                series: pts.into_iter().map(|(label, p)| (label, vec![p])).collect(),
+                points_only: true,
+                pareto: Some(pareto_front(&all)),
+            }
+        })
+        .collect()
+}
+
+fn draw<DB: DrawingBackend>(root: DrawingArea<DB, plotters::coord::Shift>, c: &Chart) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    root.fill(&WHITE).map_err(err)?;
+    let pts = c.series.iter().flat_map(|s| s.1.iter());
+    let (mut x0, mut x1, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
+    for &(x, y) in pts {
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y1 = y1.max(y);
+    }
+    if !x0.is_finite() {
+        return Ok(());
+    }
+    if x1 <= x0 {
+        x1 = x0 + 1.0;
+    }
+    // Errors span orders of magnitude (0.01 % to 50 %): a log axis, with zero drawn at the floor.
+    let y1 = if y1 <= Y_FLOOR { 1.0 } else { y1 * 1.5 };
+    let mut builder = ChartBuilder::on(&root);
+    builder.caption(&c.title, ("sans-serif", 18)).margin(12).x_label_area_size(40).y_label_area_size(56);
+    let palette = |i: usize| Palette99::pick(i).to_rgba();
+    macro_rules! body {
+        ($chart:expr) => {{
+            let mut chart = $chart;
+            chart
+                .configure_mesh()
+                .x_label_formatter(&|x| compact(*x))
+                .y_label_formatter(&|y| compact(*y))
+                .x_desc(c.x_label.as_str())
+                .y_desc(c.y_label.as_str())
+                .label_style(("sans-serif", 13))
+                .draw()
+                .map_err(err)?;
+            for (i, (name, points)) in c.series.iter().enumerate() {
+                let color = palette(i);
+                if c.points_only {
+                    chart
+                        .draw_series(points.iter().map(|&p| Circle::new(p, 4, color.filled())))
+                        .map_err(err)?
+                        .label(name.as_str())
+                        .legend(move |(x, y)| Circle::new((x + 6, y), 4, color.filled()));
+                } else {
+                    chart
+                        .draw_series(LineSeries::new(points.iter().copied(), color.stroke_width(2)))
+                        .map_err(err)?
+                        .label(name.as_str())
+                        .legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 14, y)], color.stroke_width(2))
+                        });
+                    chart
+                        .draw_series(points.iter().map(|&p| Circle::new(p, 3, color.filled())))
+                        .map_err(err)?;
+                }
+            }
+            if let Some(front) = &c.pareto {
+                chart
+                    .draw_series(LineSeries::new(front.iter().copied(), BLACK.stroke_width(2)))
+                    .map_err(err)?
+                    .label("Pareto front")
+                    .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 14, y)], BLACK.stroke_width(2)));
+                chart
+                    .draw_series(front.iter().map(|&p| Circle::new(p, 7, BLACK.stroke_width(2))))
+                    .map_err(err)?;
+            }
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperRight)
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK.mix(0.4))
+                .label_font(("sans-serif", 12))
+                .draw()
+                .map_err(err)?;
+        }};
+    }
+    let y_range = (Y_FLOOR * 0.7..y1).log_scale();
+    if c.log_x {
+        body!(builder.build_cartesian_2d((x0 * 0.9..x1 * 1.1).log_scale(), y_range).map_err(err)?);
+    } else {
+        let pad = (x1 - x0) * 0.05;
+        body!(builder.build_cartesian_2d((x0 - pad).max(0.0)..x1 + pad, y_range).map_err(err)?);
+    }
+    root.present().map_err(err)
+}
+
+const WIDTH: u32 = 900;
+const HEIGHT: u32 = 560;
+
+/// Draws `chart` as `dir/<stem>.svg` and `dir/<stem>.png`.
+pub fn write_chart(dir: &Path, chart: &Chart) -> std::io::Result<()> {
+    register_font();
+    let mut svg = String::new();
+    draw(SVGBackend::with_string(&mut svg, (WIDTH, HEIGHT)).into_drawing_area(), chart)
+        .map_err(std::io::Error::other)?;
+    write_atomic(&dir.join(format!("{}.svg", chart.stem)), svg.as_bytes())?;
+    let mut rgb = vec![255u8; (WIDTH * HEIGHT * 3) as usize];
+    draw(BitMapBackend::with_buffer(&mut rgb, (WIDTH, HEIGHT)).into_drawing_area(), chart)
+        .map_err(std::io::Error::other)?;
+    write_atomic(&dir.join(format!("{}.png", chart.stem)), &encode_rgb_png(WIDTH, HEIGHT, &rgb)?)
+}
