@@ -1,0 +1,160 @@
+//! A report folder end to end: report.json, report.csv, plots and index.html, and the page
+//! opened in a real headless Chromium (Debian's `chromium`), which must load the table and every
+//! image. CI installs Chromium; elsewhere the browser part is skipped with a message when it is
+//! missing (and fails when `CI` is set).
+
+mod common;
+
+use shadowtruth::plan::{Plan, execute, parse_plan};
+use shadowtruth::report::{Report, ReportWriter, read_report, write_report_outputs};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn small_report(dir: &Path) -> Report {
+    let text = serde_json::json!({
+        "format": "shadowtruth/plan/v1",
+        "techniques": [
+            { "technique": "none" },
+            { "technique": "constant", "bias_depth": [0.0005, 0.002, 0.008] },
+            { "technique": "slope_scaled", "factor": 2.0, "units": 4.0 }
+        ],
+        "resolutions": [256, 512], "repeats": 1
+    })
+    .to_string();
+    let mut plan: Plan = parse_plan(&text, Path::new("plan.json")).unwrap();
+    plan.scenes = vec![common::repo().join("scenes/plane_box.json")];
+    let mut writer = ReportWriter::new(dir);
+    execute(&plan, &mut writer, None, &mut |_| {}).unwrap();
+    let report = writer.into_report();
+    write_report_outputs(dir, &report, Default::default()).unwrap();
+    report
+}
+
+#[test]
+fn csv_has_the_rows_of_the_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let report = small_report(dir.path());
+    let mut csv = csv::Reader::from_path(dir.path().join("report.csv")).unwrap();
+    let headers = csv.headers().unwrap().clone();
+    let col =
+        |name: &str| headers.iter().position(|h| h == name).unwrap_or_else(|| panic!("no column {name}"));
+    let rows: Vec<csv::StringRecord> = csv.records().map(Result::unwrap).collect();
+    assert_eq!(rows.len(), report.runs.len());
+    for (row, run) in rows.iter().zip(&report.runs) {
+        assert_eq!(row[col("label")], run.label);
+        assert_eq!(row[col("counts.false_shadow")].parse::<u64>().unwrap(), run.counts.false_shadow);
+        assert_eq!(row[col("counts.aliasing")].parse::<u64>().unwrap(), run.counts.aliasing);
+        assert_eq!(row[col("rates.error")].parse::<f64>().unwrap(), run.rates.error);
+        assert_eq!(row[col("resolution")].parse::<u32>().unwrap(), run.resolution);
+    }
+    // Parameters of every technique get their own columns.
+    assert!(
+        headers.iter().any(|h| h == "parameters.bias_depth")
+            && headers.iter().any(|h| h == "parameters.factor")
+    );
+    // The report command re-renders the same CSV from report.json alone.
+    let before = std::fs::read_to_string(dir.path().join("report.csv")).unwrap();
+    std::fs::remove_file(dir.path().join("report.csv")).unwrap();
+    let again = read_report(dir.path()).unwrap();
+    write_report_outputs(dir.path(), &again, Default::default()).unwrap();
+    assert!(std::fs::read_to_string(dir.path().join("report.csv")).unwrap() == before, "report.csv changed");
+}
+
+#[test]
+fn plots_are_written_as_svg_and_png() {
+    let dir = tempfile::tempdir().unwrap();
+    small_report(dir.path());
+    let plots: Vec<PathBuf> =
+        std::fs::read_dir(dir.path().join("plots")).unwrap().map(|e| e.unwrap().path()).collect();
+    let stems = |ext: &str| {
+        let mut v: Vec<String> = plots
+            .iter()
+            .filter(|p| p.extension().is_some_and(|x| x == ext))
+            .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    };
+    assert_eq!(stems("svg"), stems("png"));
+    let names = stems("png");
+    assert!(names.iter().any(|n| n.starts_with("sweep_") && n.contains("bias_depth")), "{names:?}");
+    assert!(names.iter().any(|n| n.starts_with("resolution_")), "{names:?}");
+    assert!(names.iter().any(|n| n.starts_with("cost_")), "{names:?}");
+    for p in plots.iter().filter(|p| p.extension().is_some_and(|x| x == "png")) {
+        let img = image::open(p).unwrap().into_rgb8();
+        let distinct: std::collections::HashSet<[u8; 3]> = img.pixels().map(|p| p.0).collect();
+        assert!(distinct.len() > 10, "{} looks empty", p.display());
+    }
+    let svg =
+        std::fs::read_to_string(plots.iter().find(|p| p.extension().is_some_and(|x| x == "svg")).unwrap())
+            .unwrap();
+    assert!(svg.contains("<svg") && svg.contains("<text"), "SVG plots carry their text");
+}
+
+fn chromium() -> Option<PathBuf> {
+    if let Ok(p) = std::env::var("CHROMIUM") {
+        return Some(PathBuf::from(p));
+    }
+    ["chromium", "chromium-browser", "google-chrome"].iter().find_map(|name| {
+        std::env::var_os("PATH")
+            .and_then(|paths| std::env::split_paths(&paths).map(|d| d.join(name)).find(|p| p.is_file()))
+    })
+}
+
+#[test]
+fn the_index_page_loads_its_table_and_every_image_in_a_real_browser() {
+    let Some(browser) = chromium() else {
+        assert!(std::env::var_os("CI").is_none(), "CI must install chromium (see .ci/run)");
+        eprintln!("SKIPPED: no chromium on PATH (apt-get install chromium); the page was not opened");
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let report = small_report(dir.path());
+    let page = dir.path().join("index.html");
+    let profile = tempfile::tempdir().unwrap();
+    let args = |extra: &[&str]| {
+        let mut a: Vec<String> = [
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-quic",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--allow-file-access-from-files",
+            "--virtual-time-budget=15000",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        a.push(format!("--user-data-dir={}", profile.path().display()));
+        a.extend(extra.iter().map(|s| s.to_string()));
+        a.push(format!("file://{}", page.display()));
+        a
+    };
+    let out = Command::new(&browser).args(args(&["--dump-dom"])).output().expect("chromium runs");
+    let dom = String::from_utf8_lossy(&out.stdout);
+    let attr = |name: &str| -> usize {
+        let key = format!("{name}=\"");
+        let at = dom.find(&key).unwrap_or_else(|| panic!("no {name} in the page after load: {dom:.2000}"));
+        dom[at + key.len()..].split('"').next().unwrap().parse().unwrap()
+    };
+    let (loaded, total) = (attr("data-loaded"), attr("data-total"));
+    assert!(total > 0, "the page shows no image");
+    assert_eq!(loaded, total, "{loaded} of {total} images loaded");
+    let runs_table = &dom[dom.find("id=\"runs\"").expect("a runs table")..];
+    let rows = runs_table.matches("<tr><td class=\"l\">plane_box").count();
+    assert_eq!(rows, report.runs.len(), "the runs table has one row per run");
+    // A screenshot, kept for people to look at.
+    let shot = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("index-screenshot.png");
+    let _ = std::fs::remove_file(&shot);
+    let status = Command::new(&browser)
+        .args(args(&[&format!("--screenshot={}", shot.display()), "--window-size=1400,1800"]))
+        .output()
+        .expect("chromium runs");
+    assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
+    let img = image::open(&shot).expect("a screenshot was saved").into_rgb8();
+    assert!(img.width() == 1400 && img.height() == 1800);
+    eprintln!("screenshot: {}", shot.display());
+}
