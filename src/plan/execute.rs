@@ -8,7 +8,7 @@ use crate::metrics::{LightUv, Stopwatch, attribute, median_ms, score_hard};
 use crate::raster::LightView;
 use crate::report::{ReportWriter, RunRecord, SceneRecord, Timings};
 use crate::scene::{Scene, SceneError, load_scene};
-use crate::technique::{LayerNeeds, ShadeContext, shade_evaluated};
+use crate::technique::{LayerNeeds, ShadeContext, ShadeOrder, shade_evaluated};
 use crate::trace::{GBuffer, ReferenceCache, SceneBvh, trace_hard_reference};
 use std::path::PathBuf;
 
@@ -140,6 +140,7 @@ pub fn execute(
             for &resolution in &plan.resolutions {
                 let view = LightView::new(light, bounds, resolution);
                 let light_uv = LightUv::new(&gbuffer, &view);
+                let order = ShadeOrder::new(&gbuffer, &view);
                 for &format in &plan.depth_formats {
                     // Techniques grouped by the layers they read: each set is rasterized once.
                     let mut groups: Vec<(LayerNeeds, Vec<usize>)> = Vec::new();
@@ -167,7 +168,7 @@ pub fn execute(
                             let mut visibility = Vec::new();
                             for _ in 0..plan.repeats.max(1) {
                                 let sw = Stopwatch::start();
-                                visibility = shade_evaluated(technique.as_ref(), &gbuffer, &ctx);
+                                visibility = shade_evaluated(technique.as_ref(), &order, &ctx);
                                 shade_ms.push(sw.ms());
                             }
                             let shade_ms = median_ms(&shade_ms);

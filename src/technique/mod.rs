@@ -17,7 +17,7 @@ pub use bias::{ConstantBias, NoBias, SlopeScaledBias};
 pub use depth_layers::{DualDepth, Midpoint, SecondDepth};
 pub use normal_offset::{NormalOffset, OffsetFalloff};
 pub use receiver_plane::{ReceiverPlane, receiver_plane_slope};
-pub use shade::{ShadeContext, shade_evaluated};
+pub use shade::{ShadeContext, ShadeOrder, shade_evaluated};
 pub use spec::{CullSpec, EpsilonSpec, FalloffSpec, TechniqueSpec, TechniqueSpecError};
 
 use crate::raster::{Culling, DepthLayer, DepthPairLayer};
@@ -94,8 +94,9 @@ pub trait Technique: Sync {
 #[inline]
 pub fn texel_at(resolution: u32, u: f32, v: f32) -> (u32, u32) {
     let n = resolution as f32;
-    let x = ((u * n).floor().max(0.0) as u32).min(resolution - 1);
-    let row = (((1.0 - v) * n).floor().max(0.0) as u32).min(resolution - 1);
+    // Clamped to ≥ 0 first, so that the truncating cast is the floor (and NaN goes to 0).
+    let x = ((u * n).max(0.0) as u32).min(resolution - 1);
+    let row = (((1.0 - v) * n).max(0.0) as u32).min(resolution - 1);
     (x, row)
 }
 

@@ -31,16 +31,59 @@ impl<'a> ShadeContext<'a> {
     }
 }
 
-/// Visibility of every evaluated pixel, in the order of `gbuffer.evaluated`.
-pub fn shade_evaluated(technique: &dyn Technique, gbuffer: &GBuffer, ctx: &ShadeContext) -> Vec<f32> {
-    let g = gbuffer;
-    g.evaluated
-        .par_iter()
-        .with_min_len(4096)
-        .map(|&i| {
-            let i = i as usize;
-            let s = Sample { position: g.position[i], normal: g.normal[i], triangle: g.triangle[i] };
-            technique.visibility(&s, ctx)
-        })
-        .collect()
+/// The order in which to shade the evaluated pixels of one G-buffer for one light view: sorted
+/// by the shadow-map texel each receiver projects to, so that depth-map reads walk the map row
+/// by row instead of jumping across it (camera order is random order for the map). Built once
+/// per (camera, light, resolution) and shared by every technique.
+pub struct ShadeOrder {
+    /// Samples of the G-buffer's sample arrays, in shading order.
+    samples: Vec<Sample>,
+    /// `slot[j]`: the position in `gbuffer.evaluated` of the j-th sample shaded.
+    slot: Vec<u32>,
+}
+
+impl ShadeOrder {
+    pub fn new(gbuffer: &GBuffer, view: &LightView) -> Self {
+        let n = view.resolution as u64;
+        let mut keyed: Vec<u64> = gbuffer
+            .evaluated
+            .par_iter()
+            .enumerate()
+            .map(|(k, &i)| {
+                let texel = match view.project(gbuffer.position[i as usize]) {
+                    Some(uvd) => {
+                        let (x, row) = super::texel_at(view.resolution, uvd.x, uvd.y);
+                        row as u64 * n + x as u64
+                    }
+                    None => n * n,
+                };
+                (texel << 32) | k as u64
+            })
+            .collect();
+        keyed.par_sort_unstable();
+        let slot: Vec<u32> = keyed.iter().map(|&key| key as u32).collect();
+        let samples = slot
+            .par_iter()
+            .map(|&k| {
+                let i = gbuffer.evaluated[k as usize] as usize;
+                Sample {
+                    position: gbuffer.position[i],
+                    normal: gbuffer.normal[i],
+                    triangle: gbuffer.triangle[i],
+                }
+            })
+            .collect();
+        ShadeOrder { samples, slot }
+    }
+}
+
+/// Visibility of every evaluated pixel, in the order of `gbuffer.evaluated`, shaded in `order`.
+pub fn shade_evaluated(technique: &dyn Technique, order: &ShadeOrder, ctx: &ShadeContext) -> Vec<f32> {
+    let shaded: Vec<f32> =
+        order.samples.par_iter().with_min_len(4096).map(|s| technique.visibility(s, ctx)).collect();
+    let mut visibility = vec![0.0; shaded.len()];
+    for (&k, v) in order.slot.iter().zip(shaded) {
+        visibility[k as usize] = v;
+    }
+    visibility
 }

@@ -57,11 +57,11 @@ pub fn score_technique(
     resolution: u32,
     format: shadowtruth::raster::DepthFormat,
 ) -> (shadowtruth::metrics::Counts, Vec<f32>) {
-    use shadowtruth::technique::{ShadeContext, shade_evaluated};
+    use shadowtruth::technique::{ShadeContext, ShadeOrder, shade_evaluated};
     let technique = spec.build();
     let view = shadowtruth::raster::LightView::new(&scene.lights[0], scene.bounds(), resolution);
     let (layers, _) = shadowtruth::plan::build_layers(scene, &view, format, &technique.layer_needs(), 1);
     let ctx = ShadeContext::new(scene, &view, layers.as_layers());
-    let v = shade_evaluated(technique.as_ref(), g, &ctx);
+    let v = shade_evaluated(technique.as_ref(), &ShadeOrder::new(g, &view), &ctx);
     (shadowtruth::metrics::score_hard(g, r, &v), v)
 }
