@@ -3,6 +3,7 @@
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
+use shadowtruth::atomic_file::write_atomic;
 use shadowtruth::metrics::{Stopwatch, median_ms};
 use shadowtruth::plan::{Event, Plan, execute, read_plan};
 use shadowtruth::report::{Report, ReportWriter, write_mask_png, write_world_obj};
@@ -37,6 +38,11 @@ enum Command {
     /// Write the scene's world-space triangles as OBJ (one `o` group per object), with
     /// coordinates that read back as the same f32 values.
     ExportObj(ExportObjArgs),
+    /// Check a report against rules: exit 0 when every rule holds, 1 on violations, 2 on bad input.
+    ///
+    /// Rules (TOML, `[[rule]]` tables) select runs by glob patterns and bound a metric absolutely
+    /// (`max`) and/or against a baseline report (`max_increase`, `max_increase_ratio`).
+    Gate(GateArgs),
 }
 
 #[derive(Args)]
@@ -97,6 +103,24 @@ struct ExportObjArgs {
     out: PathBuf,
 }
 
+#[derive(Args)]
+struct GateArgs {
+    /// The report to check: a report.json file or a folder holding one.
+    report: PathBuf,
+    /// The rules file (TOML).
+    #[arg(long)]
+    rules: PathBuf,
+    /// The report to compare with for regression bounds (a report.json file or its folder).
+    #[arg(long)]
+    baseline: Option<PathBuf>,
+    /// Also write JUnit XML: one testcase per (rule, run) checked.
+    #[arg(long)]
+    junit: Option<PathBuf>,
+    /// Also write a Markdown table (rule, run, value, limit, status) for CI job summaries.
+    #[arg(long)]
+    summary: Option<PathBuf>,
+}
+
 pub fn run(cli: Cli) -> Result<u8> {
     match cli.command {
         Command::Run(a) => run_plan(a),
@@ -106,7 +130,30 @@ pub fn run(cli: Cli) -> Result<u8> {
             write_world_obj(&scene, &a.out).with_context(|| format!("writing {}", a.out.display()))?;
             Ok(0)
         }
+        Command::Gate(a) => gate(a),
     }
+}
+
+/// Reads everything first (any bad input exits 2 before anything is written), evaluates, writes
+/// the optional JUnit and Markdown files, prints the violations and the summary line.
+fn gate(a: GateArgs) -> Result<u8> {
+    let rules = shadowtruth::report::load_rules(&a.rules)?;
+    let (report, _) = shadowtruth::report::load_report(&a.report)?;
+    let baseline = match &a.baseline {
+        Some(b) => Some(shadowtruth::report::load_report(b)?.0),
+        None => None,
+    };
+    let outcome = shadowtruth::report::evaluate(&report, baseline.as_ref(), &rules)?;
+    if let Some(path) = &a.junit {
+        write_atomic(path, shadowtruth::report::junit_xml(&outcome).as_bytes())
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    if let Some(path) = &a.summary {
+        write_atomic(path, outcome.markdown().as_bytes())
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    print!("{}", outcome.text());
+    Ok(if outcome.passed() { 0 } else { 1 })
 }
 
 fn set_threads(threads: Option<usize>) -> Result<()> {
