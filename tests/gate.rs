@@ -340,3 +340,27 @@ fn nothing_is_written_on_bad_input() {
     assert_eq!(code, 2);
     assert!(!dir.path().join("junit.xml").exists() && !dir.path().join("summary.md").exists());
 }
+
+#[test]
+fn the_example_gate_runs_on_a_report_with_the_shipped_setting() {
+    let dir = tempfile::tempdir().unwrap();
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("gates/shadow-settings.toml");
+    let shipped = "slope_scaled(cull=none,factor=2.0,units=4.0)";
+    let mut now = report(0);
+    now.runs.push(run("plane_box", "slope_scaled", shipped, 2048, 90, 177));
+    now.runs.push(run("plane_box", "slope_scaled", shipped, 1024, 88, 52));
+    write_report(dir.path(), "base", &now);
+    write_report(dir.path(), "now", &now);
+    let example = example.to_str().unwrap();
+    let (code, stdout, stderr) = gate(&["now", "--rules", example, "--baseline", "base"], dir.path());
+    assert_eq!(code, 0, "stdout: {stdout}\nstderr: {stderr}");
+    assert!(stdout.starts_with("4 rules, 6 runs checked, 0 violations"), "{stdout}");
+    // One more false-shadow pixel of the shipped setting at 1024² breaks the no-regression rule.
+    now.runs.last_mut().unwrap().counts.false_shadow += 1;
+    write_report(dir.path(), "now", &now);
+    let (code, stdout, _) = gate(&["now", "--rules", example, "--baseline", "base"], dir.path());
+    assert_eq!(code, 1, "{stdout}");
+    assert!(
+        stdout.contains("shipped bias: no regression") && stdout.contains(&format!("{shipped} @1024 f32"))
+    );
+}

@@ -528,7 +528,7 @@ impl Check {
                 match v {
                     Violation::Max { limit } => format!("{head} > max {}", fmt_value(*limit)),
                     Violation::Regression { baseline, limit, limit_count } => format!(
-                        "{head} > {} (baseline {})",
+                        "{head} > limit {} (baseline {})",
                         show_limit(*limit, *limit_count),
                         baseline.show()
                     ),
