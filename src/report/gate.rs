@@ -180,10 +180,13 @@ impl Rule {
 }
 
 fn describe_slack(r: &Regression) -> String {
-    match (r.increase, r.ratio) {
-        (i, q) if q == 0.0 => fmt_value(i),
-        (i, q) if i == 0.0 => format!("{}·baseline", fmt_value(q)),
-        (i, q) => format!("max({}, {}·baseline)", fmt_value(i), fmt_value(q)),
+    let (i, q) = (r.increase, r.ratio);
+    if q == 0.0 {
+        fmt_value(i)
+    } else if i == 0.0 {
+        format!("{}·baseline", fmt_value(q))
+    } else {
+        format!("max({}, {}·baseline)", fmt_value(i), fmt_value(q))
     }
 }
 
@@ -283,10 +286,9 @@ fn rule_from_value(value: &toml::Value, i: usize, origin: &str) -> Result<Rule, 
                 .filter_map(|(k, v)| {
                     let mut single = toml::Table::new();
                     single.insert(k.clone(), v.clone());
-                    toml::Value::Table(single)
-                        .try_into::<RuleSpec>()
-                        .err()
-                        .map(|e| format!("{}: {}", at(k), e.to_string().trim_end()))
+                    toml::Value::Table(single).try_into::<RuleSpec>().err().map(|e| {
+                        format!("{}: {}", at(k), e.to_string().lines().next().unwrap_or("invalid value"))
+                    })
                 })
                 .collect();
             if problems.is_empty() {
@@ -664,11 +666,12 @@ pub fn evaluate(report: &Report, baseline: Option<&Report>, rules: &Rules) -> Re
             ));
             continue;
         }
-        for i in matched {
+        let (mut lacking, mut lacking_in_baseline) = (Vec::new(), Vec::new());
+        for &i in &matched {
             let run = &report.runs[i];
             let key = RunKey::of(run);
             let Some(measured) = measure(run, rule.metric) else {
-                problems.push(format!("{at}: metric: run {key} has no {} value", rule.metric));
+                lacking.push(key);
                 continue;
             };
             let mut violations = Vec::new();
@@ -685,8 +688,7 @@ pub fn evaluate(report: &Report, baseline: Option<&Report>, rules: &Rules) -> Re
                         new_runs.insert(key.clone());
                     }
                     Some([b]) => match measure(&base_report.runs[*b], rule.metric) {
-                        None => problems
-                            .push(format!("{at}: metric: baseline run {key} has no {} value", rule.metric)),
+                        None => lacking_in_baseline.push(key.clone()),
                         Some(base) => {
                             let (limit, limit_count, violated) = regression_check(&measured, &base, reg);
                             if violated {
@@ -714,6 +716,16 @@ pub fn evaluate(report: &Report, baseline: Option<&Report>, rules: &Rules) -> Re
                 baseline: status,
                 violations,
             });
+        }
+        for (runs, whose) in [(&lacking, "runs"), (&lacking_in_baseline, "baseline runs")] {
+            if let Some(first) = runs.first() {
+                problems.push(format!(
+                    "{at}: metric: {} of {} matched {whose} have no {} value (first: {first})",
+                    runs.len(),
+                    matched.len(),
+                    rule.metric
+                ));
+            }
         }
     }
     if !problems.is_empty() {
@@ -856,7 +868,11 @@ mod tests {
     fn soft_metric_names_are_accepted_but_a_run_without_them_is_bad_input() {
         let r = rules("[[rule]]\nmetric = \"mae\"\nmax = 0.1\n");
         let e = evaluate(&report(vec![run("s", "none", "none", 100, 0, 0)]), None, &r).unwrap_err();
-        assert!(e.to_string().contains("has no mae value"), "{e}");
+        assert!(
+            e.to_string().contains("rules.toml: rule[0]")
+                && e.to_string().contains("1 of 1 matched runs have no mae value"),
+            "{e}"
+        );
     }
 
     #[test]
