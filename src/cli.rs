@@ -3,10 +3,11 @@
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
+use shadowtruth::atomic_file::write_atomic;
 use shadowtruth::metrics::{Stopwatch, median_ms};
 use shadowtruth::plan::{Event, Plan, execute, read_plan};
 use shadowtruth::report::{
-    PageAssets, Report, ReportWriter, read_report, write_mask_png, write_report_outputs, write_world_obj,
+    PageAssets, Report, ReportWriter, load_report, write_mask_png, write_report_outputs, write_world_obj,
 };
 use shadowtruth::scene::{Scene, load_scene};
 use shadowtruth::trace::{GBuffer, SceneBvh, trace_hard_reference};
@@ -39,6 +40,11 @@ enum Command {
     /// Write the scene's world-space triangles as OBJ (one `o` group per object), with
     /// coordinates that read back as the same f32 values.
     ExportObj(ExportObjArgs),
+    /// Check a report against rules: exit 0 when every rule holds, 1 on violations, 2 on bad input.
+    ///
+    /// Rules (TOML, `[[rule]]` tables) select runs by glob patterns and bound a metric absolutely
+    /// (`max`) and/or against a baseline report (`max_increase`, `max_increase_ratio`).
+    Gate(GateArgs),
     /// Re-render report.csv, the plots and index.html of a report folder from its report.json,
     /// without running anything.
     Report(ReportArgs),
@@ -108,17 +114,31 @@ struct ExportObjArgs {
     out: PathBuf,
 }
 
+#[derive(Args)]
+struct GateArgs {
+    /// The report to check: a report.json file or a folder holding one.
+    report: PathBuf,
+    /// The rules file (TOML).
+    #[arg(long)]
+    rules: PathBuf,
+    /// The report to compare with for regression bounds (a report.json file or its folder).
+    #[arg(long)]
+    baseline: Option<PathBuf>,
+    /// Also write JUnit XML: one testcase per (rule, run) checked.
+    #[arg(long)]
+    junit: Option<PathBuf>,
+    /// Also write a Markdown table (rule, run, value, limit, status) for CI job summaries.
+    #[arg(long)]
+    summary: Option<PathBuf>,
+}
+
 pub fn run(cli: Cli) -> Result<u8> {
     match cli.command {
         Command::Run(a) => run_plan(a),
         Command::Reference(a) => reference(a),
         Command::Report(a) => {
-            let report = read_report(&a.dir).map_err(anyhow::Error::msg)?;
-            let dir = if a.dir.is_dir() {
-                a.dir.clone()
-            } else {
-                a.dir.parent().unwrap_or(Path::new(".")).to_path_buf()
-            };
+            let (report, file) = load_report(&a.dir)?;
+            let dir = file.parent().unwrap_or(Path::new(".")).to_path_buf();
             write_report_outputs(&dir, &report, page_assets(&dir, &report))
                 .with_context(|| format!("writing into {}", dir.display()))?;
             println!("{}", dir.join("index.html").display());
@@ -129,7 +149,30 @@ pub fn run(cli: Cli) -> Result<u8> {
             write_world_obj(&scene, &a.out).with_context(|| format!("writing {}", a.out.display()))?;
             Ok(0)
         }
+        Command::Gate(a) => gate(a),
     }
+}
+
+/// Reads everything first (any bad input exits 2 before anything is written), evaluates, writes
+/// the optional JUnit and Markdown files, prints the violations and the summary line.
+fn gate(a: GateArgs) -> Result<u8> {
+    let rules = shadowtruth::report::load_rules(&a.rules)?;
+    let (report, _) = load_report(&a.report)?;
+    let baseline = match &a.baseline {
+        Some(b) => Some(load_report(b)?.0),
+        None => None,
+    };
+    let outcome = shadowtruth::report::evaluate(&report, baseline.as_ref(), &rules)?;
+    if let Some(path) = &a.junit {
+        write_atomic(path, shadowtruth::report::junit_xml(&outcome).as_bytes())
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    if let Some(path) = &a.summary {
+        write_atomic(path, outcome.markdown().as_bytes())
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    print!("{}", outcome.text());
+    Ok(if outcome.passed() { 0 } else { 1 })
 }
 
 fn set_threads(threads: Option<usize>) -> Result<()> {

@@ -6,7 +6,7 @@
 mod common;
 
 use shadowtruth::plan::{Plan, execute, parse_plan};
-use shadowtruth::report::{Report, ReportWriter, read_report, write_report_outputs};
+use shadowtruth::report::{Report, ReportWriter, load_report, write_report_outputs};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -55,7 +55,7 @@ fn csv_has_the_rows_of_the_json() {
     // The report command re-renders the same CSV from report.json alone.
     let before = std::fs::read_to_string(dir.path().join("report.csv")).unwrap();
     std::fs::remove_file(dir.path().join("report.csv")).unwrap();
-    let again = read_report(dir.path()).unwrap();
+    let (again, _) = load_report(dir.path()).unwrap();
     write_report_outputs(dir.path(), &again, Default::default()).unwrap();
     assert!(std::fs::read_to_string(dir.path().join("report.csv")).unwrap() == before, "report.csv changed");
 }

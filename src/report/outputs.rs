@@ -19,19 +19,3 @@ pub fn write_report_outputs(dir: &Path, report: &Report, mut assets: PageAssets)
     assets.plots = all.iter().map(|c| c.stem.clone()).collect();
     write_atomic(&dir.join("index.html"), index_html(report, &assets).as_bytes())
 }
-
-/// Reads `dir/report.json`.
-pub fn read_report(dir: &Path) -> Result<Report, String> {
-    let path = if dir.is_dir() { dir.join("report.json") } else { dir.to_path_buf() };
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let report: Report = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-    if report.schema != super::REPORT_SCHEMA {
-        return Err(format!(
-            "{}: schema: expected \"{}\", found \"{}\"",
-            path.display(),
-            super::REPORT_SCHEMA,
-            report.schema
-        ));
-    }
-    Ok(report)
-}

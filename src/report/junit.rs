@@ -1,0 +1,82 @@
+//! JUnit XML of a gate for CI systems: one `<testsuite>` per rule, one `<testcase>` per run the
+//! rule checked, a `<failure>` in each testcase that broke a bound.
+
+use super::gate::{Check, GateOutcome};
+
+/// The outcome as JUnit XML (`testsuites` / `testsuite` / `testcase` / `failure`).
+pub fn junit_xml(outcome: &GateOutcome) -> String {
+    let mut suites: Vec<(usize, Vec<&Check>)> = Vec::new();
+    for c in &outcome.checks {
+        match suites.last_mut() {
+            Some((rule, checks)) if *rule == c.rule => checks.push(c),
+            _ => suites.push((c.rule, vec![c])),
+        }
+    }
+    let mut x = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    x.push_str(&format!(
+        "<testsuites name=\"shadowtruth gate\" tests=\"{}\" failures=\"{}\" errors=\"0\">\n",
+        outcome.checks.len(),
+        outcome.failed_checks()
+    ));
+    for (rule, checks) in &suites {
+        let failures = checks.iter().filter(|c| !c.passed()).count();
+        x.push_str(&format!(
+            "  <testsuite name=\"{}\" tests=\"{}\" failures=\"{failures}\" errors=\"0\" skipped=\"0\">\n",
+            escape(&format!("rule[{rule}] {}", checks[0].rule_name)),
+            checks.len()
+        ));
+        for c in checks {
+            let name = escape(&c.run.to_string());
+            let classname = escape(&format!("shadowtruth.gate.rule{rule}.{}", c.metric));
+            if c.passed() {
+                x.push_str(&format!("    <testcase name=\"{name}\" classname=\"{classname}\"/>\n"));
+                continue;
+            }
+            let lines = c.violation_lines();
+            x.push_str(&format!("    <testcase name=\"{name}\" classname=\"{classname}\">\n"));
+            x.push_str(&format!(
+                "      <failure message=\"{}\" type=\"{}\">{}</failure>\n",
+                escape(&lines[0]),
+                escape(&format!("{} bound", c.metric)),
+                escape(&format!("{}\nlimits: {}", lines.join("\n"), c.limits()))
+            ));
+            x.push_str("    </testcase>\n");
+        }
+        x.push_str("  </testsuite>\n");
+    }
+    x.push_str("</testsuites>\n");
+    x
+}
+
+/// Escapes text for XML attribute values and character data. Characters XML 1.0 cannot carry
+/// (most control characters) become U+FFFD; line breaks and tabs are kept as character
+/// references so that attribute values keep them too.
+pub fn escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for ch in s.chars() {
+        match ch {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            '\n' => out.push_str("&#10;"),
+            '\r' => out.push_str("&#13;"),
+            '\t' => out.push_str("&#9;"),
+            c if (c as u32) < 0x20 || c == '\u{FFFE}' || c == '\u{FFFF}' => out.push('\u{FFFD}'),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::escape;
+
+    #[test]
+    fn escapes_markup_and_control_characters() {
+        assert_eq!(escape(r#"a<b>&"c"'d'"#), "a&lt;b&gt;&amp;&quot;c&quot;&apos;d&apos;");
+        assert_eq!(escape("x\ny\u{1}"), "x&#10;y\u{FFFD}");
+    }
+}
