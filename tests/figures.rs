@@ -9,12 +9,12 @@ use shadowtruth::metrics::{Counts, Rates};
 use shadowtruth::raster::DepthFormat;
 use shadowtruth::report::figures::{
     FALSE_LIT, FALSE_SHADOW, GRID_BACKGROUND, GRID_GAP, GRID_TEXT, GridLayout, ZOOM_FRAME,
-    caption_block_height, encode_png_fast, legend_strip_height,
+    caption_block_height, encode_png_fast, legend_strip_height, reference_visibility,
 };
 use shadowtruth::report::font;
 use shadowtruth::report::{
     GridCell, RunRecord, Timings, error_map, grid, run_stem, shaded_base, visibility_image,
-    write_run_figures, zoom,
+    write_reference_figure, write_run_figures, zoom,
 };
 use shadowtruth::technique::TechniqueSpec;
 use std::collections::HashSet;
@@ -35,6 +35,10 @@ fn error_png_colours_count_exactly_the_false_pixels() {
         let scene = bundled(name);
         let (g, r) = trace_first(&scene);
         let base = shaded_base(&g, &scene.lights[0]);
+        let reference_file = write_reference_figure(dir.path(), name, &g, &r, &base).unwrap();
+        assert_eq!(reference_file, format!("{name}.reference.png"));
+        let reference = image::open(dir.path().join(&reference_file)).unwrap().to_rgb8();
+        assert_eq!(reference.as_raw(), &visibility_image(&g, &base, &reference_visibility(&g, &r)));
         for spec in techniques() {
             let (counts, v) = common::score_technique(&scene, &g, &r, &spec, 512, DepthFormat::F32);
             let stem = format!("{name}.{}", spec.name());
