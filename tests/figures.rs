@@ -13,7 +13,7 @@ use shadowtruth::report::figures::{
 };
 use shadowtruth::report::font;
 use shadowtruth::report::{
-    GridCell, RunRecord, Timings, error_map, grid, run_stem, shaded_base, visibility_image,
+    GridCell, RunRecord, Timings, error_map, grid, run_stem, shaded_base, view_stem, visibility_image,
     write_reference_figure, write_run_figures, zoom,
 };
 use shadowtruth::technique::TechniqueSpec;
@@ -283,6 +283,20 @@ fn run_stems_are_unique_and_file_name_safe() {
         );
         assert!(!stem.starts_with(['.', '-']), "{stem:?}");
         assert!(stem.len() <= 200, "{stem:?}");
+    }
+    // View stems (reference figures) likewise.
+    let views: Vec<(&str, &str, &str)> = vec![
+        ("plane_box", "main", "sun"),
+        ("plane box", "main", "sun"),
+        ("plane_box", "main", "lamp"),
+        ("plane_box", "top", "sun"),
+        ("plane", "box.main", "sun"),
+    ];
+    let view_stems: HashSet<String> = views.iter().map(|(s, c, l)| view_stem(s, c, l)).collect();
+    assert_eq!(view_stems.len(), views.len());
+    assert!(view_stem("plane_box", "main", "sun").starts_with("plane_box.main.sun."));
+    for stem in &view_stems {
+        assert!(stem.chars().all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.')), "{stem:?}");
     }
     let r = record("plane_box", "main", "sun", &specs[1], 1024, "f32");
     let stem = run_stem(&r);

@@ -562,42 +562,55 @@ fn file_safe(s: &str) -> String {
 
 const MAX_READABLE: usize = 160;
 
-/// The stem of a view's files: `<scene>.<camera>.<light>`, file-name safe.
-pub fn view_stem(scene: &str, camera: &str, light: &str) -> String {
+fn view_readable(scene: &str, camera: &str, light: &str) -> String {
     format!("{}.{}.{}", file_safe(scene), file_safe(camera), file_safe(light))
+}
+
+/// The first 8 hex digits of the SHA-256 of `parts` (each prefixed with its length, so that
+/// part boundaries count).
+fn short_hash(parts: &[&str]) -> String {
+    let mut hasher = Sha256::new();
+    for part in parts {
+        hasher.update((part.len() as u64).to_le_bytes());
+        hasher.update(part.as_bytes());
+    }
+    hasher.finalize()[..4].iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// A readable, file-name-safe and unique stem for a view's files (its reference figure):
+/// `<scene>.<camera>.<light>.<hash>`, each name passed through a character filter (only ASCII
+/// letters, digits, `_`, `-`, `.`) and `<hash>` the first 8 hex digits of the SHA-256 of the
+/// exact names, so that views whose filtered names coincide still get distinct stems.
+pub fn view_stem(scene: &str, camera: &str, light: &str) -> String {
+    let mut readable = view_readable(scene, camera, light);
+    readable.truncate(MAX_READABLE);
+    format!("{readable}.{}", short_hash(&[scene, camera, light]))
 }
 
 /// A readable, file-name-safe and unique stem for a run's files:
 /// `<scene>.<camera>.<light>.<label>.r<resolution>.<depth format>.<hash>`, each part passed
-/// through a character filter (only ASCII letters, digits, `_`, `-`, `.`), the readable part
-/// capped at 160 characters, and `<hash>` the first 8 hex digits of the SHA-256 of the exact key
-/// (scene, camera, light, label, parameters, resolution, depth format) so that runs whose
-/// filtered names coincide still get distinct stems.
+/// through the filter of [`view_stem`], the readable part capped at 160 characters, and `<hash>`
+/// the first 8 hex digits of the SHA-256 of the exact key (scene, camera, light, technique,
+/// label, parameters, resolution, depth format).
 pub fn run_stem(record: &RunRecord) -> String {
     let mut readable = format!(
         "{}.{}.r{}.{}",
-        view_stem(&record.scene, &record.camera, &record.light),
+        view_readable(&record.scene, &record.camera, &record.light),
         file_safe(&record.label),
         record.resolution,
         file_safe(&record.depth_format)
     );
     readable.truncate(MAX_READABLE);
-    let mut hasher = Sha256::new();
-    for part in [
-        record.scene.as_str(),
-        record.camera.as_str(),
-        record.light.as_str(),
-        record.technique.as_str(),
-        record.label.as_str(),
+    let hash = short_hash(&[
+        &record.scene,
+        &record.camera,
+        &record.light,
+        &record.technique,
+        &record.label,
         &serde_json::Value::Object(record.parameters.clone()).to_string(),
         &record.resolution.to_string(),
-        record.depth_format.as_str(),
-    ] {
-        hasher.update((part.len() as u64).to_le_bytes());
-        hasher.update(part.as_bytes());
-    }
-    let digest = hasher.finalize();
-    let hash: String = digest[..4].iter().map(|b| format!("{b:02x}")).collect();
+        &record.depth_format,
+    ]);
     format!("{readable}.{hash}")
 }
 
