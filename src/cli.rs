@@ -7,7 +7,8 @@ use shadowtruth::atomic_file::write_atomic;
 use shadowtruth::metrics::{Stopwatch, median_ms};
 use shadowtruth::plan::{Event, Plan, execute, read_plan};
 use shadowtruth::report::{
-    PageAssets, Report, ReportWriter, load_report, write_mask_png, write_report_outputs, write_world_obj,
+    PageAssets, Report, ReportWriter, load_report, run_stem, write_mask_png, write_report_outputs,
+    write_world_obj,
 };
 use shadowtruth::scene::{Scene, load_scene};
 use shadowtruth::trace::{GBuffer, SceneBvh, trace_hard_reference};
@@ -84,6 +85,13 @@ struct RunArgs {
     /// No progress bar and no table.
     #[arg(short, long)]
     quiet: bool,
+    /// Skip the PNG figures (the report, CSV, plots and page are still written).
+    #[arg(long)]
+    no_figures: bool,
+    /// Also write every run's error map enlarged 4× over this region of the camera image,
+    /// given as x,y,width,height in pixels (the papers' enlarged panels).
+    #[arg(long, value_delimiter = ',', num_args = 4, value_names = ["X", "Y", "W", "H"])]
+    zoom: Option<Vec<u32>>,
 }
 
 #[derive(Args)]
@@ -224,6 +232,13 @@ fn run_plan(a: RunArgs) -> Result<u8> {
     plan.scenes = expand_scenes(&plan.scenes)?;
     if let Some(r) = a.resolutions {
         plan.resolutions = r;
+    }
+    plan.figures = !a.no_figures;
+    if let Some(z) = &a.zoom {
+        if z.len() != 4 || z[2] == 0 || z[3] == 0 {
+            bail!("--zoom takes x,y,width,height with a non-zero width and height");
+        }
+        plan.zoom = Some([z[0], z[1], z[2], z[3]]);
     }
     if let Some(n) = a.repeats {
         if n == 0 {
@@ -367,8 +382,9 @@ fn print_trace_timing(
     );
 }
 
-/// The figures already written under `dir/figures/`: scene grids and references, in name order.
-fn page_assets(dir: &Path, _report: &Report) -> PageAssets {
+/// The figures already written under `dir/figures/`: scene grids and references (in name
+/// order), and each run's visibility and error figures.
+fn page_assets(dir: &Path, report: &Report) -> PageAssets {
     let mut figures: Vec<(String, String)> = std::fs::read_dir(dir.join("figures"))
         .map(|entries| {
             entries
@@ -380,5 +396,14 @@ fn page_assets(dir: &Path, _report: &Report) -> PageAssets {
         })
         .unwrap_or_default();
     figures.sort();
-    PageAssets { figures, ..PageAssets::default() }
+    let run_figures = report
+        .runs
+        .iter()
+        .map(|r| {
+            let stem = run_stem(r);
+            let (t, e) = (format!("figures/{stem}.technique.png"), format!("figures/{stem}.error.png"));
+            (dir.join(&t).is_file() && dir.join(&e).is_file()).then_some((t, e))
+        })
+        .collect();
+    PageAssets { figures, run_figures, ..PageAssets::default() }
 }

@@ -24,6 +24,8 @@ fn a_plan_writes_one_record_per_run_with_consistent_counts() {
         resolutions: vec![256, 512],
         depth_formats: vec![DepthFormat::F32, DepthFormat::Unorm16],
         repeats: 1,
+        figures: false,
+        zoom: None,
     };
     let mut writer = ReportWriter::new(dir.path());
     let mut done = 0;

@@ -205,6 +205,7 @@ fn a_sweep_of_20_biases_equals_20_separate_runs() {
     let run = |plan_text: &str| {
         let mut plan = parse_plan(plan_text, Path::new("plan.json")).unwrap();
         plan.scenes = vec![scene.clone()];
+        plan.figures = false;
         let dir = tempfile::tempdir().unwrap();
         let mut writer = ReportWriter::new(dir.path());
         execute(&plan, &mut writer, None, &mut |_| {}).unwrap();

@@ -6,7 +6,11 @@ use super::Plan;
 use super::build_layers;
 use crate::metrics::{LightUv, Stopwatch, attribute, median_ms, score_hard};
 use crate::raster::LightView;
-use crate::report::{ReportWriter, RunRecord, SceneRecord, Timings};
+use crate::report::figures::write_png;
+use crate::report::{
+    GridCell, ReportWriter, RunRecord, SceneRecord, Timings, error_map, run_stem, shaded_base, view_stem,
+    write_grid, write_reference_figure, write_run_figures, zoom,
+};
 use crate::scene::{Scene, SceneError, load_scene};
 use crate::technique::{LayerNeeds, ShadeContext, ShadeOrder, shade_evaluated};
 use crate::trace::{GBuffer, ReferenceCache, SceneBvh, trace_hard_reference};
@@ -133,15 +137,24 @@ pub fn execute(
             let (camera, light) = (&scene.cameras[ci], &scene.lights[li]);
             on_event(Event::Stage(format!("{}/{}/{}: reference", scene.name, camera.name, light.name)));
             let gbuffer = GBuffer::trace(scene, &bvh, camera, light);
+            let base = plan.figures.then(|| shaded_base(&gbuffer, light));
+            let figures_dir = writer.dir().join("figures");
             let reference = match cache {
                 Some(c) => c.hard_reference(scene, &bvh, &gbuffer, camera, light).map_err(io(c.dir()))?.0,
                 None => trace_hard_reference(&bvh, &gbuffer, light),
             };
+            if let Some(base) = &base {
+                let stem = view_stem(&scene.name, &camera.name, &light.name);
+                write_reference_figure(&figures_dir, &stem, &gbuffer, &reference, base)
+                    .map_err(io(&figures_dir))?;
+            }
             for &resolution in &plan.resolutions {
                 let view = LightView::new(light, bounds, resolution);
                 let light_uv = LightUv::new(&gbuffer, &view);
                 let order = ShadeOrder::new(&gbuffer, &view);
                 for &format in &plan.depth_formats {
+                    // Error maps of this (resolution, format), for the scene's grid figure.
+                    let mut cells: Vec<(String, Vec<u8>, u32, u32)> = Vec::new();
                     // Techniques grouped by the layers they read: each set is rasterized once.
                     let mut groups: Vec<(LayerNeeds, Vec<usize>)> = Vec::new();
                     for (ti, t) in plan.techniques.iter().enumerate() {
@@ -192,9 +205,51 @@ pub fn execute(
                                 },
                                 layer_memory_bytes: layers.memory_bytes() as u64,
                             };
+                            if let Some(base) = &base {
+                                let stem = run_stem(&record);
+                                write_run_figures(
+                                    &figures_dir,
+                                    &stem,
+                                    &gbuffer,
+                                    &reference,
+                                    &visibility,
+                                    base,
+                                )
+                                .map_err(io(&figures_dir))?;
+                                let (rgb, w, h) = error_map(&gbuffer, &reference, &visibility, base);
+                                if let Some(rect) = plan.zoom {
+                                    let (z, zw, zh) =
+                                        zoom(&rgb, w, h, (rect[0], rect[1], rect[2], rect[3]), 4);
+                                    write_png(
+                                        &figures_dir.join(format!("{stem}.error.zoom.png")),
+                                        zw,
+                                        zh,
+                                        &z,
+                                    )
+                                    .map_err(io(&figures_dir))?;
+                                }
+                                let caption =
+                                    format!("{}  error {:.3}%", record.label, 100.0 * record.rates.error);
+                                cells.push((caption, rgb, w, h));
+                            }
                             writer.add_run(record).map_err(io(writer.path()))?;
                             on_event(Event::RunDone(writer.report().runs.last().expect("just added")));
                         }
+                    }
+                    if !cells.is_empty() {
+                        let grid_cells: Vec<GridCell> = cells
+                            .iter()
+                            .map(|(caption, rgb, w, h)| GridCell {
+                                image: rgb,
+                                width: *w,
+                                height: *h,
+                                caption: caption.clone(),
+                            })
+                            .collect();
+                        let stem = view_stem(&scene.name, &camera.name, &light.name);
+                        let path =
+                            figures_dir.join(format!("{stem}.r{resolution}.{}.grid.png", format.name()));
+                        write_grid(&path, &grid_cells, 4, 512).map_err(io(&figures_dir))?;
                     }
                 }
             }

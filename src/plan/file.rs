@@ -111,5 +111,7 @@ pub fn parse_plan(text: &str, path: &Path) -> Result<Plan, String> {
         resolutions: file.resolutions,
         depth_formats,
         repeats: file.repeats,
+        figures: true,
+        zoom: None,
     })
 }

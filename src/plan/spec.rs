@@ -17,6 +17,10 @@ pub struct Plan {
     pub depth_formats: Vec<DepthFormat>,
     /// Timings are medians over this many builds and shading passes.
     pub repeats: usize,
+    /// Write figures (PNG) under the report folder's `figures/`.
+    pub figures: bool,
+    /// A region (x, y, width, height in camera pixels) also written enlarged for every run.
+    pub zoom: Option<[u32; 4]>,
 }
 
 /// The default plan file, built into the binary so that `run` works from anywhere.

@@ -1,8 +1,10 @@
 //! The versioned output types (the only serialized outputs) and the files written from them:
-//! report.json, report.csv, plots, the HTML index, OBJ exports and masks.
+//! report.json, report.csv, figures (PNG), plots, the HTML index, the gate, OBJ exports and masks.
 
 mod csv_rows;
 mod exports;
+pub mod figures;
+pub mod font;
 mod gate;
 mod html;
 mod junit;
@@ -13,6 +15,10 @@ mod writer;
 
 pub use csv_rows::report_csv;
 pub use exports::{world_obj, write_mask_png, write_world_obj};
+pub use figures::{
+    GridCell, RunFigures, error_map, grid, run_stem, shaded_base, view_stem, visibility_image, write_grid,
+    write_reference_figure, write_run_figures, zoom,
+};
 pub use gate::{
     BaselineStatus, Check, GateError, GateOutcome, Measured, Metric, Regression, Rule, RuleSpec, Rules,
     RunKey, Violation, evaluate, fmt_value, glob_match, load_report, load_rules, measure, parse_rules,

@@ -20,6 +20,11 @@ impl ReportWriter {
         &self.path
     }
 
+    /// The report folder.
+    pub fn dir(&self) -> &Path {
+        self.path.parent().unwrap_or(Path::new("."))
+    }
+
     pub fn report(&self) -> &Report {
         &self.report
     }
