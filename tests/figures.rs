@@ -335,7 +335,8 @@ fn figures_cost_per_run_at_1024x768() {
         shadowtruth::plan::build_layers(&scene, &view, DepthFormat::F32, &technique.layer_needs(), 1);
     let ctx = ShadeContext::new(&scene, &view, layers.as_layers());
     let order = ShadeOrder::new(&g, &view);
-    let shade_ms = median_ms(|| drop(std::hint::black_box(shade_evaluated(technique.as_ref(), &order, &ctx))));
+    let shade_ms =
+        median_ms(|| drop(std::hint::black_box(shade_evaluated(technique.as_ref(), &order, &ctx))));
     let v = shade_evaluated(technique.as_ref(), &order, &ctx);
 
     let dir = tempfile::tempdir().unwrap();

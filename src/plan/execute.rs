@@ -8,12 +8,13 @@ use crate::metrics::{LightUv, Stopwatch, attribute, median_ms, score_hard};
 use crate::raster::LightView;
 use crate::report::figures::write_png;
 use crate::report::{
-    GridCell, ReportWriter, RunRecord, SceneRecord, Timings, error_map, run_stem, shaded_base, view_stem,
+    GridCell, ReportWriter, RunFigures, RunRecord, SceneRecord, Timings, run_stem, shaded_base, view_stem,
     write_grid, write_reference_figure, write_run_figures, zoom,
 };
 use crate::scene::{Scene, SceneError, load_scene};
 use crate::technique::{LayerNeeds, ShadeContext, ShadeOrder, shade_evaluated};
 use crate::trace::{GBuffer, ReferenceCache, SceneBvh, trace_hard_reference};
+use rayon::prelude::*;
 use std::path::PathBuf;
 
 /// Progress of a plan, for progress bars and logs.
@@ -153,8 +154,9 @@ pub fn execute(
                 let light_uv = LightUv::new(&gbuffer, &view);
                 let order = ShadeOrder::new(&gbuffer, &view);
                 for &format in &plan.depth_formats {
-                    // Error maps of this (resolution, format), for the scene's grid figure.
-                    let mut cells: Vec<(String, Vec<u8>, u32, u32)> = Vec::new();
+                    // Figures of this (resolution, format): (stem, caption, visibility), drawn
+                    // and encoded together in parallel once its runs are scored.
+                    let mut pending: Vec<(String, String, Vec<f32>)> = Vec::new();
                     // Techniques grouped by the layers they read: each set is rasterized once.
                     let mut groups: Vec<(LayerNeeds, Vec<usize>)> = Vec::new();
                     for (ti, t) in plan.techniques.iter().enumerate() {
@@ -205,51 +207,55 @@ pub fn execute(
                                 },
                                 layer_memory_bytes: layers.memory_bytes() as u64,
                             };
-                            if let Some(base) = &base {
-                                let stem = run_stem(&record);
-                                write_run_figures(
-                                    &figures_dir,
-                                    &stem,
-                                    &gbuffer,
-                                    &reference,
-                                    &visibility,
-                                    base,
-                                )
-                                .map_err(io(&figures_dir))?;
-                                let (rgb, w, h) = error_map(&gbuffer, &reference, &visibility, base);
-                                if let Some(rect) = plan.zoom {
-                                    let (z, zw, zh) =
-                                        zoom(&rgb, w, h, (rect[0], rect[1], rect[2], rect[3]), 4);
-                                    write_png(
-                                        &figures_dir.join(format!("{stem}.error.zoom.png")),
-                                        zw,
-                                        zh,
-                                        &z,
-                                    )
-                                    .map_err(io(&figures_dir))?;
-                                }
+                            if base.is_some() {
                                 let caption =
                                     format!("{}  error {:.3}%", record.label, 100.0 * record.rates.error);
-                                cells.push((caption, rgb, w, h));
+                                pending.push((run_stem(&record), caption, visibility));
                             }
                             writer.add_run(record).map_err(io(writer.path()))?;
                             on_event(Event::RunDone(writer.report().runs.last().expect("just added")));
                         }
                     }
-                    if !cells.is_empty() {
-                        let grid_cells: Vec<GridCell> = cells
+                    if let Some(base) = &base {
+                        let drawn: Vec<(String, RunFigures)> = pending
+                            .par_iter()
+                            .map(|(stem, caption, visibility)| {
+                                let figures = write_run_figures(
+                                    &figures_dir,
+                                    stem,
+                                    &gbuffer,
+                                    &reference,
+                                    visibility,
+                                    base,
+                                )?;
+                                if let Some([x, y, w, h]) = plan.zoom {
+                                    let (width, height) = figures.error_size;
+                                    let (z, zw, zh) =
+                                        zoom(&figures.error_image, width, height, (x, y, w, h), 4);
+                                    write_png(
+                                        &figures_dir.join(format!("{stem}.error.zoom.png")),
+                                        zw,
+                                        zh,
+                                        &z,
+                                    )?;
+                                }
+                                Ok((caption.clone(), figures))
+                            })
+                            .collect::<std::io::Result<_>>()
+                            .map_err(io(&figures_dir))?;
+                        let cells: Vec<GridCell> = drawn
                             .iter()
-                            .map(|(caption, rgb, w, h)| GridCell {
-                                image: rgb,
-                                width: *w,
-                                height: *h,
+                            .map(|(caption, f)| GridCell {
+                                image: &f.error_image,
+                                width: f.error_size.0,
+                                height: f.error_size.1,
                                 caption: caption.clone(),
                             })
                             .collect();
                         let stem = view_stem(&scene.name, &camera.name, &light.name);
                         let path =
                             figures_dir.join(format!("{stem}.r{resolution}.{}.grid.png", format.name()));
-                        write_grid(&path, &grid_cells, 4, 512).map_err(io(&figures_dir))?;
+                        write_grid(&path, &cells, 4, 512).map_err(io(&figures_dir))?;
                     }
                 }
             }

@@ -449,15 +449,68 @@ pub fn encode_png_fast(width: u32, height: u32, rgb: &[u8]) -> std::io::Result<V
     assert_eq!(rgb.len(), width as usize * height as usize * 3, "an RGB8 image of width × height");
     let grey = rgb.chunks_exact(3).all(|p| p[0] == p[1] && p[1] == p[2]);
     let mut out = Vec::with_capacity(rgb.len() / 16);
-    let encoder = PngEncoder::new_with_quality(&mut out, CompressionType::Level(1), FilterType::Sub);
     if grey {
         let levels: Vec<u8> = rgb.chunks_exact(3).map(|p| p[0]).collect();
-        encoder.write_image(&levels, width, height, image::ExtendedColorType::L8)
+        PngEncoder::new_with_quality(&mut out, CompressionType::Level(1), FilterType::Sub)
+            .write_image(&levels, width, height, image::ExtendedColorType::L8)
+            .map_err(std::io::Error::other)?;
     } else {
-        encoder.write_image(rgb, width, height, image::ExtendedColorType::Rgb8)
+        // Error maps hold a few hundred colours at most: one byte per pixel deflates about three
+        // times faster than three.
+        let mut encoder = png::Encoder::new(&mut out, width, height);
+        encoder.set_depth(png::BitDepth::Eight);
+        encoder.set_compression(png::Compression::Fast);
+        encoder.set_filter(png::Filter::Sub);
+        let Some((palette, indices)) = palette_of(rgb) else {
+            // Larger palettes (grids) stay RGB, at zlib level 1.
+            PngEncoder::new_with_quality(&mut out, CompressionType::Level(1), FilterType::Sub)
+                .write_image(rgb, width, height, image::ExtendedColorType::Rgb8)
+                .map_err(std::io::Error::other)?;
+            return Ok(out);
+        };
+        encoder.set_color(png::ColorType::Indexed);
+        encoder.set_palette(palette);
+        let data = indices;
+        let mut writer = encoder.write_header().map_err(std::io::Error::other)?;
+        writer.write_image_data(&data).map_err(std::io::Error::other)?;
+        writer.finish().map_err(std::io::Error::other)?;
     }
-    .map_err(std::io::Error::other)?;
     Ok(out)
+}
+
+/// The palette (RGB triples) and per-pixel indices of an image with at most 256 colours. Greys
+/// are looked up directly by level, the few other colours by a short scan.
+fn palette_of(rgb: &[u8]) -> Option<(Vec<u8>, Vec<u8>)> {
+    let mut grey_slot = [u16::MAX; 256];
+    let mut others: Vec<([u8; 3], u8)> = Vec::new();
+    let mut palette: Vec<u8> = Vec::new();
+    let mut indices = Vec::with_capacity(rgb.len() / 3);
+    for p in rgb.chunks_exact(3) {
+        let c = [p[0], p[1], p[2]];
+        let known = if c[0] == c[1] && c[1] == c[2] {
+            (grey_slot[c[0] as usize] != u16::MAX).then(|| grey_slot[c[0] as usize] as u8)
+        } else {
+            others.iter().find(|(o, _)| *o == c).map(|&(_, i)| i)
+        };
+        let index = match known {
+            Some(i) => i,
+            None => {
+                let next = palette.len() / 3;
+                if next == 256 {
+                    return None;
+                }
+                palette.extend_from_slice(&c);
+                if c[0] == c[1] && c[1] == c[2] {
+                    grey_slot[c[0] as usize] = next as u16;
+                } else {
+                    others.push((c, next as u8));
+                }
+                next as u8
+            }
+        };
+        indices.push(index);
+    }
+    Some((palette, indices))
 }
 
 /// Writes an RGB8 image as a PNG (fast compression) through a temporary file renamed over
@@ -488,6 +541,9 @@ pub struct RunFigures {
     pub technique: String,
     /// `<stem>.error.png`: the error map with its legend strip.
     pub error: String,
+    /// The error map as drawn (RGB8, legend strip included), for grids and zooms.
+    pub error_image: Vec<u8>,
+    pub error_size: (u32, u32),
 }
 
 /// Writes `dir/<stem>.technique.png` and `dir/<stem>.error.png` for one run. `base` is the
@@ -500,21 +556,17 @@ pub fn write_run_figures(
     visibility: &[f32],
     base: &[u8],
 ) -> std::io::Result<RunFigures> {
-    let figures =
-        RunFigures { technique: format!("{stem}.technique.png"), error: format!("{stem}.error.png") };
-    let (technique, error) = rayon::join(
+    let (technique, error) = (format!("{stem}.technique.png"), format!("{stem}.error.png"));
+    let (written, (error_image, w, h)) = rayon::join(
         || {
             let img = visibility_image(gbuffer, base, visibility);
-            write_png(&dir.join(&figures.technique), gbuffer.width, gbuffer.height, &img)
+            write_png(&dir.join(&technique), gbuffer.width, gbuffer.height, &img)
         },
-        || {
-            let (img, w, h) = error_map(gbuffer, reference, visibility, base);
-            write_png(&dir.join(&figures.error), w, h, &img)
-        },
+        || error_map(gbuffer, reference, visibility, base),
     );
-    technique?;
-    error?;
-    Ok(figures)
+    written?;
+    write_png(&dir.join(&error), w, h, &error_image)?;
+    Ok(RunFigures { technique, error, error_image, error_size: (w, h) })
 }
 
 /// Writes `dir/<stem>.reference.png`, the reference's shadows over the base image, and returns
