@@ -46,9 +46,34 @@ enum Command {
     /// Rules (TOML, `[[rule]]` tables) select runs by glob patterns and bound a metric absolutely
     /// (`max`) and/or against a baseline report (`max_increase`, `max_increase_ratio`).
     Gate(GateArgs),
+    /// Write one depth layer of a light as a one-channel f32 EXR, with a JSON sidecar holding
+    /// clip_from_world and the near and far planes, to check the rasterizer against another.
+    DepthMap(DepthMapArgs),
     /// Re-render report.csv, the plots and index.html of a report folder from its report.json,
     /// without running anything.
     Report(ReportArgs),
+}
+
+#[derive(Args)]
+struct DepthMapArgs {
+    scene: PathBuf,
+    /// Light name (default: the scene's first light).
+    #[arg(long)]
+    light: Option<String>,
+    /// Shadow-map resolution (texels per side).
+    #[arg(long)]
+    resolution: u32,
+    /// 1: the nearest surface; 2: the second-nearest distinct surface.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u8).range(1..=2))]
+    layer: u8,
+    /// Depth format: f32, unorm24 or unorm16.
+    #[arg(long, default_value = "f32")]
+    format: String,
+    /// Faces of closed objects left out: none, back or front.
+    #[arg(long, default_value = "none")]
+    cull: String,
+    #[arg(short, long)]
+    out: PathBuf,
 }
 
 #[derive(Args)]
@@ -144,6 +169,7 @@ pub fn run(cli: Cli) -> Result<u8> {
     match cli.command {
         Command::Run(a) => run_plan(a),
         Command::Reference(a) => reference(a),
+        Command::DepthMap(a) => depth_map(a),
         Command::Report(a) => {
             let (report, file) = load_report(&a.dir)?;
             let dir = file.parent().unwrap_or(Path::new(".")).to_path_buf();
@@ -406,4 +432,39 @@ fn page_assets(dir: &Path, report: &Report) -> PageAssets {
         })
         .collect();
     PageAssets { figures, run_figures, ..PageAssets::default() }
+}
+
+fn depth_map(a: DepthMapArgs) -> Result<u8> {
+    use shadowtruth::raster::{
+        Culling, DepthFormat, LightView, RasterSettings, rasterize_nearest, rasterize_two_nearest,
+    };
+    let format = DepthFormat::parse(&a.format)
+        .with_context(|| format!("--format: unknown depth format '{}' (f32, unorm24, unorm16)", a.format))?;
+    let culling = match a.cull.as_str() {
+        "none" => Culling::None,
+        "back" => Culling::BackFacesOfClosed,
+        "front" => Culling::FrontFacesOfClosed,
+        other => bail!("--cull: unknown value '{other}' (none, back, front)"),
+    };
+    if !(1..=16384).contains(&a.resolution) {
+        bail!("--resolution {} is outside 1..=16384", a.resolution);
+    }
+    let scene = load_scene(&a.scene)?;
+    let light = pick(&scene.lights, a.light.as_deref(), |l| &l.name, "light", &a.scene)?;
+    let view = LightView::new(light, scene.bounds(), a.resolution);
+    let settings = RasterSettings { format, culling, ..RasterSettings::default() };
+    let layer = if a.layer == 1 {
+        rasterize_nearest(&scene, &view, &settings)
+    } else {
+        let pairs = rasterize_two_nearest(&scene, &view, &settings);
+        shadowtruth::raster::DepthLayer {
+            resolution: pairs.resolution,
+            depth: pairs.depth.iter().map(|p| p[1]).collect(),
+        }
+    };
+    let description =
+        serde_json::json!({ "index": a.layer, "format": format.name(), "cull": a.cull, "light": light.name });
+    shadowtruth::report::write_depth_map(&a.out, &layer, &view, description)
+        .with_context(|| format!("writing {}", a.out.display()))?;
+    Ok(0)
 }

@@ -2,6 +2,7 @@
 //! report.json, report.csv, figures (PNG), plots, the HTML index, the gate, OBJ exports and masks.
 
 mod csv_rows;
+mod depth_map;
 mod exports;
 pub mod figures;
 pub mod font;
@@ -14,6 +15,7 @@ mod record;
 mod writer;
 
 pub use csv_rows::report_csv;
+pub use depth_map::write_depth_map;
 pub use exports::{world_obj, write_mask_png, write_world_obj};
 pub use figures::{
     GridCell, RunFigures, error_map, grid, run_stem, shaded_base, view_stem, visibility_image, write_grid,
