@@ -48,34 +48,32 @@ struct Selected {
     pairs: Vec<(usize, usize)>,
 }
 
+/// Indices of the items named in `wanted` (all items when None); Err(name, names available)
+/// for a name the scene lacks.
+fn indices_of(wanted: &Option<Vec<String>>, names: &[&str]) -> Result<Vec<usize>, (String, String)> {
+    match wanted {
+        None => Ok((0..names.len()).collect()),
+        Some(wanted) => wanted
+            .iter()
+            .map(|w| names.iter().position(|n| n == w).ok_or_else(|| (w.clone(), names.join(", "))))
+            .collect(),
+    }
+}
+
 fn select(plan: &Plan, scene: Scene) -> Result<Selected, PlanError> {
     let file = scene.source.display().to_string();
-    let cams: Vec<usize> = match &plan.cameras {
-        None => (0..scene.cameras.len()).collect(),
-        Some(names) => names
-            .iter()
-            .map(|n| {
-                scene.cameras.iter().position(|c| &c.name == n).ok_or_else(|| PlanError::NoCamera {
-                    file: file.clone(),
-                    name: n.clone(),
-                    have: scene.cameras.iter().map(|c| c.name.as_str()).collect::<Vec<_>>().join(", "),
-                })
-            })
-            .collect::<Result<_, _>>()?,
-    };
-    let lights: Vec<usize> = match &plan.lights {
-        None => (0..scene.lights.len()).collect(),
-        Some(names) => names
-            .iter()
-            .map(|n| {
-                scene.lights.iter().position(|l| &l.name == n).ok_or_else(|| PlanError::NoLight {
-                    file: file.clone(),
-                    name: n.clone(),
-                    have: scene.lights.iter().map(|l| l.name.as_str()).collect::<Vec<_>>().join(", "),
-                })
-            })
-            .collect::<Result<_, _>>()?,
-    };
+    let camera_names: Vec<&str> = scene.cameras.iter().map(|c| c.name.as_str()).collect();
+    let light_names: Vec<&str> = scene.lights.iter().map(|l| l.name.as_str()).collect();
+    let cams = indices_of(&plan.cameras, &camera_names).map_err(|(name, have)| PlanError::NoCamera {
+        file: file.clone(),
+        name,
+        have,
+    })?;
+    let lights = indices_of(&plan.lights, &light_names).map_err(|(name, have)| PlanError::NoLight {
+        file: file.clone(),
+        name,
+        have,
+    })?;
     let pairs = cams.iter().flat_map(|&c| lights.iter().map(move |&l| (c, l))).collect();
     Ok(Selected { scene, pairs })
 }
