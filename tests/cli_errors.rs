@@ -138,12 +138,15 @@ fn bad_plan_files_exit_2_naming_the_file() {
 fn a_plan_naming_a_missing_camera_or_light_exits_2() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("s.json"), scene(GOOD_OBJECT, GOOD_CAMERA, GOOD_LIGHT)).unwrap();
-    for (key, needle) in [("cameras", "no camera named 'nope' (have: c)"), ("lights", "no light named 'nope' (have: l)")] {
+    for (key, needle) in
+        [("cameras", "no camera named 'nope' (have: c)"), ("lights", "no light named 'nope' (have: l)")]
+    {
         let plan = format!(
             r#"{{ "format": "shadowtruth/plan/v1", "{key}": ["nope"], "techniques": [{{ "technique": "none" }}], "resolutions": [64] }}"#
         );
         std::fs::write(dir.path().join("plan.json"), plan).unwrap();
-        let (code, stderr) = shadowtruth(&["run", "s.json", "--plan", "plan.json", "--quiet", "--no-cache"], dir.path());
+        let (code, stderr) =
+            shadowtruth(&["run", "s.json", "--plan", "plan.json", "--quiet", "--no-cache"], dir.path());
         assert_eq!(code, 2, "{stderr}");
         assert!(stderr.contains("s.json") && stderr.contains(needle), "{stderr}");
     }
