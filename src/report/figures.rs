@@ -461,16 +461,18 @@ pub fn encode_png_fast(width: u32, height: u32, rgb: &[u8]) -> std::io::Result<V
         encoder.set_depth(png::BitDepth::Eight);
         encoder.set_compression(png::Compression::Fast);
         encoder.set_filter(png::Filter::Sub);
-        let Some((palette, indices)) = palette_of(rgb) else {
-            // Larger palettes (grids) stay RGB, at zlib level 1.
-            PngEncoder::new_with_quality(&mut out, CompressionType::Level(1), FilterType::Sub)
-                .write_image(rgb, width, height, image::ExtendedColorType::Rgb8)
-                .map_err(std::io::Error::other)?;
-            return Ok(out);
+        let data = match palette_of(rgb) {
+            Some((palette, indices)) => {
+                encoder.set_color(png::ColorType::Indexed);
+                encoder.set_palette(palette);
+                indices
+            }
+            // Larger palettes (grids) stay RGB.
+            None => {
+                encoder.set_color(png::ColorType::Rgb);
+                rgb.to_vec()
+            }
         };
-        encoder.set_color(png::ColorType::Indexed);
-        encoder.set_palette(palette);
-        let data = indices;
         let mut writer = encoder.write_header().map_err(std::io::Error::other)?;
         writer.write_image_data(&data).map_err(std::io::Error::other)?;
         writer.finish().map_err(std::io::Error::other)?;
