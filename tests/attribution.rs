@@ -4,8 +4,7 @@
 
 mod common;
 
-use common::{bundled, scene_from_json, trace_first};
-use serde_json::json;
+use common::{bundled, contact_scene, tilted_plane, trace_first};
 use shadowtruth::metrics::{Attribution, Counts, LightUv, attribute};
 use shadowtruth::raster::{DepthFormat, LightView};
 use shadowtruth::scene::Scene;
@@ -24,29 +23,6 @@ fn run(
     let view = LightView::new(&scene.lights[0], scene.bounds(), resolution);
     let a = attribute(g, r, &v, &LightUv::new(g, &view));
     (counts.with_attribution(a), a)
-}
-
-fn tilted_plane() -> Scene {
-    scene_from_json(&json!({
-        "format": "shadowtruth/scene/v1", "name": "tilted",
-        "objects": [{ "name": "plane", "shape": { "type": "plane", "size": [6, 6] },
-                      "transform": { "rotate_deg": [45, 0, 0] } }],
-        "cameras": [{ "name": "c", "position": [0.5, 6, 6], "look_at": [0, 0, 0], "fov_y_deg": 50, "width": 400, "height": 300 }],
-        "lights": [{ "name": "sun", "type": "directional", "direction": [0, -1, 0] }]
-    }))
-}
-
-fn contact_scene() -> Scene {
-    scene_from_json(&json!({
-        "format": "shadowtruth/scene/v1", "name": "contact",
-        "objects": [
-            { "name": "ground", "shape": { "type": "plane", "size": [10, 10] } },
-            { "name": "box", "shape": { "type": "box", "size": [1, 1, 1] }, "closed": true,
-              "transform": { "rotate_deg": [0, 20, 0], "translate": [0, 0.5, 0] } }
-        ],
-        "cameras": [{ "name": "c", "position": [-3, 4, 5], "look_at": [0.5, 0, 0], "fov_y_deg": 45, "width": 480, "height": 360 }],
-        "lights": [{ "name": "sun", "type": "directional", "direction": [0.6, -1, 0.3] }]
-    }))
 }
 
 fn sum_holds(c: &Counts, a: &Attribution) -> bool {

@@ -3,8 +3,7 @@
 
 mod common;
 
-use common::{scene_from_json, trace_first};
-use serde_json::json;
+use common::{contact_scene, tilted_plane, trace_first};
 use shadowtruth::metrics::Counts;
 use shadowtruth::raster::DepthFormat;
 use shadowtruth::scene::Scene;
@@ -19,16 +18,6 @@ fn score(
     resolution: u32,
 ) -> (Counts, Vec<f32>) {
     common::score_technique(scene, g, r, spec, resolution, DepthFormat::F32)
-}
-
-fn tilted_plane() -> Scene {
-    scene_from_json(&json!({
-        "format": "shadowtruth/scene/v1", "name": "tilted",
-        "objects": [{ "name": "plane", "shape": { "type": "plane", "size": [6, 6] },
-                      "transform": { "rotate_deg": [45, 0, 0] } }],
-        "cameras": [{ "name": "c", "position": [0.5, 6, 6], "look_at": [0, 0, 0], "fov_y_deg": 50, "width": 400, "height": 300 }],
-        "lights": [{ "name": "sun", "type": "directional", "direction": [0, -1, 0] }]
-    }))
 }
 
 #[test]
@@ -53,16 +42,7 @@ fn no_bias_has_acne_on_a_plane_at_45_degrees() {
 
 #[test]
 fn a_large_constant_bias_leaks_light_at_the_contact_shadow() {
-    let scene = scene_from_json(&json!({
-        "format": "shadowtruth/scene/v1", "name": "contact",
-        "objects": [
-            { "name": "ground", "shape": { "type": "plane", "size": [10, 10] } },
-            { "name": "box", "shape": { "type": "box", "size": [1, 1, 1] }, "closed": true,
-              "transform": { "rotate_deg": [0, 20, 0], "translate": [0, 0.5, 0] } }
-        ],
-        "cameras": [{ "name": "c", "position": [-3, 4, 5], "look_at": [0.5, 0, 0], "fov_y_deg": 45, "width": 480, "height": 360 }],
-        "lights": [{ "name": "sun", "type": "directional", "direction": [0.6, -1, 0.3] }]
-    }));
+    let scene = contact_scene();
     let (g, r) = trace_first(&scene);
     let small = TechniqueSpec::Constant { bias_depth: None, bias_world: Some(0.002) };
     let large = TechniqueSpec::Constant { bias_depth: None, bias_world: Some(0.4) };

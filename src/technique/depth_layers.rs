@@ -32,8 +32,10 @@ impl Technique for SecondDepth {
     }
 }
 
-fn layer_culling(cull_back_faces: bool) -> Culling {
-    if cull_back_faces { Culling::BackFacesOfClosed } else { Culling::None }
+/// The two nearest layers, with or without the back faces of closed objects.
+fn two_layers(cull_back_faces: bool) -> LayerNeeds {
+    let culling = if cull_back_faces { Culling::BackFacesOfClosed } else { Culling::None };
+    LayerNeeds { culling, second_layer: true, ..LayerNeeds::default() }
 }
 
 /// Lit when `z_ref ≤ z1 + min((z2 − z1)/2, z_offset)`.
@@ -51,11 +53,7 @@ pub struct Midpoint {
 
 impl Technique for Midpoint {
     fn layer_needs(&self) -> LayerNeeds {
-        LayerNeeds {
-            culling: layer_culling(self.cull_back_faces),
-            second_layer: true,
-            ..LayerNeeds::default()
-        }
+        two_layers(self.cull_back_faces)
     }
 
     fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
@@ -70,11 +68,7 @@ pub struct DualDepth {
 
 impl Technique for DualDepth {
     fn layer_needs(&self) -> LayerNeeds {
-        LayerNeeds {
-            culling: layer_culling(self.cull_back_faces),
-            second_layer: true,
-            ..LayerNeeds::default()
-        }
+        two_layers(self.cull_back_faces)
     }
 
     fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {

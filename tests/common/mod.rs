@@ -65,3 +65,28 @@ pub fn score_technique(
     let v = shade_evaluated(technique.as_ref(), &ShadeOrder::new(g, &view), &ctx);
     (shadowtruth::metrics::score_hard(g, r, &v), v)
 }
+
+/// A lone 6×6 plane at 45° to a light from straight above.
+pub fn tilted_plane() -> Scene {
+    scene_from_json(&serde_json::json!({
+        "format": "shadowtruth/scene/v1", "name": "tilted",
+        "objects": [{ "name": "plane", "shape": { "type": "plane", "size": [6, 6] },
+                      "transform": { "rotate_deg": [45, 0, 0] } }],
+        "cameras": [{ "name": "c", "position": [0.5, 6, 6], "look_at": [0, 0, 0], "fov_y_deg": 50, "width": 400, "height": 300 }],
+        "lights": [{ "name": "sun", "type": "directional", "direction": [0, -1, 0] }]
+    }))
+}
+
+/// A unit box resting on a plane: its contact shadow.
+pub fn contact_scene() -> Scene {
+    scene_from_json(&serde_json::json!({
+        "format": "shadowtruth/scene/v1", "name": "contact",
+        "objects": [
+            { "name": "ground", "shape": { "type": "plane", "size": [10, 10] } },
+            { "name": "box", "shape": { "type": "box", "size": [1, 1, 1] }, "closed": true,
+              "transform": { "rotate_deg": [0, 20, 0], "translate": [0, 0.5, 0] } }
+        ],
+        "cameras": [{ "name": "c", "position": [-3, 4, 5], "look_at": [0.5, 0, 0], "fov_y_deg": 45, "width": 480, "height": 360 }],
+        "lights": [{ "name": "sun", "type": "directional", "direction": [0.6, -1, 0.3] }]
+    }))
+}
