@@ -281,21 +281,29 @@ fn run_plan(a: RunArgs) -> Result<u8> {
             .expect("valid template")
             .progress_chars("=> "),
     );
+    let mut figures_ms = 0.0;
     execute(&plan, &mut writer, cache.as_ref(), &mut |event| match event {
         Event::Planned { runs } => bar.set_length(runs as u64),
         Event::Stage(s) => bar.set_message(s),
         Event::RunDone(_) => bar.inc(1),
+        Event::FiguresDone { ms } => figures_ms += ms,
     })?;
+    let outputs_started = Instant::now();
     bar.set_message("figures, plots and index.html");
     write_report_outputs(&a.out, writer.report(), page_assets(&a.out, writer.report()))
         .with_context(|| format!("writing into {}", a.out.display()))?;
     bar.finish_and_clear();
+    // What the figures, plots, CSV and page cost beside the runs themselves.
+    let outputs_s = (figures_ms / 1e3) + outputs_started.elapsed().as_secs_f64();
+    let total_s = started.elapsed().as_secs_f64();
+    let runs_s = total_s - outputs_s;
     if !a.quiet {
         print_table(writer.report());
         println!(
-            "{} runs in {:.1} s; report: {} (open {})",
+            "{} runs in {runs_s:.1} s, then figures, plots and page in {outputs_s:.1} s ({:.1} % of the runs' \
+             time); report: {} (open {})",
             writer.report().runs.len(),
-            started.elapsed().as_secs_f64(),
+            100.0 * outputs_s / runs_s.max(1e-9),
             writer.path().display(),
             a.out.join("index.html").display()
         );

@@ -8,13 +8,13 @@ use common::{bundled, trace_first};
 use shadowtruth::metrics::{Counts, Rates};
 use shadowtruth::raster::DepthFormat;
 use shadowtruth::report::figures::{
-    FALSE_LIT, FALSE_SHADOW, GRID_BACKGROUND, GRID_GAP, GRID_TEXT, GridLayout, ZOOM_FRAME,
-    caption_block_height, encode_png_fast, legend_strip_height, reference_visibility,
+    FALSE_LIT, FALSE_LIT_INDEX, FALSE_SHADOW, FALSE_SHADOW_INDEX, GRID_BACKGROUND, GRID_GAP, GRID_TEXT,
+    GridLayout, ZOOM_FRAME, caption_block_height, is_grey, legend_strip_height, reference_visibility,
 };
 use shadowtruth::report::font;
 use shadowtruth::report::{
-    GridCell, RunRecord, Timings, error_map, grid, run_stem, shaded_base, view_stem, visibility_image,
-    write_reference_figure, write_run_figures, zoom,
+    GridCell, IndexedImage, RunRecord, Timings, ViewCanvas, error_map, grid, run_stem, view_stem,
+    visibility_image, write_reference_figure, write_run_figures, zoom,
 };
 use shadowtruth::technique::TechniqueSpec;
 use std::collections::HashSet;
@@ -34,15 +34,18 @@ fn error_png_colours_count_exactly_the_false_pixels() {
     for name in ["plane_box", "spot"] {
         let scene = bundled(name);
         let (g, r) = trace_first(&scene);
-        let base = shaded_base(&g, &scene.lights[0]);
-        let reference_file = write_reference_figure(dir.path(), name, &g, &r, &base).unwrap();
+        let canvas = ViewCanvas::new(&g, &r, &scene.lights[0]);
+        let reference_file = write_reference_figure(dir.path(), name, &g, &r, &canvas).unwrap();
         assert_eq!(reference_file, format!("{name}.reference.png"));
         let reference = image::open(dir.path().join(&reference_file)).unwrap().to_rgb8();
-        assert_eq!(reference.as_raw(), &visibility_image(&g, &base, &reference_visibility(&g, &r)));
+        assert_eq!(
+            reference.as_raw(),
+            &visibility_image(&g, &canvas, &reference_visibility(&g, &r)).to_rgb()
+        );
         for spec in techniques() {
             let (counts, v) = common::score_technique(&scene, &g, &r, &spec, 512, DepthFormat::F32);
             let stem = format!("{name}.{}", spec.name());
-            let files = write_run_figures(dir.path(), &stem, &g, &r, &v, &base).unwrap();
+            let files = write_run_figures(dir.path(), &stem, &g, &r, &v, &canvas).unwrap();
             assert_eq!(files.error, format!("{stem}.error.png"));
             assert_eq!(files.technique, format!("{stem}.technique.png"));
 
@@ -60,12 +63,14 @@ fn error_png_colours_count_exactly_the_false_pixels() {
             }
             assert!(count_colour(legend, FALSE_SHADOW) > 0 && count_colour(legend, FALSE_LIT) > 0);
             // The in-memory map is what was written.
-            let (pixels, _, _) = error_map(&g, &r, &v, &base);
-            assert_eq!(pixels, error.as_raw().as_slice());
+            assert_eq!(error_map(&g, &r, &v, &canvas).to_rgb(), error.as_raw().as_slice());
+            // The one-pass drawing of both images is the two drawn apart.
+            let (t, e) = shadowtruth::report::run_images(&g, &r, &v, &canvas);
+            assert_eq!((t, e), (visibility_image(&g, &canvas, &v), error_map(&g, &r, &v, &canvas)));
 
             let technique = image::open(dir.path().join(&files.technique)).unwrap().to_rgb8();
             assert_eq!(technique.dimensions(), (g.width, g.height));
-            assert_eq!(technique.as_raw(), &visibility_image(&g, &base, &v));
+            assert_eq!(technique.as_raw(), &visibility_image(&g, &canvas, &v).to_rgb());
             any_false_shadow |= counts.false_shadow > 0;
             any_false_lit |= counts.false_lit > 0;
         }
@@ -100,16 +105,18 @@ fn error_colours_are_distinct_from_each_other_and_from_every_base_grey() {
     for name in ["plane_box", "spot"] {
         let scene = bundled(name);
         let (g, r) = trace_first(&scene);
-        let base = shaded_base(&g, &scene.lights[0]);
+        let canvas = ViewCanvas::new(&g, &r, &scene.lights[0]);
+        let base = &canvas.base;
         let reference =
-            visibility_image(&g, &base, &shadowtruth::report::figures::reference_visibility(&g, &r));
+            visibility_image(&g, &canvas, &shadowtruth::report::figures::reference_visibility(&g, &r));
         let mut greys = HashSet::new();
-        for img in [&base, &reference] {
-            for p in img.chunks_exact(3) {
+        for img in [base, &reference] {
+            for p in img.to_rgb().chunks_exact(3) {
                 assert!(p[0] == p[1] && p[1] == p[2], "{name}: base pixel {p:?} is not grey");
                 assert!(p != FALSE_SHADOW && p != FALSE_LIT);
                 greys.insert(p[0]);
             }
+            assert!(img.pixels.iter().all(|&i| is_grey(i)));
         }
         assert!(greys.len() >= 4, "{name}: the shaded image has only {} grey levels", greys.len());
         // Background dark, evaluated light, facing away darker than evaluated.
@@ -119,7 +126,7 @@ fn error_colours_are_distinct_from_each_other_and_from_every_base_grey() {
                 .iter()
                 .enumerate()
                 .filter(|(_, c)| **c == cls)
-                .fold((0u64, 0u64), |(s, n), (i, _)| (s + base[i * 3] as u64, n + 1));
+                .fold((0u64, 0u64), |(s, n), (i, _)| (s + base.pixels[i] as u64, n + 1));
             sum as f64 / n.max(1) as f64
         };
         use shadowtruth::trace::PixelClass;
@@ -131,49 +138,37 @@ fn error_colours_are_distinct_from_each_other_and_from_every_base_grey() {
     }
 }
 
-fn uniform(w: u32, h: u32, colour: [u8; 3]) -> Vec<u8> {
-    colour.iter().copied().cycle().take((w * h * 3) as usize).collect()
-}
-
 fn ink(text: &str) -> usize {
     text.chars().map(|c| font::glyph(c).iter().map(|r| r.count_ones() as usize).sum::<usize>()).sum()
 }
 
 #[test]
 fn grid_of_two_by_three_cells_has_its_size_and_captions() {
-    let colours: Vec<[u8; 3]> = (0..6).map(|k| [40 * k as u8, 200 - 30 * k as u8, 90]).collect();
-    let images: Vec<Vec<u8>> = colours.iter().map(|&c| uniform(160, 120, c)).collect();
+    let levels: Vec<u8> = vec![40, 70, 100, 130, FALSE_SHADOW_INDEX, FALSE_LIT_INDEX];
+    let images: Vec<IndexedImage> = levels.iter().map(|&c| IndexedImage::filled(160, 120, c)).collect();
     let cells: Vec<GridCell> = images
         .iter()
         .enumerate()
-        .map(|(k, img)| GridCell {
-            image: img,
-            width: 160,
-            height: 120,
-            caption: format!("cell {k} err 1.{k}%"),
-        })
+        .map(|(k, img)| GridCell { image: img, caption: format!("cell {k} err 1.{k}%") })
         .collect();
-    let (pixels, w, h) = grid(&cells, 3, 400);
+    let out = grid(&cells, 3, 400);
+    let (w, h) = (out.width, out.height);
     // Three columns of 160 and two rows of 120 + one caption line at scale 1, 4-pixel gaps.
     assert_eq!(GRID_GAP, 4);
     assert_eq!(caption_block_height(1, 1), 12);
     assert_eq!((w, h), (3 * 160 + 4 * 4, 2 * (120 + 12) + 3 * 4));
-    assert_eq!(pixels.len(), (w * h * 3) as usize);
-    let at = |x: u32, y: u32| -> [u8; 3] {
-        let o = ((y * w + x) * 3) as usize;
-        [pixels[o], pixels[o + 1], pixels[o + 2]]
-    };
+    assert_eq!(out.pixels.len(), (w * h) as usize);
     for (k, cell) in cells.iter().enumerate() {
         let (x0, y0) = (4 + (k as u32 % 3) * 164, 4 + (k as u32 / 3) * 136);
         for y in y0..y0 + 120 {
             for x in x0..x0 + 160 {
-                assert_eq!(at(x, y), colours[k], "cell {k} at ({x}, {y})");
+                assert_eq!(out.at(x, y), levels[k], "cell {k} at ({x}, {y})");
             }
         }
         let mut text = 0;
         for y in y0 + 120..y0 + 132 {
             for x in x0..x0 + 160 {
-                let p = at(x, y);
+                let p = out.at(x, y);
                 assert!(p == GRID_BACKGROUND || p == GRID_TEXT, "caption area holds only text: {p:?}");
                 text += (p == GRID_TEXT) as usize;
             }
@@ -182,44 +177,52 @@ fn grid_of_two_by_three_cells_has_its_size_and_captions() {
     }
     // The gaps are background.
     for y in 0..h {
-        assert_eq!(at(164, y), GRID_BACKGROUND);
+        assert_eq!(out.at(164, y), GRID_BACKGROUND);
     }
 
-    // Large cells are shrunk by an integer factor with a box filter.
-    let stripes: Vec<u8> =
-        (0..480 * 640).flat_map(|i| if i % 2 == 0 { [0, 0, 0] } else { [200, 100, 50] }).collect();
+    // Large cells are shrunk by an integer factor: greys by a box filter, and an error pixel
+    // anywhere in a block keeps the block in its colour.
+    let mut stripes = IndexedImage {
+        width: 640,
+        height: 480,
+        pixels: (0..480 * 640).map(|i| if i % 2 == 0 { 0 } else { 200 }).collect(),
+    };
+    stripes.pixels[(101 * 640 + 41) as usize] = FALSE_LIT_INDEX;
     let big = [
-        GridCell { image: &stripes, width: 640, height: 480, caption: "a".into() },
-        GridCell { image: &stripes, width: 640, height: 480, caption: "b".into() },
+        GridCell { image: &stripes, caption: "a".into() },
+        GridCell { image: &stripes, caption: "b".into() },
     ];
     let layout = GridLayout::new(&big, 2, 320);
     assert_eq!((layout.downscale, layout.cell_width, layout.cell_height), (2, 320, 240));
-    let (pixels, w, h) = grid(&big, 2, 320);
-    assert_eq!((w, h), (layout.width, layout.height));
-    assert_eq!((w, h), (2 * 320 + 3 * 4, 240 + caption_block_height(1, 1) + 2 * 4));
-    let o = ((10 * w + 10) * 3) as usize;
-    assert_eq!(&pixels[o..o + 3], &[100, 50, 25], "the mean of a 2×2 block of alternating columns");
+    let out = grid(&big, 2, 320);
+    assert_eq!((out.width, out.height), (layout.width, layout.height));
+    assert_eq!((out.width, out.height), (2 * 320 + 3 * 4, 240 + caption_block_height(1, 1) + 2 * 4));
+    assert_eq!(out.at(4 + 10, 4 + 10), 100, "the mean of a 2×2 block of alternating columns");
+    assert_eq!(out.at(4 + 20, 4 + 50), FALSE_LIT_INDEX, "the block holding the false-lit pixel");
+    assert_eq!(out.at(4 + 21, 4 + 50), 100);
 }
 
 #[test]
 fn zoom_repeats_the_source_pixels_inside_a_frame() {
     let (w, h) = (64u32, 48u32);
-    let src: Vec<u8> =
-        (0..h).flat_map(|y| (0..w).flat_map(move |x| [x as u8, y as u8, (x * 3 + y) as u8])).collect();
+    let src = IndexedImage {
+        width: w,
+        height: h,
+        pixels: (0..h).flat_map(|y| (0..w).map(move |x| ((x * 3 + y) % 250) as u8)).collect(),
+    };
     let rect = (10, 5, 7, 4);
     let scale = 3;
-    let (out, zw, zh) = zoom(&src, w, h, rect, scale);
+    let out = zoom(&src, rect, scale);
+    let (zw, zh) = (out.width, out.height);
     assert_eq!((zw, zh), (7 * 3 + 2, 4 * 3 + 2));
     for y in 0..zh {
         for x in 0..zw {
-            let o = ((y * zw + x) * 3) as usize;
-            let got = &out[o..o + 3];
+            let got = out.at(x, y);
             if x == 0 || y == 0 || x == zw - 1 || y == zh - 1 {
                 assert_eq!(got, ZOOM_FRAME, "frame at ({x}, {y})");
             } else {
                 let (sx, sy) = (rect.0 + (x - 1) / scale, rect.1 + (y - 1) / scale);
-                let s = ((sy * w + sx) * 3) as usize;
-                assert_eq!(got, &src[s..s + 3], "({x}, {y}) shows source ({sx}, {sy})");
+                assert_eq!(got, src.at(sx, sy), "({x}, {y}) shows source ({sx}, {sy})");
             }
         }
     }
@@ -325,8 +328,8 @@ fn figures_cost_per_run_at_1024x768() {
     let scene = bundled("plane_box");
     let (g, r) = trace_first(&scene);
     assert_eq!((g.width, g.height), (1024, 768));
-    let base_ms = median_ms(|| drop(std::hint::black_box(shaded_base(&g, &scene.lights[0]))));
-    let base = shaded_base(&g, &scene.lights[0]);
+    let canvas_ms = median_ms(|| drop(std::hint::black_box(ViewCanvas::new(&g, &r, &scene.lights[0]))));
+    let canvas = ViewCanvas::new(&g, &r, &scene.lights[0]);
 
     // One shading pass of the plain depth test with a 2048² layer (what every run repeats).
     let technique = TechniqueSpec::None.build();
@@ -342,7 +345,7 @@ fn figures_cost_per_run_at_1024x768() {
     let dir = tempfile::tempdir().unwrap();
     let mut k = 0;
     let figures_ms = median_ms(|| {
-        write_run_figures(dir.path(), &format!("run{k}"), &g, &r, &v, &base).unwrap();
+        write_run_figures(dir.path(), &format!("run{k}"), &g, &r, &v, &canvas).unwrap();
         k += 1;
     });
     let bytes: u64 = ["run0.technique.png", "run0.error.png"]
@@ -350,20 +353,18 @@ fn figures_cost_per_run_at_1024x768() {
         .map(|f| std::fs::metadata(dir.path().join(f)).unwrap().len())
         .sum();
     // Where the time goes (each step alone): the two images, their PNG encoding.
-    let images_ms = median_ms(|| {
-        std::hint::black_box(visibility_image(&g, &base, &v));
-        std::hint::black_box(error_map(&g, &r, &v, &base));
-    });
-    let tech = visibility_image(&g, &base, &v);
-    let (err, ew, eh) = error_map(&g, &r, &v, &base);
+    let images_ms =
+        median_ms(|| drop(std::hint::black_box(shadowtruth::report::run_images(&g, &r, &v, &canvas))));
+    let tech = visibility_image(&g, &canvas, &v);
+    let err = error_map(&g, &r, &v, &canvas);
     let encode_ms = median_ms(|| {
-        std::hint::black_box(encode_png_fast(g.width, g.height, &tech).unwrap());
-        std::hint::black_box(encode_png_fast(ew, eh, &err).unwrap());
+        std::hint::black_box(tech.encode_png().unwrap());
+        std::hint::black_box(err.encode_png().unwrap());
     });
     println!(
         "figures 1024x768 ({} threads): write_run_figures {figures_ms:.1} ms per run ({} KiB; images \
-         {images_ms:.1} ms + PNG encoding {encode_ms:.1} ms when run one after the other); shaded_base \
-         {base_ms:.1} ms once per view; one shading pass of `none` at 2048² {shade_ms:.1} ms",
+         {images_ms:.1} ms + PNG encoding {encode_ms:.1} ms when run one after the other); the view's \
+         canvas {canvas_ms:.1} ms once per view; one shading pass of `none` at 2048² {shade_ms:.1} ms",
         rayon::current_num_threads(),
         bytes / 1024,
     );

@@ -6,10 +6,9 @@ use super::Plan;
 use super::build_layers;
 use crate::metrics::{LightUv, Stopwatch, attribute, median_ms, score_hard};
 use crate::raster::LightView;
-use crate::report::figures::write_png;
 use crate::report::{
-    GridCell, ReportWriter, RunFigures, RunRecord, SceneRecord, Timings, run_stem, shaded_base, view_stem,
-    write_grid, write_reference_figure, write_run_figures, zoom,
+    GridCell, IndexedImage, ReportWriter, RunRecord, SceneRecord, Timings, ViewCanvas, downscale, grid,
+    run_stem, view_stem, write_reference_figure, write_run_figures, zoom,
 };
 use crate::scene::{Scene, SceneError, load_scene};
 use crate::technique::{LayerNeeds, ShadeContext, ShadeOrder, shade_evaluated};
@@ -26,6 +25,11 @@ pub enum Event<'a> {
     /// A stage began (a short description).
     Stage(String),
     RunDone(&'a RunRecord),
+    /// Figures were drawn and written, taking this many milliseconds of wall time (the runs wait
+    /// for them, so a batch's figure cost is the sum of these).
+    FiguresDone {
+        ms: f64,
+    },
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -41,6 +45,9 @@ pub enum PlanError {
     #[error("writing {path}: {source}")]
     Io { path: PathBuf, source: std::io::Error },
 }
+
+/// Widest cell of the per-(view, resolution, depth format) grid figures, in pixels.
+const GRID_CELL_WIDTH: u32 = 512;
 
 /// A loaded scene and the (camera, light) index pairs the plan runs on it.
 struct Selected {
@@ -136,16 +143,18 @@ pub fn execute(
             let (camera, light) = (&scene.cameras[ci], &scene.lights[li]);
             on_event(Event::Stage(format!("{}/{}/{}: reference", scene.name, camera.name, light.name)));
             let gbuffer = GBuffer::trace(scene, &bvh, camera, light);
-            let base = plan.figures.then(|| shaded_base(&gbuffer, light));
             let figures_dir = writer.dir().join("figures");
             let reference = match cache {
                 Some(c) => c.hard_reference(scene, &bvh, &gbuffer, camera, light).map_err(io(c.dir()))?.0,
                 None => trace_hard_reference(&bvh, &gbuffer, light),
             };
-            if let Some(base) = &base {
+            let sw = Stopwatch::start();
+            let canvas = plan.figures.then(|| ViewCanvas::new(&gbuffer, &reference, light));
+            if let Some(canvas) = &canvas {
                 let stem = view_stem(&scene.name, &camera.name, &light.name);
-                write_reference_figure(&figures_dir, &stem, &gbuffer, &reference, base)
+                write_reference_figure(&figures_dir, &stem, &gbuffer, &reference, canvas)
                     .map_err(io(&figures_dir))?;
+                on_event(Event::FiguresDone { ms: sw.ms() });
             }
             for &resolution in &plan.resolutions {
                 let view = LightView::new(light, bounds, resolution);
@@ -205,7 +214,7 @@ pub fn execute(
                                 },
                                 layer_memory_bytes: layers.memory_bytes() as u64,
                             };
-                            if base.is_some() {
+                            if canvas.is_some() {
                                 let caption =
                                     format!("{}  error {:.3}%", record.label, 100.0 * record.rates.error);
                                 pending.push((run_stem(&record), caption, visibility));
@@ -214,8 +223,12 @@ pub fn execute(
                             on_event(Event::RunDone(writer.report().runs.last().expect("just added")));
                         }
                     }
-                    if let Some(base) = &base {
-                        let drawn: Vec<(String, RunFigures)> = pending
+                    if let Some(canvas) = &canvas {
+                        let sw = Stopwatch::start();
+                        // Each run's grid cell is shrunk beside its figures, in parallel, so that
+                        // only the small cells are kept for the grid.
+                        let shrink = gbuffer.width.div_ceil(GRID_CELL_WIDTH).max(1);
+                        let cells: Vec<(String, IndexedImage)> = pending
                             .par_iter()
                             .map(|(stem, caption, visibility)| {
                                 let figures = write_run_figures(
@@ -224,36 +237,25 @@ pub fn execute(
                                     &gbuffer,
                                     &reference,
                                     visibility,
-                                    base,
+                                    canvas,
                                 )?;
                                 if let Some([x, y, w, h]) = plan.zoom {
-                                    let (width, height) = figures.error_size;
-                                    let (z, zw, zh) =
-                                        zoom(&figures.error_image, width, height, (x, y, w, h), 4);
-                                    write_png(
-                                        &figures_dir.join(format!("{stem}.error.zoom.png")),
-                                        zw,
-                                        zh,
-                                        &z,
-                                    )?;
+                                    zoom(&figures.error_image, (x, y, w, h), 4)
+                                        .write_png(&figures_dir.join(format!("{stem}.error.zoom.png")))?;
                                 }
-                                Ok((caption.clone(), figures))
+                                Ok((caption.clone(), downscale(&figures.error_image, shrink)))
                             })
                             .collect::<std::io::Result<_>>()
                             .map_err(io(&figures_dir))?;
-                        let cells: Vec<GridCell> = drawn
+                        let cells: Vec<GridCell> = cells
                             .iter()
-                            .map(|(caption, f)| GridCell {
-                                image: &f.error_image,
-                                width: f.error_size.0,
-                                height: f.error_size.1,
-                                caption: caption.clone(),
-                            })
+                            .map(|(caption, image)| GridCell { image, caption: caption.clone() })
                             .collect();
                         let stem = view_stem(&scene.name, &camera.name, &light.name);
                         let path =
                             figures_dir.join(format!("{stem}.r{resolution}.{}.grid.png", format.name()));
-                        write_grid(&path, &cells, 4, 512).map_err(io(&figures_dir))?;
+                        grid(&cells, 4, GRID_CELL_WIDTH).write_png(&path).map_err(io(&figures_dir))?;
+                        on_event(Event::FiguresDone { ms: sw.ms() });
                     }
                 }
             }

@@ -145,19 +145,19 @@ pub fn chars_per_line(width: u32, scale: u32) -> usize {
     ((width / scale.max(1) + 1) / ADVANCE) as usize
 }
 
-/// Draws one line of `text` into an RGB8 image of `width`×`height` with its top-left corner at
-/// (`x`, `y`), each font pixel a `scale`×`scale` square of `color`; clipped to the image.
-/// Returns the number of image pixels written.
+/// Draws one line of `text` into a one-byte-per-pixel image of `width`×`height` with its
+/// top-left corner at (`x`, `y`), each font pixel a `scale`×`scale` square of `value`; clipped to
+/// the image. Returns the number of image pixels written.
 #[allow(clippy::too_many_arguments)]
 pub fn draw_text(
-    rgb: &mut [u8],
+    pixels: &mut [u8],
     width: u32,
     height: u32,
     x: i64,
     y: i64,
     text: &str,
     scale: u32,
-    color: [u8; 3],
+    value: u8,
 ) -> usize {
     let scale = scale.max(1) as i64;
     let (w, h) = (width as i64, height as i64);
@@ -178,10 +178,10 @@ pub fn draw_text(
                 }
                 let (x0, y0) = (gx + col * scale, y + row as i64 * scale);
                 for py in y0.max(0)..(y0 + scale).min(h) {
-                    for px in x0.max(0)..(x0 + scale).min(w) {
-                        let o = ((py * w + px) * 3) as usize;
-                        rgb[o..o + 3].copy_from_slice(&color);
-                        written += 1;
+                    let (a, b) = (x0.max(0), (x0 + scale).min(w));
+                    if a < b {
+                        pixels[(py * w + a) as usize..(py * w + b) as usize].fill(value);
+                        written += (b - a) as usize;
                     }
                 }
             }
@@ -261,18 +261,20 @@ mod tests {
     #[test]
     fn drawing_is_scaled_and_clipped() {
         let (w, h) = (40u32, 20u32);
-        let mut img = vec![0u8; (w * h * 3) as usize];
-        let n = draw_text(&mut img, w, h, 0, 0, "I", 2, [255, 0, 0]);
+        let mut img = vec![0u8; (w * h) as usize];
+        let n = draw_text(&mut img, w, h, 0, 0, "I", 2, 9);
         let ink: u32 = glyph('I').iter().map(|r| r.count_ones()).sum();
         assert_eq!(n as u32, ink * 4);
-        assert_eq!(img.chunks(3).filter(|p| p == &[255, 0, 0]).count(), n);
+        assert_eq!(img.iter().filter(|&&p| p == 9).count(), n);
         // The top bar of `I` covers columns 1..4 of the glyph, i.e. pixels 2..8 at scale 2.
-        assert_eq!(&img[0..3], &[0, 0, 0]);
-        assert_eq!(&img[2 * 3..2 * 3 + 3], &[255, 0, 0]);
+        assert_eq!(img[..2], [0, 0]);
+        assert_eq!(img[2..8], [9; 6]);
+        assert_eq!(img[8], 0);
         // Drawing off the edges writes only what is inside.
-        let mut img = vec![0u8; (w * h * 3) as usize];
-        let clipped = draw_text(&mut img, w, h, -3, -3, "Hello, world", 1, [1, 2, 3]);
-        assert_eq!(img.chunks(3).filter(|p| p == &[1, 2, 3]).count(), clipped);
+        let mut img = vec![0u8; (w * h) as usize];
+        let clipped = draw_text(&mut img, w, h, -3, -3, "Hello, world", 1, 7);
+        assert!(clipped > 0);
+        assert_eq!(img.iter().filter(|&&p| p == 7).count(), clipped);
     }
 
     #[test]

@@ -8,6 +8,7 @@ pub mod figures;
 pub mod font;
 mod gate;
 mod html;
+mod indexed_image;
 mod junit;
 mod outputs;
 mod plots;
@@ -18,14 +19,15 @@ pub use csv_rows::report_csv;
 pub use depth_map::write_depth_map;
 pub use exports::{world_obj, write_mask_png, write_world_obj};
 pub use figures::{
-    GridCell, RunFigures, error_map, grid, run_stem, shaded_base, view_stem, visibility_image, write_grid,
-    write_reference_figure, write_run_figures, zoom,
+    GridCell, RunFigures, ViewCanvas, downscale, error_map, grid, run_images, run_stem, shaded_base,
+    view_stem, visibility_image, write_reference_figure, write_run_figures, zoom,
 };
 pub use gate::{
     BaselineStatus, Check, GateError, GateOutcome, Measured, Metric, Regression, Rule, RuleSpec, Rules,
     RunKey, Violation, evaluate, fmt_value, glob_match, load_report, load_rules, measure, parse_rules,
 };
 pub use html::{PageAssets, escape, index_html};
+pub use indexed_image::IndexedImage;
 pub use junit::junit_xml;
 pub use outputs::write_report_outputs;
 pub use plots::{Chart, charts, pareto_front, write_chart};
