@@ -249,6 +249,8 @@ fn record(
         rates: Rates::default(),
         timings: Timings::default(),
         layer_memory_bytes: 0,
+        reference: Default::default(),
+        soft: None,
     }
 }
 

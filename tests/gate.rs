@@ -51,6 +51,8 @@ fn run(
         rates: counts.rates(),
         timings: Timings::default(),
         layer_memory_bytes: 0,
+        reference: Default::default(),
+        soft: None,
     }
 }
 

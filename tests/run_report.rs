@@ -26,6 +26,8 @@ fn a_plan_writes_one_record_per_run_with_consistent_counts() {
         repeats: 1,
         figures: false,
         zoom: None,
+        coverage_grid: shadowtruth::plan::DEFAULT_COVERAGE_GRID,
+        area_light_grid: shadowtruth::plan::DEFAULT_AREA_LIGHT_GRID,
     };
     let mut writer = ReportWriter::new(dir.path());
     let mut done = 0;

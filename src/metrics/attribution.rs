@@ -315,6 +315,7 @@ mod tests {
             far: 1.0,
             to_light: Some(Vec3::Z),
             position: None,
+            light_size: None,
         }
     }
 

@@ -1,9 +1,12 @@
-//! Metrics: how a technique's visibility compares with the reference, pixel by pixel.
+//! Metrics: how a technique's visibility compares with the reference, pixel by pixel: hard
+//! counts and rates, their attribution, soft errors of fractional output, timing.
 
 mod attribution;
 mod classify;
+mod soft;
 mod timing;
 
 pub use attribution::{Attribution, LightUv, MAX_RADIUS, attribute};
 pub use classify::{Counts, Rates, score_hard};
+pub use soft::{SoftErrors, score_soft, thresholded};
 pub use timing::{Stopwatch, median_ms};

@@ -4,15 +4,16 @@
 
 use super::Plan;
 use super::build_layers;
-use crate::metrics::{LightUv, Stopwatch, attribute, median_ms, score_hard};
+use super::references::ViewReferences;
+use crate::metrics::{LightUv, Stopwatch, attribute, median_ms, score_hard, score_soft};
 use crate::raster::LightView;
 use crate::report::{
     GridCell, IndexedImage, ReportWriter, RunRecord, SceneRecord, Timings, ViewCanvas, downscale, grid,
     run_stem, view_stem, write_reference_figure, write_run_figures, zoom,
 };
-use crate::scene::{Scene, SceneError, load_scene};
-use crate::technique::{LayerNeeds, ShadeContext, ShadeOrder, shade_evaluated};
-use crate::trace::{GBuffer, ReferenceCache, SceneBvh, trace_hard_reference};
+use crate::scene::{LightKind, Scene, SceneError, load_scene};
+use crate::technique::{LayerNeeds, ReferenceKind, ShadeContext, ShadeOrder, shade_evaluated};
+use crate::trace::{GBuffer, ReferenceCache, SceneBvh};
 use rayon::prelude::*;
 use std::path::PathBuf;
 
@@ -116,6 +117,25 @@ pub fn execute(
     if !problems.is_empty() {
         return Err(SceneError { problems }.into());
     }
+    // PCSS is scored against the area light: every light it runs under needs a size.
+    if plan.techniques.iter().any(|t| t.reference_kind() == ReferenceKind::AreaLight) {
+        for sel in &selected {
+            for &(_, li) in &sel.pairs {
+                let light = &sel.scene.lights[li];
+                let missing = match light.kind {
+                    LightKind::Directional { .. } if light.angular_diameter_deg.is_none() => "angular_diameter_deg",
+                    LightKind::Spot { .. } if light.radius.is_none() => "radius",
+                    _ => continue,
+                };
+                return Err(PlanError::Invalid(format!(
+                    "{}: light '{}' has no {missing}: pcss is scored against an area light; give the light a \
+                     size or leave pcss out of the plan",
+                    sel.scene.source.display(),
+                    light.name
+                )));
+            }
+        }
+    }
     let per_pair = plan.techniques.len() * plan.resolutions.len() * plan.depth_formats.len();
     let runs: usize = selected.iter().map(|s| s.pairs.len() * per_pair).sum();
     on_event(Event::Planned { runs });
@@ -144,15 +164,15 @@ pub fn execute(
             on_event(Event::Stage(format!("{}/{}/{}: reference", scene.name, camera.name, light.name)));
             let gbuffer = GBuffer::trace(scene, &bvh, camera, light);
             let figures_dir = writer.dir().join("figures");
-            let reference = match cache {
-                Some(c) => c.hard_reference(scene, &bvh, &gbuffer, camera, light).map_err(io(c.dir()))?.0,
-                None => trace_hard_reference(&bvh, &gbuffer, light),
-            };
+            let cache_dir = cache.map_or_else(|| writer.dir().to_path_buf(), |c| c.dir().to_path_buf());
+            let references = ViewReferences::new(plan, cache, scene, &bvh, &gbuffer, camera, light)
+                .map_err(io(&cache_dir))?;
+            let reference = &references.hard;
             let sw = Stopwatch::start();
-            let canvas = plan.figures.then(|| ViewCanvas::new(&gbuffer, &reference, light));
+            let canvas = plan.figures.then(|| ViewCanvas::new(&gbuffer, reference, light));
             if let Some(canvas) = &canvas {
                 let stem = view_stem(&scene.name, &camera.name, &light.name);
-                write_reference_figure(&figures_dir, &stem, &gbuffer, &reference, canvas)
+                write_reference_figure(&figures_dir, &stem, &gbuffer, reference, canvas)
                     .map_err(io(&figures_dir))?;
                 on_event(Event::FiguresDone { ms: sw.ms() });
             }
@@ -163,7 +183,7 @@ pub fn execute(
                 for &format in &plan.depth_formats {
                     // Figures of this (resolution, format): (stem, caption, visibility), drawn
                     // and encoded together in parallel once its runs are scored.
-                    let mut pending: Vec<(String, String, Vec<f32>)> = Vec::new();
+                    let mut pending: Vec<(String, String, Vec<f32>, ReferenceKind)> = Vec::new();
                     // Techniques grouped by the layers they read: each set is rasterized once.
                     let mut groups: Vec<(LayerNeeds, Vec<usize>)> = Vec::new();
                     for (ti, t) in plan.techniques.iter().enumerate() {
@@ -194,8 +214,12 @@ pub fn execute(
                                 shade_ms.push(sw.ms());
                             }
                             let shade_ms = median_ms(&shade_ms);
-                            let counts = score_hard(&gbuffer, &reference, &visibility)
-                                .with_attribution(attribute(&gbuffer, &reference, &visibility, &light_uv));
+                            let (scored_against, soft_reference, reference_used) =
+                                references.for_kind(spec.reference_kind());
+                            let counts = score_hard(&gbuffer, scored_against, &visibility).with_attribution(
+                                attribute(&gbuffer, scored_against, &visibility, &light_uv),
+                            );
+                            let soft = soft_reference.map(|r| score_soft(&gbuffer, &r.visibility, &visibility));
                             let record = RunRecord {
                                 scene: scene.name.clone(),
                                 camera: camera.name.clone(),
@@ -213,11 +237,13 @@ pub fn execute(
                                     ns_per_pixel: shade_ms * 1e6 / counts.evaluated.max(1) as f64,
                                 },
                                 layer_memory_bytes: layers.memory_bytes() as u64,
+                                reference: reference_used,
+                                soft,
                             };
                             if canvas.is_some() {
                                 let caption =
                                     format!("{}  error {:.3}%", record.label, 100.0 * record.rates.error);
-                                pending.push((run_stem(&record), caption, visibility));
+                                pending.push((run_stem(&record), caption, visibility, spec.reference_kind()));
                             }
                             writer.add_run(record).map_err(io(writer.path()))?;
                             on_event(Event::RunDone(writer.report().runs.last().expect("just added")));
@@ -230,12 +256,12 @@ pub fn execute(
                         let shrink = gbuffer.width.div_ceil(GRID_CELL_WIDTH).max(1);
                         let cells: Vec<(String, IndexedImage)> = pending
                             .par_iter()
-                            .map(|(stem, caption, visibility)| {
+                            .map(|(stem, caption, visibility, kind)| {
                                 let figures = write_run_figures(
                                     &figures_dir,
                                     stem,
                                     &gbuffer,
-                                    &reference,
+                                    references.for_kind(*kind).0,
                                     visibility,
                                     canvas,
                                 )?;

@@ -28,6 +28,18 @@ struct PlanFile {
     depth_formats: Vec<String>,
     #[serde(default = "default_repeats")]
     repeats: usize,
+    #[serde(default = "default_coverage_grid")]
+    coverage_grid: u32,
+    #[serde(default = "default_area_light_grid")]
+    area_light_grid: u32,
+}
+
+fn default_coverage_grid() -> u32 {
+    super::DEFAULT_COVERAGE_GRID
+}
+
+fn default_area_light_grid() -> u32 {
+    super::DEFAULT_AREA_LIGHT_GRID
 }
 
 fn default_formats() -> Vec<String> {
@@ -103,6 +115,11 @@ pub fn parse_plan(text: &str, path: &Path) -> Result<Plan, String> {
     if file.repeats == 0 {
         return Err(format!("{}: repeats: must be at least 1", path.display()));
     }
+    for (name, grid) in [("coverage_grid", file.coverage_grid), ("area_light_grid", file.area_light_grid)] {
+        if !(1..=64).contains(&grid) {
+            return Err(format!("{}: {name}: must be from 1 to 64 (samples per pixel: its square)", path.display()));
+        }
+    }
     Ok(Plan {
         scenes: file.scenes.iter().map(|s| base.join(s)).collect(),
         cameras: file.cameras,
@@ -113,5 +130,7 @@ pub fn parse_plan(text: &str, path: &Path) -> Result<Plan, String> {
         repeats: file.repeats,
         figures: true,
         zoom: None,
+        coverage_grid: file.coverage_grid,
+        area_light_grid: file.area_light_grid,
     })
 }

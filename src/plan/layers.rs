@@ -1,9 +1,9 @@
 //! Building the depth layers a group of techniques reads, once per (light view, depth format,
-//! layer needs), timed as the median of repeats.
+//! layer needs), timed as the median of repeats (a multiple-depth map's selection included).
 
 use crate::metrics::{Stopwatch, median_ms};
 use crate::raster::{
-    DepthFormat, DepthLayer, DepthPairLayer, LightView, RasterSettings, rasterize_nearest,
+    DepthFormat, DepthLayer, DepthPairLayer, LightView, MultiDepthLayer, RasterSettings, rasterize_nearest,
     rasterize_two_nearest,
 };
 use crate::scene::Scene;
@@ -13,6 +13,7 @@ use crate::technique::{LayerNeeds, Layers};
 pub enum BuiltLayers {
     Nearest(DepthLayer),
     TwoNearest(DepthPairLayer),
+    MultiDepth(MultiDepthLayer),
 }
 
 impl BuiltLayers {
@@ -20,6 +21,7 @@ impl BuiltLayers {
         match self {
             BuiltLayers::Nearest(l) => Layers::Nearest(l),
             BuiltLayers::TwoNearest(l) => Layers::TwoNearest(l),
+            BuiltLayers::MultiDepth(l) => Layers::MultiDepth(l),
         }
     }
 
@@ -27,6 +29,7 @@ impl BuiltLayers {
         match self {
             BuiltLayers::Nearest(l) => l.memory_bytes(),
             BuiltLayers::TwoNearest(l) => l.memory_bytes(),
+            BuiltLayers::MultiDepth(l) => l.memory_bytes(),
         }
     }
 }
@@ -50,10 +53,15 @@ pub fn build_layers(
     let mut built = None;
     for _ in 0..repeats.max(1) {
         let sw = Stopwatch::start();
-        let layers = if needs.second_layer {
-            BuiltLayers::TwoNearest(rasterize_two_nearest(scene, view, &settings))
-        } else {
-            BuiltLayers::Nearest(rasterize_nearest(scene, view, &settings))
+        let layers = match (needs.second_layer, needs.multi_depth) {
+            (true, _) => BuiltLayers::TwoNearest(rasterize_two_nearest(scene, view, &settings)),
+            (false, Some(m)) => BuiltLayers::MultiDepth(MultiDepthLayer::from_base(
+                &rasterize_nearest(scene, view, &settings),
+                m.depths,
+                m.neighbourhood,
+                m.selection,
+            )),
+            (false, None) => BuiltLayers::Nearest(rasterize_nearest(scene, view, &settings)),
         };
         times.push(sw.ms());
         built = Some(layers);

@@ -4,9 +4,10 @@
 mod execute;
 mod file;
 mod layers;
+mod references;
 mod spec;
 
 pub use execute::{Event, PlanError, execute};
 pub use file::{PLAN_FORMAT, expand_technique, parse_plan, read_plan};
 pub use layers::{BuiltLayers, build_layers};
-pub use spec::{DEFAULT_PLAN_JSON, Plan};
+pub use spec::{DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_PLAN_JSON, Plan};

@@ -21,7 +21,16 @@ pub struct Plan {
     pub figures: bool,
     /// A region (x, y, width, height in camera pixels) also written enlarged for every run.
     pub zoom: Option<[u32; 4]>,
+    /// The coverage reference traces this many × this many sub-pixel rays per pixel.
+    pub coverage_grid: u32,
+    /// The area-light reference traces this many × this many light samples per pixel.
+    pub area_light_grid: u32,
 }
+
+/// Sub-pixel grid of the coverage reference (4×4).
+pub const DEFAULT_COVERAGE_GRID: u32 = 4;
+/// Light-sample grid of the area-light reference (8×8).
+pub const DEFAULT_AREA_LIGHT_GRID: u32 = 8;
 
 /// The default plan file, built into the binary so that `run` works from anywhere.
 pub const DEFAULT_PLAN_JSON: &str = include_str!("../../plans/default.json");

@@ -4,12 +4,14 @@
 mod clip;
 mod depth_format;
 mod layer;
+mod multi_depth;
 mod projection;
 mod rasterize;
 
 pub use depth_format::DepthFormat;
 pub use layer::{DepthLayer, DepthPairLayer};
-pub use projection::{LightView, Projection};
+pub use multi_depth::{DepthSelection, MultiDepthLayer};
+pub use projection::{LightSize, LightView, Projection};
 pub use rasterize::{
     Culling, RasterSettings, rasterize_coverage, rasterize_nearest, rasterize_nearest_into,
     rasterize_two_nearest,

@@ -12,6 +12,15 @@ pub enum Projection {
     Perspective { tan_half_fov: f32 },
 }
 
+/// The size of an area light, for soft-shadow techniques.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightSize {
+    /// A directional light's angular diameter, degrees.
+    AngularDiameterDeg(f32),
+    /// A spot light's disk radius, world units.
+    Radius(f32),
+}
+
 /// The light's camera for one shadow-map resolution.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LightView {
@@ -28,6 +37,8 @@ pub struct LightView {
     pub to_light: Option<Vec3>,
     /// Position of a spot light.
     pub position: Option<Vec3>,
+    /// The light's area size, when the scene gives one (PCSS reads it).
+    pub light_size: Option<LightSize>,
 }
 
 impl LightView {
@@ -41,12 +52,17 @@ impl LightView {
     /// `cone_deg` (clamped to [0.01°, 179°]), the light's near/far (fixed up to 0 < near < far).
     /// Matrices are built in f64 and rounded once to f32. Never panics.
     pub fn new(light: &Light, scene_bounds: (Vec3, Vec3), resolution: u32) -> Self {
-        match light.kind {
+        let light_size = match light.kind {
+            LightKind::Directional { .. } => light.angular_diameter_deg.map(LightSize::AngularDiameterDeg),
+            LightKind::Spot { .. } => light.radius.map(LightSize::Radius),
+        };
+        let view = match light.kind {
             LightKind::Directional { direction } => directional(direction, scene_bounds, resolution),
             LightKind::Spot { position, direction, cone_deg, near, far } => {
                 spot(position, direction, cone_deg, near, far, resolution)
             }
-        }
+        };
+        LightView { light_size, ..view }
     }
 
     /// (u, v, d) of world point `p`, computed in f32 through `clip_from_world` as a GPU would:
@@ -174,6 +190,7 @@ fn directional(direction: Vec3, scene_bounds: (Vec3, Vec3), resolution: u32) -> 
         far: far as f32,
         to_light: Some((-forward).as_vec3()),
         position: None,
+        light_size: None,
     }
 }
 
@@ -205,6 +222,7 @@ fn spot(position: Vec3, direction: Vec3, cone_deg: f32, near: f32, far: f32, res
         far: f as f32,
         to_light: None,
         position: Some(eye.as_vec3()),
+        light_size: None,
     }
 }
 

@@ -780,6 +780,8 @@ mod tests {
             rates: counts.rates(),
             timings: Timings::default(),
             layer_memory_bytes: 0,
+            reference: Default::default(),
+            soft: None,
         }
     }
 

@@ -31,5 +31,5 @@ pub use indexed_image::IndexedImage;
 pub use junit::junit_xml;
 pub use outputs::write_report_outputs;
 pub use plots::{Chart, charts, pareto_front, write_chart};
-pub use record::{Machine, REPORT_SCHEMA, Report, RunRecord, SceneRecord, Timings, Tool};
+pub use record::{Machine, REPORT_SCHEMA, ReferenceUsed, Report, RunRecord, SceneRecord, Timings, Tool};
 pub use writer::ReportWriter;

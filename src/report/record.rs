@@ -1,7 +1,8 @@
 //! `shadowtruth/report/v1`: one record per (scene, camera, light, technique with its parameters,
 //! resolution, depth format).
 
-use crate::metrics::{Counts, Rates};
+use crate::metrics::{Counts, Rates, SoftErrors};
+use crate::technique::ReferenceKind;
 use serde::{Deserialize, Serialize};
 
 pub const REPORT_SCHEMA: &str = "shadowtruth/report/v1";
@@ -69,6 +70,25 @@ pub struct RunRecord {
     pub timings: Timings,
     /// Bytes of the depth layers this run read.
     pub layer_memory_bytes: u64,
+    /// The reference the run was scored against.
+    #[serde(default)]
+    pub reference: ReferenceUsed,
+    /// Soft errors, for runs scored against a fractional reference (coverage, area light).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub soft: Option<SoftErrors>,
+}
+
+/// Which reference a run was scored against and with how many samples per pixel (1 for hard).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ReferenceUsed {
+    pub kind: ReferenceKind,
+    pub samples: u32,
+}
+
+impl Default for ReferenceUsed {
+    fn default() -> Self {
+        ReferenceUsed { kind: ReferenceKind::Hard, samples: 1 }
+    }
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize)]

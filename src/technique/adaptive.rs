@@ -43,18 +43,25 @@ pub struct AdaptiveTest {
 impl AdaptiveBias {
     /// The comparison for `s`, or None when the receiver lies behind the light.
     pub fn test(&self, s: &Sample, ctx: &ShadeContext) -> Option<AdaptiveTest> {
-        let view = ctx.view;
-        let uvd = view.project(s.position)?;
+        let uvd = ctx.view.project(s.position)?;
         let resolution = ctx.layers.resolution();
         let texel = texel_at(resolution, uvd.x, uvd.y);
         let occluder_depth = potential_occluder_depth(s, ctx, texel_centre(resolution, texel.0, texel.1));
+        let epsilon = self.epsilon(s, ctx, occluder_depth.unwrap_or(uvd.z))?;
+        let compared_depth = occluder_depth.map_or(uvd.z, |d| d.min(uvd.z));
+        Some(AdaptiveTest { texel, occluder_depth, compared_depth, epsilon })
+    }
+
+    /// The adaptive epsilon in depth units at light depth `depth` for receiver `s` (None when the
+    /// enhanced scale needs a direction to the light and there is none).
+    pub fn epsilon(&self, s: &Sample, ctx: &ShadeContext, depth: f32) -> Option<f32> {
+        let view = ctx.view;
         let (n, f) = (view.near, view.far);
-        let d_eps = occluder_depth.unwrap_or(uvd.z);
         let world_tolerance = self.k * ctx.scene_scale;
         let mut epsilon = match view.projection {
             Projection::Orthographic { .. } => world_tolerance / (f - n),
             Projection::Perspective { .. } => {
-                let s = f - d_eps * (f - n);
+                let s = f - depth * (f - n);
                 world_tolerance * s * s / (f * n * (f - n))
             }
         };
@@ -67,8 +74,7 @@ impl AdaptiveBias {
             let n_dot_l = s.normal.dot(to_light);
             epsilon *= (1.0 / (n_dot_l * n_dot_l)).min(EHM_THRESHOLD);
         }
-        let compared_depth = occluder_depth.map_or(uvd.z, |d| d.min(uvd.z));
-        Some(AdaptiveTest { texel, occluder_depth, compared_depth, epsilon })
+        Some(epsilon)
     }
 }
 
@@ -90,7 +96,7 @@ impl Technique for AdaptiveBias {
 /// Light depth of the potential occluder: the light ray through texel centre (u_c, v_c) meets the
 /// receiver's tangent plane. None when the ray is (nearly) parallel to the plane or meets it
 /// behind the near plane; the receiver's own depth is used then.
-fn potential_occluder_depth(s: &Sample, ctx: &ShadeContext, (u_c, v_c): (f32, f32)) -> Option<f32> {
+pub fn potential_occluder_depth(s: &Sample, ctx: &ShadeContext, (u_c, v_c): (f32, f32)) -> Option<f32> {
     let (x_ndc, y_ndc) = (2.0 * u_c - 1.0, 2.0 * v_c - 1.0);
     let unproject = |d: f32| {
         let h = ctx.world_from_clip * Vec4::new(x_ndc, y_ndc, d, 1.0);

@@ -7,7 +7,10 @@
 mod adaptive;
 mod bias;
 mod depth_layers;
+mod kernel;
 mod normal_offset;
+mod pcf;
+mod pcss;
 mod receiver_plane;
 mod shade;
 mod spec;
@@ -15,12 +18,18 @@ mod spec;
 pub use adaptive::{AdaptiveBias, AdaptiveTest, EpsilonScale};
 pub use bias::{ConstantBias, NoBias, SlopeScaledBias};
 pub use depth_layers::{DualDepth, Midpoint, SecondDepth};
+pub use kernel::{Kernel, POISSON_SIZES, poisson_set};
 pub use normal_offset::{NormalOffset, OffsetFalloff};
+pub use pcf::{Pcf, TapBias, TapThreshold};
+pub use pcss::Pcss;
 pub use receiver_plane::{ReceiverPlane, receiver_plane_slope};
 pub use shade::{ShadeContext, ShadeOrder, shade_evaluated};
-pub use spec::{CullSpec, EpsilonSpec, FalloffSpec, TechniqueSpec, TechniqueSpecError};
+pub use spec::{
+    CullSpec, EpsilonSpec, FalloffSpec, KernelSpec, LayerSpec, ReferenceKind, SelectSpec, TapBiasSpec,
+    TechniqueSpec, TechniqueSpecError,
+};
 
-use crate::raster::{Culling, DepthLayer, DepthPairLayer};
+use crate::raster::{Culling, DepthLayer, DepthPairLayer, DepthSelection, MultiDepthLayer};
 use glam::Vec3;
 
 /// One receiver: the G-buffer's surface point, its geometric normal (which faces the light) and
@@ -41,19 +50,37 @@ pub struct LayerNeeds {
     pub slope_units: f32,
     /// Whether the second-nearest surface z2 is read as well as the nearest z1.
     pub second_layer: bool,
+    /// A multiple-depth map derived from the nearest layer (Pagot et al. 2004).
+    pub multi_depth: Option<MultiDepthNeeds>,
+}
+
+/// The n-SM a technique reads: `depths` per texel, selected over `neighbourhood`² texels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MultiDepthNeeds {
+    pub depths: u32,
+    pub neighbourhood: u32,
+    pub selection: DepthSelection,
 }
 
 impl Default for LayerNeeds {
     fn default() -> Self {
-        LayerNeeds { culling: Culling::None, slope_factor: 0.0, slope_units: 0.0, second_layer: false }
+        LayerNeeds {
+            culling: Culling::None,
+            slope_factor: 0.0,
+            slope_units: 0.0,
+            second_layer: false,
+            multi_depth: None,
+        }
     }
 }
 
-/// The depth layers a technique reads: the nearest surface, or the two nearest (z1, z2).
+/// The depth layers a technique reads: the nearest surface, the two nearest (z1, z2), or the n
+/// depths of a multiple-depth map.
 #[derive(Clone, Copy)]
 pub enum Layers<'a> {
     Nearest(&'a DepthLayer),
     TwoNearest(&'a DepthPairLayer),
+    MultiDepth(&'a MultiDepthLayer),
 }
 
 impl<'a> Layers<'a> {
@@ -61,7 +88,7 @@ impl<'a> Layers<'a> {
     pub fn nearest(&self) -> &'a DepthLayer {
         match self {
             Layers::Nearest(l) => l,
-            Layers::TwoNearest(_) => panic!("the technique asked for two layers"),
+            _ => panic!("the technique did not ask for the nearest layer alone"),
         }
     }
 
@@ -69,7 +96,7 @@ impl<'a> Layers<'a> {
     pub fn two_nearest(&self) -> &'a DepthPairLayer {
         match self {
             Layers::TwoNearest(l) => l,
-            Layers::Nearest(_) => panic!("the technique asked for the nearest layer only"),
+            _ => panic!("the technique did not ask for two layers"),
         }
     }
 
@@ -77,6 +104,7 @@ impl<'a> Layers<'a> {
         match self {
             Layers::Nearest(l) => l.resolution,
             Layers::TwoNearest(l) => l.resolution,
+            Layers::MultiDepth(l) => l.resolution,
         }
     }
 }

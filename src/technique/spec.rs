@@ -2,10 +2,11 @@
 //! `{"technique": "constant", "bias_depth": 0.001}`.
 
 use super::{
-    AdaptiveBias, ConstantBias, DualDepth, EpsilonScale, Midpoint, NoBias, NormalOffset, OffsetFalloff,
-    ReceiverPlane, SecondDepth, SlopeScaledBias, Technique,
+    AdaptiveBias, ConstantBias, DualDepth, EpsilonScale, Kernel, LayerNeeds, Midpoint, MultiDepthNeeds,
+    NoBias, NormalOffset, OffsetFalloff, POISSON_SIZES, Pcf, Pcss, ReceiverPlane, SecondDepth,
+    SlopeScaledBias, TapBias, TapThreshold, Technique,
 };
-use crate::raster::Culling;
+use crate::raster::{Culling, DepthSelection};
 use serde::{Deserialize, Serialize};
 
 /// Faces of closed objects left out of the map.
@@ -47,6 +48,59 @@ pub enum EpsilonSpec {
 
 fn default_k() -> f64 {
     1e-4
+}
+
+/// PCF kernels (formulas.md §6).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum KernelSpec {
+    /// `size`×`size` point taps (default 3).
+    #[default]
+    Box,
+    /// Hardware 2×2 bilinear compare.
+    Bilinear,
+    /// `taps` (16, 25, 32; default 16) Poisson-disk taps over `radius_texels` (default 1.5).
+    Poisson,
+    /// One jittered tap per cell of a 4×4 grid over ±`radius_texels` (default 2).
+    Jitter4x4,
+}
+
+/// The bias applied to every PCF tap.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TapBiasSpec {
+    /// `bias_depth` (default 0) subtracted from every tap.
+    #[default]
+    Constant,
+    /// glPolygonOffset(`factor`, `units`) in the map.
+    SlopeScaled,
+    /// The receiver's plane at each tap texel's centre, minus `bias_depth`.
+    ReceiverPlane,
+    /// The potential occluder of every tap texel (`k`, `epsilon`).
+    Adaptive,
+    /// Ehm et al.'s Algorithm 1: three potential occluders and Δbias per receiver.
+    AdaptiveDelta,
+}
+
+/// The depth-layer test under each PCF tap.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LayerSpec {
+    #[default]
+    Nearest,
+    SecondDepth,
+    Midpoint,
+    Dual,
+}
+
+/// Which extra depths a multiple-depth map keeps.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SelectSpec {
+    Min,
+    Max,
+    #[default]
+    MinMax,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -102,11 +156,225 @@ pub enum TechniqueSpec {
         #[serde(default)]
         epsilon: EpsilonSpec,
     },
+    /// Percentage-closer filtering with a per-tap bias over a depth-layer test.
+    Pcf {
+        #[serde(default)]
+        kernel: KernelSpec,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        size: Option<u32>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        taps: Option<u32>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        radius_texels: Option<f64>,
+        #[serde(default)]
+        bias: TapBiasSpec,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        bias_depth: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        factor: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        units: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        k: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        epsilon: Option<EpsilonSpec>,
+        #[serde(default, skip_serializing_if = "is_nearest")]
+        layers: LayerSpec,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        z_offset: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        cull_back_faces: Option<bool>,
+    },
+    /// Multiple-depth shadow map (Pagot, Comba & Oliveira 2004): `depths` per texel, the n-shadow
+    /// test, filtered like `pcf` (default a single tap: box of size 1).
+    Mdsm {
+        depths: u32,
+        #[serde(default = "default_neighbourhood")]
+        neighbourhood: u32,
+        #[serde(default)]
+        select: SelectSpec,
+        #[serde(default)]
+        kernel: KernelSpec,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        size: Option<u32>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        taps: Option<u32>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        radius_texels: Option<f64>,
+        #[serde(default)]
+        bias: TapBiasSpec,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        bias_depth: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        k: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        epsilon: Option<EpsilonSpec>,
+    },
+    /// Percentage-closer soft shadows (Fernando 2005): `search_taps` Poisson taps (16, 25, 32),
+    /// `filter_taps` (16, 25, 32 Poisson; another square k² a regular k×k grid), per-tap `bias`.
+    Pcss {
+        #[serde(default = "default_pcss_taps")]
+        search_taps: u32,
+        #[serde(default = "default_pcss_taps")]
+        filter_taps: u32,
+        #[serde(default = "default_pcss_bias")]
+        bias: TapBiasSpec,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        bias_depth: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        k: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        epsilon: Option<EpsilonSpec>,
+    },
+}
+
+fn is_nearest(l: &LayerSpec) -> bool {
+    *l == LayerSpec::Nearest
+}
+
+fn default_neighbourhood() -> u32 {
+    3
+}
+
+fn default_pcss_taps() -> u32 {
+    25
+}
+
+fn default_pcss_bias() -> TapBiasSpec {
+    TapBiasSpec::ReceiverPlane
+}
+
+/// Which reference a technique's output is scored against.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ReferenceKind {
+    /// The exact hard visibility of each pixel's surface point.
+    Hard,
+    /// Hard visibility averaged over a pixel's sub-pixel grid (filtered techniques).
+    Coverage,
+    /// The fraction of an area light each point sees (soft shadows).
+    AreaLight,
+}
+
+const MAX_KERNEL_SIZE: u32 = 31;
+
+/// The kernel named by a spec's fields.
+fn kernel_of(kernel: KernelSpec, size: Option<u32>, taps: Option<u32>, default_size: u32) -> Kernel {
+    match kernel {
+        KernelSpec::Box => Kernel::Box { size: size.unwrap_or(default_size) },
+        KernelSpec::Bilinear => Kernel::Bilinear,
+        KernelSpec::Poisson => Kernel::Poisson { taps: taps.unwrap_or(16) },
+        KernelSpec::Jitter4x4 => Kernel::Jitter4x4,
+    }
+}
+
+fn radius_of(kernel: KernelSpec, radius_texels: Option<f64>) -> f32 {
+    radius_texels.unwrap_or(match kernel {
+        KernelSpec::Jitter4x4 => 2.0,
+        _ => 1.5,
+    }) as f32
+}
+
+fn adaptive_of(k: Option<f64>, epsilon: Option<EpsilonSpec>) -> AdaptiveBias {
+    AdaptiveBias {
+        k: k.unwrap_or(default_k()) as f32,
+        epsilon: match epsilon.unwrap_or_default() {
+            EpsilonSpec::Original => EpsilonScale::Original,
+            EpsilonSpec::Ehm => EpsilonScale::Ehm,
+        },
+    }
+}
+
+fn tap_bias_of(
+    bias: TapBiasSpec,
+    bias_depth: Option<f64>,
+    k: Option<f64>,
+    epsilon: Option<EpsilonSpec>,
+) -> TapBias {
+    let bias_depth = bias_depth.unwrap_or(0.0) as f32;
+    match bias {
+        TapBiasSpec::Constant => TapBias::Constant { bias_depth },
+        TapBiasSpec::SlopeScaled => TapBias::SlopeScaled,
+        TapBiasSpec::ReceiverPlane => TapBias::ReceiverPlane { bias_depth },
+        TapBiasSpec::Adaptive => TapBias::Adaptive(adaptive_of(k, epsilon)),
+        TapBiasSpec::AdaptiveDelta => TapBias::AdaptiveDelta(adaptive_of(k, epsilon)),
+    }
+}
+
+/// The PCSS filter kernel for `taps`: a Poisson set, or a regular grid for another square.
+fn pcss_filter(taps: u32) -> Kernel {
+    if POISSON_SIZES.contains(&taps) {
+        Kernel::Poisson { taps }
+    } else {
+        Kernel::Grid { size: (taps as f64).sqrt().round() as u32 }
+    }
 }
 
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("{0}")]
 pub struct TechniqueSpecError(pub String);
+
+fn err(message: &str) -> TechniqueSpecError {
+    TechniqueSpecError(message.into())
+}
+
+fn finite(name: &str, x: f64) -> Result<(), TechniqueSpecError> {
+    if x.is_finite() { Ok(()) } else { Err(TechniqueSpecError(format!("{name} must be a finite number"))) }
+}
+
+fn validate_kernel(
+    kernel: KernelSpec,
+    size: Option<u32>,
+    taps: Option<u32>,
+    radius_texels: Option<f64>,
+) -> Result<(), TechniqueSpecError> {
+    match (kernel, size) {
+        (KernelSpec::Box, Some(k)) if !(1..=MAX_KERNEL_SIZE).contains(&k) => {
+            return Err(TechniqueSpecError(format!("size must be from 1 to {MAX_KERNEL_SIZE}")));
+        }
+        (KernelSpec::Box, _) => {}
+        (_, Some(_)) => return Err(err("size belongs to kernel \"box\"")),
+        _ => {}
+    }
+    match (kernel, taps) {
+        (KernelSpec::Poisson, Some(t)) if !POISSON_SIZES.contains(&t) => {
+            return Err(err("taps must be 16, 25 or 32 (the Poisson sets)"));
+        }
+        (KernelSpec::Poisson, _) => {}
+        (_, Some(_)) => return Err(err("taps belongs to kernel \"poisson\"")),
+        _ => {}
+    }
+    match (kernel, radius_texels) {
+        (KernelSpec::Poisson | KernelSpec::Jitter4x4, Some(r)) if !(r.is_finite() && r > 0.0) => {
+            Err(err("radius_texels must be a number > 0"))
+        }
+        (KernelSpec::Box | KernelSpec::Bilinear, Some(_)) => {
+            Err(err("radius_texels belongs to kernels \"poisson\" and \"jitter4x4\""))
+        }
+        _ => Ok(()),
+    }
+}
+
+fn validate_bias(
+    bias: TapBiasSpec,
+    bias_depth: Option<f64>,
+    k: Option<f64>,
+    epsilon: Option<EpsilonSpec>,
+) -> Result<(), TechniqueSpecError> {
+    let adaptive = matches!(bias, TapBiasSpec::Adaptive | TapBiasSpec::AdaptiveDelta);
+    if !adaptive && (k.is_some() || epsilon.is_some()) {
+        return Err(err("k and epsilon belong to bias \"adaptive\" and \"adaptive_delta\""));
+    }
+    if let Some(k) = k
+        && !(k.is_finite() && k >= 0.0)
+    {
+        return Err(err("k must be a finite number ≥ 0"));
+    }
+    if adaptive && bias_depth.is_some() {
+        return Err(err("bias_depth belongs to bias \"constant\" and \"receiver_plane\""));
+    }
+    finite("bias_depth", bias_depth.unwrap_or(0.0))
+}
 
 impl TechniqueSpec {
     /// The technique's name as the report writes it.
@@ -121,6 +389,19 @@ impl TechniqueSpec {
             TechniqueSpec::Midpoint { .. } => "midpoint",
             TechniqueSpec::Dual { .. } => "dual",
             TechniqueSpec::Adaptive { .. } => "adaptive",
+            TechniqueSpec::Pcf { .. } => "pcf",
+            TechniqueSpec::Mdsm { .. } => "mdsm",
+            TechniqueSpec::Pcss { .. } => "pcss",
+        }
+    }
+
+    /// The reference the technique's output means the same thing as: pixel coverage for filtered
+    /// maps, the area light for PCSS, the hard visibility otherwise.
+    pub fn reference_kind(&self) -> ReferenceKind {
+        match self {
+            TechniqueSpec::Pcf { .. } | TechniqueSpec::Mdsm { .. } => ReferenceKind::Coverage,
+            TechniqueSpec::Pcss { .. } => ReferenceKind::AreaLight,
+            _ => ReferenceKind::Hard,
         }
     }
 
@@ -178,6 +459,84 @@ impl TechniqueSpec {
             TechniqueSpec::Dual { .. } => Err(TechniqueSpecError("z_offset must be a number ≥ 0".into())),
             TechniqueSpec::Adaptive { k, .. } if k.is_finite() && k >= 0.0 => Ok(()),
             TechniqueSpec::Adaptive { .. } => Err(TechniqueSpecError("k must be a finite number ≥ 0".into())),
+            TechniqueSpec::Pcf {
+                kernel,
+                size,
+                taps,
+                radius_texels,
+                bias,
+                bias_depth,
+                factor,
+                units,
+                k,
+                epsilon,
+                layers,
+                z_offset,
+                cull_back_faces,
+            } => {
+                validate_kernel(kernel, size, taps, radius_texels)?;
+                validate_bias(bias, bias_depth, k, epsilon)?;
+                let slope = bias == TapBiasSpec::SlopeScaled;
+                if !slope && (factor.is_some() || units.is_some()) {
+                    return Err(err("factor and units belong to bias \"slope_scaled\""));
+                }
+                if slope {
+                    finite("factor", factor.unwrap_or(0.0))?;
+                    finite("units", units.unwrap_or(0.0))?;
+                }
+                match (layers, z_offset) {
+                    (LayerSpec::Dual, Some(z)) if z >= 0.0 && z.is_finite() => {}
+                    (LayerSpec::Dual, _) => return Err(err("layers \"dual\" needs a z_offset ≥ 0")),
+                    (_, Some(_)) => return Err(err("z_offset belongs to layers \"dual\"")),
+                    _ => {}
+                }
+                if cull_back_faces.is_some() && !matches!(layers, LayerSpec::Midpoint | LayerSpec::Dual) {
+                    return Err(err("cull_back_faces belongs to layers \"midpoint\" and \"dual\""));
+                }
+                Ok(())
+            }
+            TechniqueSpec::Mdsm {
+                depths,
+                neighbourhood,
+                kernel,
+                size,
+                taps,
+                radius_texels,
+                bias,
+                bias_depth,
+                k,
+                epsilon,
+                ..
+            } => {
+                if !(1..=4).contains(&depths) {
+                    return Err(err("depths must be 1, 2, 3 or 4"));
+                }
+                if neighbourhood % 2 == 0 || !(1..=15).contains(&neighbourhood) {
+                    return Err(err("neighbourhood must be an odd number of texels from 1 to 15"));
+                }
+                if bias == TapBiasSpec::SlopeScaled {
+                    return Err(err("mdsm takes bias constant, receiver_plane, adaptive or adaptive_delta"));
+                }
+                validate_kernel(kernel, size, taps, radius_texels)?;
+                validate_bias(bias, bias_depth, k, epsilon)
+            }
+            TechniqueSpec::Pcss { search_taps, filter_taps, bias, bias_depth, k, epsilon } => {
+                if !POISSON_SIZES.contains(&search_taps) {
+                    return Err(err("search_taps must be 16, 25 or 32 (the Poisson sets)"));
+                }
+                let root = (filter_taps as f64).sqrt().round() as u32;
+                if !POISSON_SIZES.contains(&filter_taps)
+                    && (root * root != filter_taps || !(2..=16).contains(&root))
+                {
+                    return Err(err(
+                        "filter_taps must be 16, 25, 32 (Poisson) or a square from 4 to 256 (grid)",
+                    ));
+                }
+                if matches!(bias, TapBiasSpec::SlopeScaled | TapBiasSpec::Adaptive) {
+                    return Err(err("pcss takes bias constant, receiver_plane or adaptive_delta"));
+                }
+                validate_bias(bias, bias_depth, k, epsilon)
+            }
         }
     }
 
@@ -209,13 +568,88 @@ impl TechniqueSpec {
             TechniqueSpec::Dual { z_offset, cull_back_faces } => {
                 Box::new(DualDepth { z_offset: z_offset as f32, cull_back_faces })
             }
-            TechniqueSpec::Adaptive { k, epsilon } => Box::new(AdaptiveBias {
-                k: k as f32,
-                epsilon: match epsilon {
-                    EpsilonSpec::Original => EpsilonScale::Original,
-                    EpsilonSpec::Ehm => EpsilonScale::Ehm,
+            TechniqueSpec::Adaptive { k, epsilon } => Box::new(adaptive_of(Some(k), Some(epsilon))),
+            TechniqueSpec::Pcf {
+                kernel,
+                size,
+                taps,
+                radius_texels,
+                bias,
+                bias_depth,
+                factor,
+                units,
+                k,
+                epsilon,
+                layers,
+                z_offset,
+                cull_back_faces,
+            } => {
+                let cull = cull_back_faces.unwrap_or(false);
+                let two = |z_offset: f32| {
+                    let culling = if cull { Culling::BackFacesOfClosed } else { Culling::None };
+                    (
+                        TapThreshold::TwoLayers { z_offset },
+                        LayerNeeds { culling, second_layer: true, ..LayerNeeds::default() },
+                    )
+                };
+                let (threshold, mut needs) = match layers {
+                    LayerSpec::Nearest => (TapThreshold::Nearest, LayerNeeds::default()),
+                    LayerSpec::SecondDepth => (
+                        TapThreshold::Nearest,
+                        LayerNeeds { culling: Culling::FrontFacesOfClosed, ..LayerNeeds::default() },
+                    ),
+                    LayerSpec::Midpoint => two(f32::INFINITY),
+                    LayerSpec::Dual => two(z_offset.unwrap_or(0.0) as f32),
+                };
+                if bias == TapBiasSpec::SlopeScaled {
+                    needs.slope_factor = factor.unwrap_or(0.0) as f32;
+                    needs.slope_units = units.unwrap_or(0.0) as f32;
+                }
+                Box::new(Pcf {
+                    kernel: kernel_of(kernel, size, taps, 3),
+                    radius_texels: radius_of(kernel, radius_texels),
+                    bias: tap_bias_of(bias, bias_depth, k, epsilon),
+                    threshold,
+                    needs,
+                })
+            }
+            TechniqueSpec::Mdsm {
+                depths,
+                neighbourhood,
+                select,
+                kernel,
+                size,
+                taps,
+                radius_texels,
+                bias,
+                bias_depth,
+                k,
+                epsilon,
+            } => Box::new(Pcf {
+                kernel: kernel_of(kernel, size, taps, 1),
+                radius_texels: radius_of(kernel, radius_texels),
+                bias: tap_bias_of(bias, bias_depth, k, epsilon),
+                threshold: TapThreshold::MultiDepth,
+                needs: LayerNeeds {
+                    multi_depth: Some(MultiDepthNeeds {
+                        depths,
+                        neighbourhood,
+                        selection: match select {
+                            SelectSpec::Min => DepthSelection::Min,
+                            SelectSpec::Max => DepthSelection::Max,
+                            SelectSpec::MinMax => DepthSelection::MinMax,
+                        },
+                    }),
+                    ..LayerNeeds::default()
                 },
             }),
+            TechniqueSpec::Pcss { search_taps, filter_taps, bias, bias_depth, k, epsilon } => {
+                Box::new(Pcss {
+                    search: Kernel::Poisson { taps: search_taps },
+                    filter: pcss_filter(filter_taps),
+                    bias: tap_bias_of(bias, bias_depth, k, epsilon),
+                })
+            }
         }
     }
 }
