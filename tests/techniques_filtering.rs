@@ -1,0 +1,201 @@
+//! Filtered techniques: PCF(k, n) takes at most n·k + 1 values and reaches the bound on a shadow
+//! edge (Pagot et al., Table 1); Ehm et al.'s Δbias equals the per-tap adaptive bias on planar
+//! receivers under a directional light; a bilinear 2×2 PCF of a straight edge is the ramp its
+//! weights imply; PCSS widens its penumbra with the blocker distance.
+
+mod common;
+
+use common::{scene_from_json, trace_first};
+use shadowtruth::raster::{DepthFormat, LightView};
+use shadowtruth::scene::Scene;
+use shadowtruth::technique::{ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated};
+use shadowtruth::trace::GBuffer;
+use std::collections::BTreeSet;
+
+/// A 4×4 ground under a straight-down sun, half of it (z < 0) shadowed by a thin slab at height 1
+/// rotated `slab_yaw_deg` about y; a camera straight above.
+fn edge_scene(slab_yaw_deg: f32, sun_diameter_deg: Option<f32>) -> Scene {
+    let mut light = serde_json::json!({ "name": "sun", "type": "directional", "direction": [0, -1, 0] });
+    if let Some(a) = sun_diameter_deg {
+        light["angular_diameter_deg"] = serde_json::json!(a);
+    }
+    scene_from_json(&serde_json::json!({
+        "format": "shadowtruth/scene/v1", "name": "edge",
+        "objects": [
+            { "name": "ground", "shape": { "type": "plane", "size": [4, 4] } },
+            { "name": "slab", "shape": { "type": "box", "size": [1.6, 0.05, 1.6] }, "closed": true,
+              "transform": { "rotate_deg": [0, slab_yaw_deg, 0], "translate": [0, 1, -0.8] } }
+        ],
+        "cameras": [{ "name": "top", "position": [0, 6, 0.0001], "look_at": [0, 0, 0], "up": [0, 0, -1],
+                      "fov_y_deg": 30, "width": 512, "height": 512 }],
+        "lights": [light]
+    }))
+}
+
+/// Visibility of every evaluated pixel (in `g.evaluated` order) under `spec` at `resolution`.
+fn shade(scene: &Scene, g: &GBuffer, spec: &TechniqueSpec, resolution: u32) -> Vec<f32> {
+    let technique = spec.build();
+    let view = LightView::new(&scene.lights[0], scene.bounds(), resolution);
+    let (layers, _) =
+        shadowtruth::plan::build_layers(scene, &view, DepthFormat::F32, &technique.layer_needs(), 1);
+    let ctx = ShadeContext::new(scene, &view, layers.as_layers());
+    shade_evaluated(technique.as_ref(), &ShadeOrder::new(g, &view), &ctx)
+}
+
+/// Indices (into `g.evaluated`) of the ground's pixels.
+fn ground(g: &GBuffer) -> Vec<usize> {
+    (0..g.evaluated.len()).filter(|&k| g.position[g.evaluated[k] as usize].y < 0.5).collect()
+}
+
+fn spec(json: serde_json::Value) -> TechniqueSpec {
+    let spec: TechniqueSpec = serde_json::from_value(json).unwrap();
+    spec.validate().unwrap();
+    spec
+}
+
+#[test]
+fn pcf_k_n_takes_at_most_n_k_plus_one_values_and_reaches_the_bound_on_an_edge() {
+    let scene = edge_scene(17.0, None);
+    let (g, _) = trace_first(&scene);
+    let on_ground = ground(&g);
+    for (size, depths) in [(1u32, 1u32), (1, 3), (2, 1), (2, 2), (3, 1), (2, 3), (3, 2)] {
+        let k = size * size;
+        let v = shade(
+            &scene,
+            &g,
+            &spec(serde_json::json!({ "technique": "mdsm", "depths": depths, "neighbourhood": 3,
+                                      "select": "min_max", "kernel": "box", "size": size,
+                                      "bias": "constant", "bias_depth": 1e-4 })),
+            24,
+        );
+        let distinct: BTreeSet<u32> = on_ground.iter().map(|&i| (v[i] * (k * depths) as f32).round() as u32).collect();
+        for &i in &on_ground {
+            let steps = v[i] * (k * depths) as f32;
+            assert!((steps - steps.round()).abs() < 1e-4, "{} is not a multiple of 1/(n·k)", v[i]);
+        }
+        assert_eq!(
+            distinct.len() as u32,
+            depths * k + 1,
+            "PCF({k}, {depths}) on a slanted edge: values {distinct:?}"
+        );
+    }
+}
+
+#[test]
+fn adaptive_delta_equals_adaptive_per_tap_on_planar_receivers_under_a_directional_light() {
+    let scene = scene_from_json(&serde_json::json!({
+        "format": "shadowtruth/scene/v1", "name": "tilted_with_box",
+        "objects": [
+            { "name": "plane", "shape": { "type": "plane", "size": [6, 6] }, "transform": { "rotate_deg": [30, 0, 0] } },
+            { "name": "box", "shape": { "type": "box", "size": [0.8, 0.8, 0.8] }, "closed": true,
+              "transform": { "rotate_deg": [0, 25, 0], "translate": [0.3, 1.6, 0.2] } }
+        ],
+        "cameras": [{ "name": "c", "position": [0.5, 6, 6], "look_at": [0, 0, 0], "fov_y_deg": 50, "width": 320, "height": 240 }],
+        "lights": [{ "name": "sun", "type": "directional", "direction": [0.2, -1, -0.3] }]
+    }));
+    let (g, _) = trace_first(&scene);
+    for (size, epsilon) in [(5u32, "original"), (11, "original"), (5, "ehm")] {
+        let per_tap = |bias: &str| {
+            spec(serde_json::json!({ "technique": "pcf", "kernel": "box", "size": size, "bias": bias,
+                                     "k": 1e-4, "epsilon": epsilon }))
+        };
+        for resolution in [256, 1024] {
+            let a = shade(&scene, &g, &per_tap("adaptive"), resolution);
+            let d = shade(&scene, &g, &per_tap("adaptive_delta"), resolution);
+            let worst = a.iter().zip(&d).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
+            assert!(worst <= 1e-6, "{size}×{size} {epsilon} at {resolution}²: differs by {worst}");
+            // Not a vacuous comparison: the box casts a filtered shadow on the plane.
+            assert!(a.iter().any(|&x| x == 0.0) && a.iter().any(|&x| x > 0.0 && x < 1.0));
+        }
+    }
+}
+
+#[test]
+fn bilinear_pcf_of_a_straight_edge_is_the_ramp_of_its_weights() {
+    // Slab edge along world x at z = 0; the map's u follows world z and the fitted bounds put
+    // z = 0 at u = ½, so at N = 32 texels 0..=15 hold the slab and 16.. the ground. Bilinear
+    // weights give V = clamp(x_s − 16 + ½, 0, 1) with x_s = u·N.
+    let scene = edge_scene(0.0, None);
+    let (g, _) = trace_first(&scene);
+    let n = 32;
+    let view = LightView::new(&scene.lights[0], scene.bounds(), n);
+    let v = shade(
+        &scene,
+        &g,
+        &spec(serde_json::json!({ "technique": "pcf", "kernel": "bilinear", "bias": "constant", "bias_depth": 1e-4 })),
+        n,
+    );
+    let mut ramp = 0;
+    for k in ground(&g) {
+        let p = g.position[g.evaluated[k] as usize];
+        if p.x.abs() > 1.5 {
+            continue; // away from the slab's side edges
+        }
+        let xs = view.project(p).unwrap().x * n as f32;
+        let expected = (xs - 16.0 + 0.5).clamp(0.0, 1.0);
+        assert!((v[k] - expected).abs() < 1e-3, "at x_s = {xs}: {} instead of {expected}", v[k]);
+        ramp += (expected > 0.0 && expected < 1.0) as usize;
+    }
+    assert!(ramp > 100, "the ramp is sampled ({ramp} pixels)");
+}
+
+#[test]
+fn pcf_box_1_with_receiver_plane_is_the_receiver_plane_technique() {
+    let scene = common::tilted_plane();
+    let (g, _) = trace_first(&scene);
+    for resolution in [128, 1024] {
+        let single = shade(&scene, &g, &TechniqueSpec::ReceiverPlane { bias_depth: 1e-5 }, resolution);
+        let pcf = shade(
+            &scene,
+            &g,
+            &spec(serde_json::json!({ "technique": "pcf", "kernel": "box", "size": 1,
+                                      "bias": "receiver_plane", "bias_depth": 1e-5 })),
+            resolution,
+        );
+        let differing = single.iter().zip(&pcf).filter(|(a, b)| a != b).count();
+        // The two evaluate the same plane in f64 at the same texel centre; rounding may differ
+        // in the last bit of the compared depth.
+        assert!(differing * 1000 <= single.len(), "{differing} of {} differ at {resolution}²", single.len());
+    }
+}
+
+#[test]
+fn pcss_penumbra_widens_with_the_distance_to_the_blocker() {
+    // Two slabs at heights 0.5 and 2 over the ground: the higher one's penumbra is wider.
+    let scene = scene_from_json(&serde_json::json!({
+        "format": "shadowtruth/scene/v1", "name": "two_slabs",
+        "objects": [
+            { "name": "ground", "shape": { "type": "plane", "size": [8, 8] } },
+            { "name": "low", "shape": { "type": "box", "size": [2, 0.05, 2] }, "closed": true,
+              "transform": { "translate": [-2, 0.5, 0] } },
+            { "name": "high", "shape": { "type": "box", "size": [2, 0.05, 2] }, "closed": true,
+              "transform": { "translate": [2, 2, 0] } }
+        ],
+        "cameras": [{ "name": "top", "position": [0, 10, 0.0001], "look_at": [0, 0, 0], "up": [0, 0, -1],
+                      "fov_y_deg": 45, "width": 400, "height": 400 }],
+        "lights": [{ "name": "sun", "type": "directional", "direction": [0, -1, 0], "angular_diameter_deg": 6 }]
+    }));
+    let (g, _) = trace_first(&scene);
+    let v = shade(
+        &scene,
+        &g,
+        &spec(serde_json::json!({ "technique": "pcss", "search_taps": 32, "filter_taps": 64, "bias": "receiver_plane" })),
+        1024,
+    );
+    // Width (in world x) of the partly lit band next to each slab.
+    let band = |x_min: f32, x_max: f32| {
+        let xs: Vec<f32> = ground(&g)
+            .into_iter()
+            .filter(|&k| v[k] > 0.02 && v[k] < 0.98)
+            .map(|k| g.position[g.evaluated[k] as usize])
+            .filter(|p| p.x > x_min && p.x < x_max && p.z.abs() < 0.5)
+            .map(|p| p.x)
+            .collect();
+        xs.iter().copied().fold(f32::MIN, f32::max) - xs.iter().copied().fold(f32::MAX, f32::min)
+    };
+    // The outer edges: low slab x ∈ [−3, −1] (edge at −3), high slab x ∈ [1, 3] (edge at 3).
+    let (low, high) = (band(-3.5, -2.5), band(2.5, 3.5));
+    // The true penumbra is 2·h·tan(3°): 0.052 under the low slab and 0.21 under the high one.
+    assert!(high > 2.5 * low, "penumbra widths: low {low}, high {high}");
+    assert!((high - 0.21).abs() < 0.08, "high slab penumbra {high}");
+}
