@@ -1,5 +1,6 @@
 //! The versioned output types (the only serialized outputs) and the files written from them:
-//! report.json, report.csv, figures (PNG), plots, the HTML index, the gate, OBJ exports and masks.
+//! report.json, report.csv, figures (PNG), plots, the HTML index, the gate, OBJ exports, masks and
+//! soft reference EXRs.
 
 mod csv_rows;
 mod depth_map;
@@ -13,6 +14,7 @@ mod junit;
 mod outputs;
 mod plots;
 mod record;
+mod soft_exr;
 mod writer;
 
 pub use csv_rows::report_csv;
@@ -32,4 +34,5 @@ pub use junit::junit_xml;
 pub use outputs::write_report_outputs;
 pub use plots::{Chart, charts, pareto_front, write_chart};
 pub use record::{Machine, REPORT_SCHEMA, ReferenceUsed, Report, RunRecord, SceneRecord, Timings, Tool};
+pub use soft_exr::{read_soft_exr, write_soft_exr};
 pub use writer::ReportWriter;

@@ -25,12 +25,19 @@ impl Camera {
     /// Unit direction of the ray through the centre of pixel (x, y), row 0 at the top.
     /// Computed in f64 and rounded once, so every consumer sees the same bits.
     pub fn pixel_direction(&self, basis: &(DVec3, DVec3, DVec3), x: u32, y: u32) -> Vec3 {
+        self.film_direction(basis, x as f64 + 0.5, y as f64 + 0.5)
+    }
+
+    /// Unit direction of the ray through the image point (px, py), in pixels from the top-left
+    /// corner (pixel (x, y) covers [x, x + 1) × [y, y + 1)). `pixel_direction` is this at the
+    /// pixel centre, so sub-pixel rays and centre rays share one formula.
+    pub fn film_direction(&self, basis: &(DVec3, DVec3, DVec3), px: f64, py: f64) -> Vec3 {
         let (r, u, f) = *basis;
         let (w, h) = (self.width as f64, self.height as f64);
         let t = (self.fov_y_deg as f64).to_radians() * 0.5;
         let t = t.tan();
-        let sx = (2.0 * (x as f64 + 0.5) / w - 1.0) * t * w / h;
-        let sy = (1.0 - 2.0 * (y as f64 + 0.5) / h) * t;
+        let sx = (2.0 * px / w - 1.0) * t * w / h;
+        let sy = (1.0 - 2.0 * py / h) * t;
         (f + sx * r + sy * u).normalize().as_vec3()
     }
 

@@ -1,8 +1,17 @@
-//! The reference cache under `references/`: one mask PNG per (scene, camera, light) and a
-//! manifest with the digest of everything each mask depends on (geometry, camera, light,
-//! reference settings, tracer version). A mask whose digest no longer matches is traced again.
+//! The reference cache under `references/`: one hard mask PNG per (scene, camera, light), one
+//! soft reference EXR per (scene, camera, light, kind, sample grid), and a manifest with the
+//! digest of everything each file depends on (geometry, camera, light and its area size, kind,
+//! sample count, sampling scheme, tracer version). A file whose digest no longer matches is
+//! traced again.
+//!
+//! Manifest keys: `scene/camera/light` for hard masks (as before soft references existed, so
+//! older manifests stay valid) and `scene/camera/light/KIND-NxN` for soft ones (`coverage`,
+//! `area`), so that every kind and grid of one view coexists. An entry records its `kind` and
+//! `samples` per pixel; both are left out for hard masks (kind `hard`, 1 sample), so older
+//! manifests read unchanged and hard entries are written as before.
 
-use super::TRACER_VERSION;
+use super::soft_reference::{SoftKind, SoftReference};
+use super::{AreaLightError, TRACER_VERSION};
 use crate::atomic_file::{encode_gray_png, write_atomic};
 use crate::scene::{Camera, Light, LightKind, Scene};
 use serde::{Deserialize, Serialize};
@@ -23,12 +32,35 @@ struct Manifest {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct ManifestEntry {
-    /// Mask path relative to the cache folder.
+    /// File path relative to the cache folder (a PNG mask or a soft reference EXR).
     mask: String,
     digest: String,
     width: u32,
     height: u32,
+    /// `hard` (absent), `coverage` or `area`.
+    #[serde(default = "hard_kind", skip_serializing_if = "is_hard")]
+    kind: String,
+    /// Samples per pixel (absent: 1, a hard mask).
+    #[serde(default = "one", skip_serializing_if = "is_one")]
+    samples: u32,
 }
+
+fn hard_kind() -> String {
+    "hard".into()
+}
+fn is_hard(kind: &str) -> bool {
+    kind == "hard"
+}
+fn one() -> u32 {
+    1
+}
+fn is_one(n: &u32) -> bool {
+    *n == 1
+}
+
+/// Bumped whenever a change to the soft references' sample patterns or estimators could change
+/// a bit (hard masks do not depend on it).
+const SOFT_SAMPLING_VERSION: &str = "soft-sampling/1";
 
 /// A mask read back from the cache, in the `MaskCode` encoding.
 pub struct CachedReference {
@@ -42,27 +74,65 @@ pub fn reference_digest(scene: &Scene, camera: &Camera, light: &Light) -> String
     let mut h = Sha256::new();
     h.update(TRACER_VERSION.as_bytes());
     h.update(b"\0hard\0");
+    hash_view(&mut h, scene, camera, light);
+    crate::scene::hex(&h.finalize())
+}
+
+/// The digest of what a soft reference of (scene, camera, light) on an n×n grid (`grid` = n)
+/// depends on: the view as for the hard reference, plus the kind, the sample count, the light's
+/// area size and the sampling scheme's version.
+pub fn soft_reference_digest(
+    scene: &Scene,
+    camera: &Camera,
+    light: &Light,
+    kind: SoftKind,
+    grid: u32,
+) -> String {
+    let mut h = Sha256::new();
+    h.update(TRACER_VERSION.as_bytes());
+    h.update(b"\0");
+    h.update(kind.name().as_bytes());
+    h.update(b"\0");
+    h.update(SOFT_SAMPLING_VERSION.as_bytes());
+    h.update(b"\0");
+    hash_view(&mut h, scene, camera, light);
+    h.update(b"samples");
+    h.update(grid.to_le_bytes());
+    for (name, size) in [("angular_diameter_deg", light.angular_diameter_deg), ("radius", light.radius)] {
+        h.update(name.as_bytes());
+        match size {
+            Some(x) => {
+                h.update([1]);
+                h.update(x.to_bits().to_le_bytes());
+            }
+            None => h.update([0]),
+        }
+    }
+    crate::scene::hex(&h.finalize())
+}
+
+/// Geometry, camera and light (without its area size): the bytes hashed for every kind.
+fn hash_view(h: &mut Sha256, scene: &Scene, camera: &Camera, light: &Light) {
     h.update(scene.geometry_digest().as_bytes());
     let floats = |h: &mut Sha256, xs: &[f32]| xs.iter().for_each(|x| h.update(x.to_bits().to_le_bytes()));
-    floats(&mut h, &camera.position.to_array());
-    floats(&mut h, &camera.look_at.to_array());
-    floats(&mut h, &camera.up.to_array());
-    floats(&mut h, &[camera.fov_y_deg]);
+    floats(h, &camera.position.to_array());
+    floats(h, &camera.look_at.to_array());
+    floats(h, &camera.up.to_array());
+    floats(h, &[camera.fov_y_deg]);
     h.update(camera.width.to_le_bytes());
     h.update(camera.height.to_le_bytes());
     match &light.kind {
         LightKind::Directional { direction } => {
             h.update(b"directional");
-            floats(&mut h, &direction.to_array());
+            floats(h, &direction.to_array());
         }
         LightKind::Spot { position, direction, cone_deg, near, far } => {
             h.update(b"spot");
-            floats(&mut h, &position.to_array());
-            floats(&mut h, &direction.to_array());
-            floats(&mut h, &[*cone_deg, *near, *far]);
+            floats(h, &position.to_array());
+            floats(h, &direction.to_array());
+            floats(h, &[*cone_deg, *near, *far]);
         }
     }
-    crate::scene::hex(&h.finalize())
 }
 
 /// A cache folder (normally `references/`).
@@ -72,6 +142,10 @@ pub struct ReferenceCache {
 
 fn key(scene: &str, camera: &str, light: &str) -> String {
     format!("{scene}/{camera}/{light}")
+}
+
+fn soft_key(scene: &str, camera: &str, light: &str, kind: SoftKind, grid: u32) -> String {
+    format!("{scene}/{camera}/{light}/{}-{grid}x{grid}", kind.name())
 }
 
 impl ReferenceCache {
@@ -132,14 +206,85 @@ impl ReferenceCache {
     ) -> std::io::Result<()> {
         let rel = Self::mask_path(scene, camera, light);
         write_atomic(&self.dir.join(&rel), &encode_gray_png(width, height, codes)?)?;
+        let entry =
+            ManifestEntry { mask: rel, digest: digest.into(), width, height, kind: hard_kind(), samples: 1 };
+        self.record(key(scene, camera, light), entry)
+    }
+
+    /// Adds or replaces one manifest entry (the manifest is rewritten atomically).
+    fn record(&self, key: String, entry: ManifestEntry) -> std::io::Result<()> {
         let mut manifest = self.read_manifest();
-        manifest.entries.insert(
-            key(scene, camera, light),
-            ManifestEntry { mask: rel, digest: digest.into(), width, height },
-        );
+        manifest.entries.insert(key, entry);
         let mut text = serde_json::to_string_pretty(&manifest).map_err(std::io::Error::other)?;
         text.push('\n');
         write_atomic(&self.manifest_path(), text.as_bytes())
+    }
+
+    /// The digest recorded for a soft reference, if any.
+    pub fn recorded_soft_digest(
+        &self,
+        scene: &str,
+        camera: &str,
+        light: &str,
+        kind: SoftKind,
+        grid: u32,
+    ) -> Option<String> {
+        self.read_manifest()
+            .entries
+            .get(&soft_key(scene, camera, light, kind, grid))
+            .map(|e| e.digest.clone())
+    }
+
+    /// The path of a cached soft reference, relative to the cache folder.
+    pub fn soft_path(scene: &str, camera: &str, light: &str, kind: SoftKind, grid: u32) -> String {
+        format!("{scene}/{camera}__{light}.{}-{grid}x{grid}.exr", kind.name())
+    }
+
+    /// The cached soft reference when its recorded digest equals `digest` and the file decodes
+    /// with the recorded size and sample count.
+    pub fn load_soft(
+        &self,
+        scene: &str,
+        camera: &str,
+        light: &str,
+        kind: SoftKind,
+        grid: u32,
+        digest: &str,
+    ) -> Option<SoftReference> {
+        let manifest = self.read_manifest();
+        let entry = manifest.entries.get(&soft_key(scene, camera, light, kind, grid))?;
+        if entry.digest != digest || entry.kind != kind.name() || entry.samples != grid * grid {
+            return None;
+        }
+        let reference = SoftReference::from_exr(&std::fs::read(self.dir.join(&entry.mask)).ok()?).ok()?;
+        (reference.width == entry.width
+            && reference.height == entry.height
+            && reference.samples == entry.samples)
+            .then_some(reference)
+    }
+
+    /// Writes a soft reference (EXR) and records it in the manifest (both atomically).
+    pub fn store_soft(
+        &self,
+        scene: &str,
+        camera: &str,
+        light: &str,
+        kind: SoftKind,
+        grid: u32,
+        digest: &str,
+        reference: &SoftReference,
+    ) -> std::io::Result<()> {
+        let rel = Self::soft_path(scene, camera, light, kind, grid);
+        write_atomic(&self.dir.join(&rel), &reference.to_exr()?)?;
+        let entry = ManifestEntry {
+            mask: rel,
+            digest: digest.into(),
+            width: reference.width,
+            height: reference.height,
+            kind: kind.name().into(),
+            samples: reference.samples,
+        };
+        self.record(soft_key(scene, camera, light, kind, grid), entry)
     }
 }
 
@@ -165,6 +310,69 @@ impl ReferenceCache {
         let reference = super::trace_hard_reference(bvh, gbuffer, light);
         let codes = reference.mask_codes(gbuffer);
         self.store(&scene.name, &camera.name, &light.name, &digest, gbuffer.width, gbuffer.height, &codes)?;
+        Ok((reference, false))
+    }
+}
+
+impl ReferenceCache {
+    /// The pixel-coverage reference on an n×n sub-pixel grid (`grid` = n): read from the cache
+    /// when its digest matches and it fits `gbuffer`, traced (and stored) otherwise. Returns
+    /// whether it came from the cache. Panics if `grid` is 0, as `trace_coverage_reference`.
+    pub fn coverage_reference(
+        &self,
+        scene: &Scene,
+        bvh: &super::SceneBvh,
+        gbuffer: &super::GBuffer,
+        camera: &Camera,
+        light: &Light,
+        grid: u32,
+    ) -> std::io::Result<(SoftReference, bool)> {
+        self.soft_reference(scene, gbuffer, camera, light, SoftKind::Coverage, grid, || {
+            Ok(super::trace_coverage_reference(scene, bvh, gbuffer, camera, light, grid))
+        })
+    }
+
+    /// The area-light reference with n×n light samples (`grid` = n): read from the cache when
+    /// its digest matches and it fits `gbuffer`, traced (and stored) otherwise. Returns whether
+    /// it came from the cache. A light without a size (or a zero grid) is an error of kind
+    /// `InvalidInput` wrapping the `AreaLightError` (reach it with `get_ref()` and
+    /// `downcast_ref`); its message names the light and the missing field.
+    pub fn area_light_reference(
+        &self,
+        scene: &Scene,
+        bvh: &super::SceneBvh,
+        gbuffer: &super::GBuffer,
+        camera: &Camera,
+        light: &Light,
+        grid: u32,
+    ) -> std::io::Result<(SoftReference, bool)> {
+        let invalid = |e: AreaLightError| std::io::Error::new(std::io::ErrorKind::InvalidInput, e);
+        super::validate_area_light(light, grid).map_err(invalid)?;
+        self.soft_reference(scene, gbuffer, camera, light, SoftKind::AreaLight, grid, || {
+            super::trace_area_light_reference(bvh, gbuffer, light, grid).map_err(invalid)
+        })
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn soft_reference(
+        &self,
+        scene: &Scene,
+        gbuffer: &super::GBuffer,
+        camera: &Camera,
+        light: &Light,
+        kind: SoftKind,
+        grid: u32,
+        trace: impl FnOnce() -> std::io::Result<SoftReference>,
+    ) -> std::io::Result<(SoftReference, bool)> {
+        let digest = soft_reference_digest(scene, camera, light, kind, grid);
+        let names = (&scene.name, &camera.name, &light.name);
+        if let Some(cached) = self.load_soft(names.0, names.1, names.2, kind, grid, &digest) {
+            if cached.fits(gbuffer) {
+                return Ok((cached, true));
+            }
+        }
+        let reference = trace()?;
+        self.store_soft(names.0, names.1, names.2, kind, grid, &digest, &reference)?;
         Ok((reference, false))
     }
 }

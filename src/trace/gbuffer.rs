@@ -1,7 +1,7 @@
 //! The G-buffer of one (camera, light): per pixel the primary hit of the pixel-centre ray and its
 //! class. The reference and every technique evaluate exactly these surface points.
 
-use super::bvh::SceneBvh;
+use super::bvh::{SceneBvh, TraversalScratch};
 use super::watertight::barycentric_point;
 use crate::scene::{Camera, Light, LightKind, Scene};
 use glam::{DVec3, Vec3};
@@ -70,6 +70,46 @@ pub fn inside_light(light: &Light, p: DVec3) -> bool {
     }
 }
 
+/// The surface seen along one primary ray, classified for a light.
+pub(super) struct SurfaceSample {
+    pub class: PixelClass,
+    /// From the hit triangle's vertices and barycentrics (not origin + t·dir).
+    pub position: Vec3,
+    /// Unit geometric normal, turned towards the ray's origin.
+    pub normal: Vec3,
+    pub triangle: u32,
+}
+
+/// The closest hit of a primary ray and its class (`None`: background). Shared by the G-buffer
+/// (pixel-centre rays) and the pixel-coverage reference (sub-pixel rays).
+pub(super) fn primary_sample(
+    scene: &Scene,
+    bvh: &SceneBvh,
+    scratch: &mut TraversalScratch,
+    origin: Vec3,
+    dir: Vec3,
+    light: &Light,
+) -> Option<SurfaceSample> {
+    let hit = bvh.closest_hit(scratch, origin, dir, 0.0, f32::INFINITY)?;
+    let verts = &scene.triangles[hit.triangle as usize];
+    let p = barycentric_point(verts, hit.barycentric);
+    let (v0, v1, v2) = (verts[0].as_dvec3(), verts[1].as_dvec3(), verts[2].as_dvec3());
+    let mut ng = (v1 - v0).cross(v2 - v0).normalize();
+    if ng.dot(dir.as_dvec3()) > 0.0 {
+        ng = -ng;
+    }
+    let p32 = p.as_vec3();
+    let l = to_light(light, p32.as_dvec3());
+    let class = if ng.dot(l) <= 0.0 {
+        PixelClass::FacingAway
+    } else if !inside_light(light, p32.as_dvec3()) {
+        PixelClass::OutsideLight
+    } else {
+        PixelClass::Evaluated
+    };
+    Some(SurfaceSample { class, position: p32, normal: ng.as_vec3(), triangle: hit.triangle })
+}
+
 impl GBuffer {
     /// Traces the pixel-centre ray of every pixel of `camera` and classifies it for `light`.
     pub fn trace(scene: &Scene, bvh: &SceneBvh, camera: &Camera, light: &Light) -> GBuffer {
@@ -93,30 +133,15 @@ impl GBuffer {
                 |scratch, (y, ((((cls, pos), nrm), tri), obj))| {
                     for x in 0..w as usize {
                         let dir = camera.pixel_direction(&basis, x as u32, y as u32);
-                        let Some(hit) = bvh.closest_hit(scratch, camera.position, dir, 0.0, f32::INFINITY)
+                        let Some(sample) = primary_sample(scene, bvh, scratch, camera.position, dir, light)
                         else {
                             continue;
                         };
-                        let verts = &scene.triangles[hit.triangle as usize];
-                        let p = barycentric_point(verts, hit.barycentric);
-                        let (v0, v1, v2) = (verts[0].as_dvec3(), verts[1].as_dvec3(), verts[2].as_dvec3());
-                        let mut ng = (v1 - v0).cross(v2 - v0).normalize();
-                        if ng.dot(dir.as_dvec3()) > 0.0 {
-                            ng = -ng;
-                        }
-                        let p32 = p.as_vec3();
-                        let l = to_light(light, p32.as_dvec3());
-                        cls[x] = if ng.dot(l) <= 0.0 {
-                            PixelClass::FacingAway
-                        } else if !inside_light(light, p32.as_dvec3()) {
-                            PixelClass::OutsideLight
-                        } else {
-                            PixelClass::Evaluated
-                        };
-                        pos[x] = p32;
-                        nrm[x] = ng.as_vec3();
-                        tri[x] = hit.triangle;
-                        obj[x] = scene.triangle_object[hit.triangle as usize];
+                        cls[x] = sample.class;
+                        pos[x] = sample.position;
+                        nrm[x] = sample.normal;
+                        tri[x] = sample.triangle;
+                        obj[x] = scene.triangle_object[sample.triangle as usize];
                     }
                 },
             );

@@ -2,21 +2,30 @@
 //!
 //! A BVH per scene with a watertight triangle test and a robust traversal of obvhs's CWBVH;
 //! the G-buffer of a camera (the surface point of every pixel, shared by the reference and
-//! every technique); the hard reference; the reference cache.
+//! every technique); the hard reference; the soft references (pixel coverage, area light); the
+//! reference cache.
 
+mod area_light;
 mod bvh;
 mod cache;
+mod coverage;
 mod gbuffer;
 mod offset;
 mod reference;
+mod sampling;
 mod simd4;
+mod soft_reference;
 mod watertight;
 
+pub use area_light::{AreaLightError, trace_area_light_reference, validate_area_light};
+
 pub use bvh::{Hit, SceneBvh, TraversalScratch};
-pub use cache::{CachedReference, ReferenceCache, reference_digest};
+pub use cache::{CachedReference, ReferenceCache, reference_digest, soft_reference_digest};
+pub use coverage::trace_coverage_reference;
 pub use gbuffer::{GBuffer, PixelClass};
 pub use offset::offset_ray_origin;
 pub use reference::{HardReference, MaskCode, trace_hard_reference};
+pub use soft_reference::{SoftKind, SoftReference};
 pub use watertight::{RayTriangleHit, WatertightRay};
 
 /// Bumped whenever a change to the tracer could change a reference bit.

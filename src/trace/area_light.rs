@@ -1,0 +1,144 @@
+//! The area-light reference (soft shadows, PCSS): the fraction of n×n stratified light samples
+//! whose shadow ray from the pixel's surface point is unoccluded.
+//!
+//! - Directional light with `angular_diameter_deg` α: directions uniform in solid angle over the
+//!   spherical cap of half-angle α/2 around the direction towards the light (a disk of uniform
+//!   radiance, like the sun).
+//! - Spot light with `radius` R: points uniform in area on the disk of radius R centred at the
+//!   light's position and facing along its axis; each shadow ray is the segment to its point.
+//!
+//! The unit square is split into n×n strata, each jittered by a hash of (pixel, stratum) (never
+//! by a generator's state, so the bits do not depend on the thread count) and mapped to the unit
+//! disk by Shirley & Chiu's concentric map, which keeps strata compact. Origins are offset as in
+//! the hard reference. A light sample below the receiver's tangent plane (N·ω ≤ 0) counts as
+//! occluded: the receiver's own surface hides it. The standard error is √(p(1 − p)/(N − 1)),
+//! that of N independent samples; stratification makes the true error smaller, so it is an
+//! upper bound that falls as 1/√N on penumbra pixels.
+
+use super::bvh::SceneBvh;
+use super::gbuffer::{GBuffer, PixelClass};
+use super::offset::offset_ray_origin;
+use super::sampling::{concentric_disk, jittered_stratum, orthonormal_frame};
+use super::soft_reference::{SoftReference, mean_and_std_error};
+use crate::scene::{Light, LightKind};
+use glam::DVec3;
+use rayon::prelude::*;
+
+/// Why an area-light reference cannot be traced.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum AreaLightError {
+    #[error("light '{light}' has no {field}: an area-light reference needs the light's size")]
+    NoSize { light: String, field: &'static str },
+    #[error("light '{light}': {field} = {value} is not a usable area-light size")]
+    BadSize { light: String, field: &'static str, value: f32 },
+    #[error("area-light reference of light '{light}': the sample grid must be at least 1×1")]
+    NoSamples { light: String },
+}
+
+/// The light's shape as sampled.
+#[derive(Clone, Copy, Debug)]
+enum Emitter {
+    /// Towards-light unit direction `axis`; `one_minus_cos` = 1 − cos(half-angle).
+    Cap { axis: DVec3, tangent: DVec3, bitangent: DVec3, one_minus_cos: f64 },
+    /// Disk centre, its frame and radius.
+    Disk { centre: DVec3, tangent: DVec3, bitangent: DVec3, radius: f64 },
+}
+
+fn emitter(light: &Light, grid: u32) -> Result<Emitter, AreaLightError> {
+    let name = || light.name.clone();
+    if grid == 0 {
+        return Err(AreaLightError::NoSamples { light: name() });
+    }
+    match &light.kind {
+        LightKind::Directional { direction } => {
+            let field = "angular_diameter_deg";
+            let alpha = light.angular_diameter_deg.ok_or(AreaLightError::NoSize { light: name(), field })?;
+            if !(alpha > 0.0 && alpha < 180.0) {
+                return Err(AreaLightError::BadSize { light: name(), field, value: alpha });
+            }
+            let axis = -direction.as_dvec3().normalize();
+            let (tangent, bitangent) = orthonormal_frame(axis);
+            // 1 − cos θ as 2 sin²(θ/2): no cancellation for small suns.
+            let s = (0.25 * (alpha as f64).to_radians()).sin();
+            Ok(Emitter::Cap { axis, tangent, bitangent, one_minus_cos: 2.0 * s * s })
+        }
+        LightKind::Spot { position, direction, .. } => {
+            let field = "radius";
+            let radius = light.radius.ok_or(AreaLightError::NoSize { light: name(), field })?;
+            if !(radius > 0.0 && radius.is_finite()) {
+                return Err(AreaLightError::BadSize { light: name(), field, value: radius });
+            }
+            let (tangent, bitangent) = orthonormal_frame(direction.as_dvec3().normalize());
+            Ok(Emitter::Disk { centre: position.as_dvec3(), tangent, bitangent, radius: radius as f64 })
+        }
+    }
+}
+
+/// Checks that an area-light reference of `light` on an n×n grid can be traced.
+pub fn validate_area_light(light: &Light, grid: u32) -> Result<(), AreaLightError> {
+    emitter(light, grid).map(|_| ())
+}
+
+/// Salt of the light-sample jitter, apart from any other use of the pixel hash.
+const LIGHT_SALT: u64 = 0x4152_4541; // "AREA"
+
+/// Traces the area-light reference with n×n light samples per evaluated pixel (`grid` = n).
+pub fn trace_area_light_reference(
+    bvh: &SceneBvh,
+    gbuffer: &GBuffer,
+    light: &Light,
+    grid: u32,
+) -> Result<SoftReference, AreaLightError> {
+    let emitter = emitter(light, grid)?;
+    let m = grid * grid;
+    let n = gbuffer.pixel_count();
+    let w = gbuffer.width as usize;
+    let mut visibility = vec![0f32; n];
+    let mut std_error = vec![0f32; n];
+    visibility.par_chunks_mut(w).zip(std_error.par_chunks_mut(w)).enumerate().for_each_init(
+        || bvh.scratch(),
+        |scratch, (y, (vis, err))| {
+            for x in 0..w {
+                let i = y * w + x;
+                if gbuffer.class[i] != PixelClass::Evaluated {
+                    continue;
+                }
+                let (p, normal) = (gbuffer.position[i], gbuffer.normal[i]);
+                let origin = offset_ray_origin(p, normal);
+                let (p64, n64, o64) = (p.as_dvec3(), normal.as_dvec3(), origin.as_dvec3());
+                let mut hits = 0u32;
+                for k in 0..m {
+                    let (u, v) = jittered_stratum(i as u64, k, grid, LIGHT_SALT);
+                    let (dx, dy) = concentric_disk(u, v);
+                    let unoccluded = match emitter {
+                        Emitter::Cap { axis, tangent, bitangent, one_minus_cos } => {
+                            // Uniform in solid angle: the disk's r² is the cap's area fraction,
+                            // 1 − cos θ = r²(1 − cos θmax); sin θ / r = √(k(2 − r²k)).
+                            let r2k = (dx * dx + dy * dy) * one_minus_cos;
+                            let sin_over_r = (one_minus_cos * (2.0 - r2k)).sqrt();
+                            let dir = ((1.0 - r2k) * axis + sin_over_r * (dx * tangent + dy * bitangent))
+                                .normalize();
+                            n64.dot(dir) > 0.0
+                                && !bvh.occluded(scratch, origin, dir.as_vec3(), 0.0, f32::INFINITY)
+                        }
+                        Emitter::Disk { centre, tangent, bitangent, radius } => {
+                            let q = centre + radius * (dx * tangent + dy * bitangent);
+                            let to = q - o64;
+                            n64.dot(q - p64) > 0.0
+                                && !bvh.occluded(
+                                    scratch,
+                                    origin,
+                                    to.normalize().as_vec3(),
+                                    0.0,
+                                    to.length() as f32,
+                                )
+                        }
+                    };
+                    hits += unoccluded as u32;
+                }
+                (vis[x], err[x]) = mean_and_std_error(hits, m);
+            }
+        },
+    );
+    Ok(SoftReference { width: gbuffer.width, height: gbuffer.height, visibility, std_error, samples: m })
+}

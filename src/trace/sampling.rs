@@ -1,0 +1,108 @@
+//! Sample patterns of the soft references: stratified grids over the unit square, jittered by a
+//! hash of (pixel, sample) rather than by a random generator's state, so that every pixel's
+//! samples are the same bits whatever thread traces it; the concentric square-to-disk map; an
+//! orthonormal frame around a direction.
+
+use glam::DVec3;
+
+/// The splitmix64 finalizer (Steele, Lea & Flood, "Fast splittable pseudorandom number
+/// generators", OOPSLA 2014): a bijective 64-bit mix whose outputs for consecutive inputs are
+/// statistically independent enough for jitter.
+#[inline]
+pub fn mix64(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// A uniform number in [0, 1) from the top 53 bits of a hash.
+#[inline]
+fn unit(h: u64) -> f64 {
+    (h >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+}
+
+/// The centre of stratum `k` (row-major) of a `grid`×`grid` split of the unit square.
+#[inline]
+pub fn stratum_centre(k: u32, grid: u32) -> (f64, f64) {
+    let (i, j) = (k % grid, k / grid);
+    ((i as f64 + 0.5) / grid as f64, (j as f64 + 0.5) / grid as f64)
+}
+
+/// A point uniformly distributed in stratum `k` of a `grid`×`grid` split of the unit square; the
+/// jitter is a hash of (`pixel`, `k`, `salt`) and nothing else.
+#[inline]
+pub fn jittered_stratum(pixel: u64, k: u32, grid: u32, salt: u64) -> (f64, f64) {
+    let h1 = mix64(mix64(pixel ^ salt.rotate_left(32)) ^ k as u64);
+    let h2 = mix64(h1);
+    let (i, j) = (k % grid, k / grid);
+    ((i as f64 + unit(h1)) / grid as f64, (j as f64 + unit(h2)) / grid as f64)
+}
+
+/// Shirley & Chiu, "A Low Distortion Map Between Disk and Square" (JGT 1997), in the
+/// single-branch-per-half form: maps the unit square onto the unit disk preserving area
+/// fractions (uniform in, uniform out) and keeping strata compact, so stratification survives.
+#[inline]
+pub fn concentric_disk(u: f64, v: f64) -> (f64, f64) {
+    let (a, b) = (2.0 * u - 1.0, 2.0 * v - 1.0);
+    if a == 0.0 && b == 0.0 {
+        return (0.0, 0.0);
+    }
+    let q = std::f64::consts::FRAC_PI_4;
+    let (r, phi) = if a.abs() > b.abs() { (a, q * (b / a)) } else { (b, 2.0 * q - q * (a / b)) };
+    (r * phi.cos(), r * phi.sin())
+}
+
+/// Two unit vectors completing unit `n` to a right-handed orthonormal frame, without a branch
+/// on a near-parallel helper axis (Duff et al., "Building an Orthonormal Basis, Revisited",
+/// JCGT 2017).
+#[inline]
+pub fn orthonormal_frame(n: DVec3) -> (DVec3, DVec3) {
+    let sign = 1f64.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (DVec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), DVec3::new(b, sign + n.y * n.y * a, -n.y))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn concentric_map_stays_on_the_disk_and_keeps_area() {
+        // Uniform square in, uniform disk out: the fraction of strata centres inside radius ½
+        // is the area fraction ¼.
+        let n = 200;
+        let mut inside = 0;
+        for k in 0..n * n {
+            let (u, v) = stratum_centre(k, n);
+            let (x, y) = concentric_disk(u, v);
+            let r2 = x * x + y * y;
+            assert!(r2 <= 1.0 + 1e-12);
+            inside += (r2 < 0.25) as u32;
+        }
+        let frac = inside as f64 / (n * n) as f64;
+        assert!((frac - 0.25).abs() < 2e-3, "{frac}");
+    }
+
+    #[test]
+    fn jitter_stays_in_its_stratum_and_depends_on_the_pixel() {
+        for k in 0..16 {
+            let (u, v) = jittered_stratum(7, k, 4, 1);
+            assert!((u * 4.0).floor() as u32 == k % 4 && (v * 4.0).floor() as u32 == k / 4);
+        }
+        assert_ne!(jittered_stratum(7, 3, 4, 1), jittered_stratum(8, 3, 4, 1));
+        assert_ne!(jittered_stratum(7, 3, 4, 1), jittered_stratum(7, 3, 4, 2));
+    }
+
+    #[test]
+    fn frame_is_orthonormal() {
+        for n in [DVec3::X, DVec3::NEG_Z, DVec3::new(0.3, -1.0, 0.2).normalize(), DVec3::Z] {
+            let (t, b) = orthonormal_frame(n);
+            for (x, y) in [(t, b), (t, n), (b, n)] {
+                assert!(x.dot(y).abs() < 1e-12);
+            }
+            assert!((t.length() - 1.0).abs() < 1e-12 && (b.length() - 1.0).abs() < 1e-12);
+        }
+    }
+}
