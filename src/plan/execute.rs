@@ -123,7 +123,9 @@ pub fn execute(
             for &(_, li) in &sel.pairs {
                 let light = &sel.scene.lights[li];
                 let missing = match light.kind {
-                    LightKind::Directional { .. } if light.angular_diameter_deg.is_none() => "angular_diameter_deg",
+                    LightKind::Directional { .. } if light.angular_diameter_deg.is_none() => {
+                        "angular_diameter_deg"
+                    }
                     LightKind::Spot { .. } if light.radius.is_none() => "radius",
                     _ => continue,
                 };
@@ -219,7 +221,8 @@ pub fn execute(
                             let counts = score_hard(&gbuffer, scored_against, &visibility).with_attribution(
                                 attribute(&gbuffer, scored_against, &visibility, &light_uv),
                             );
-                            let soft = soft_reference.map(|r| score_soft(&gbuffer, &r.visibility, &visibility));
+                            let soft =
+                                soft_reference.map(|r| score_soft(&gbuffer, &r.visibility, &visibility));
                             let record = RunRecord {
                                 scene: scene.name.clone(),
                                 camera: camera.name.clone(),

@@ -117,7 +117,10 @@ pub fn parse_plan(text: &str, path: &Path) -> Result<Plan, String> {
     }
     for (name, grid) in [("coverage_grid", file.coverage_grid), ("area_light_grid", file.area_light_grid)] {
         if !(1..=64).contains(&grid) {
-            return Err(format!("{}: {name}: must be from 1 to 64 (samples per pixel: its square)", path.display()));
+            return Err(format!(
+                "{}: {name}: must be from 1 to 64 (samples per pixel: its square)",
+                path.display()
+            ));
         }
     }
     Ok(Plan {

@@ -59,7 +59,9 @@ impl ViewReferences {
             let grid = plan.area_light_grid;
             Some(fractional(match cache {
                 Some(c) => c.area_light_reference(scene, bvh, gbuffer, camera, light, grid)?.0,
-                None => trace_area_light_reference(bvh, gbuffer, light, grid).map_err(std::io::Error::other)?,
+                None => {
+                    trace_area_light_reference(bvh, gbuffer, light, grid).map_err(std::io::Error::other)?
+                }
             }))
         } else {
             None
@@ -78,7 +80,9 @@ impl ViewReferences {
     pub fn for_kind(&self, kind: ReferenceKind) -> (&HardReference, Option<&SoftReference>, ReferenceUsed) {
         let used = |samples| ReferenceUsed { kind, samples };
         match (kind, &self.coverage, &self.area_light) {
-            (ReferenceKind::Coverage, Some(f), _) => (&f.hard, Some(&f.soft), used(self.coverage_grid.pow(2))),
+            (ReferenceKind::Coverage, Some(f), _) => {
+                (&f.hard, Some(&f.soft), used(self.coverage_grid.pow(2)))
+            }
             (ReferenceKind::AreaLight, _, Some(f)) => {
                 (&f.hard, Some(&f.soft), used(self.area_light_grid.pow(2)))
             }
