@@ -50,6 +50,7 @@ fn texel_view(n: u32) -> LightView {
         far: 1.0,
         to_light: Some(Vec3::NEG_Z),
         position: None,
+        light_size: None,
     }
 }
 
