@@ -434,3 +434,91 @@ fn a_sizeless_light_is_an_error_naming_the_light_and_the_field() {
     let g = GBuffer::trace(&scene, &bvh, &camera, &light);
     assert!(matches!(trace_area_light_reference(&bvh, &g, &light, 0), Err(AreaLightError::NoSamples { .. })));
 }
+
+fn shadowtruth(args: &[&str], dir: &std::path::Path) -> (i32, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_shadowtruth"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!stderr.contains("panicked"), "panic on {args:?}: {stderr}");
+    (out.status.code().unwrap_or(-1), stderr)
+}
+
+/// The box-over-plane scene with a small camera and a light given a size (or none).
+fn small_scene_file(dir: &std::path::Path, angular_diameter_deg: Option<f64>) -> Scene {
+    let mut light =
+        serde_json::json!({ "name": "sun", "type": "directional", "direction": [-0.3, -1, -0.2] });
+    if let Some(a) = angular_diameter_deg {
+        light["angular_diameter_deg"] = serde_json::json!(a);
+    }
+    let json = serde_json::json!({
+        "format": "shadowtruth/scene/v1", "name": "small",
+        "objects": [
+            { "name": "ground", "shape": { "type": "plane", "size": [10, 10] } },
+            { "name": "box", "shape": { "type": "box", "size": [1, 1, 1] }, "closed": true,
+              "transform": { "rotate_deg": [0, 30, 0], "translate": [0, 1.5, 0] } }
+        ],
+        "cameras": [{ "name": "c", "position": [-6, 4, 6.5], "look_at": [0, 0.7, 0], "fov_y_deg": 45,
+                      "width": 96, "height": 72 }],
+        "lights": [light]
+    });
+    std::fs::write(dir.join("small.json"), serde_json::to_string(&json).unwrap()).unwrap();
+    scene_from_json(&json)
+}
+
+#[test]
+fn reference_command_writes_soft_references_as_exr() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = small_scene_file(dir.path(), Some(5.0));
+    let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
+    let bvh = SceneBvh::build(&scene);
+    let g = GBuffer::trace(&scene, &bvh, camera, light);
+    let expected = [
+        ("coverage", trace_coverage_reference(&scene, &bvh, &g, camera, light, 4)),
+        ("area", trace_area_light_reference(&bvh, &g, light, 8).unwrap()),
+    ];
+    for (kind, expected) in expected {
+        let out = format!("{kind}.exr");
+        let (code, stderr) =
+            shadowtruth(&["reference", "small.json", "--kind", kind, "-o", &out], dir.path());
+        assert_eq!(code, 0, "{stderr}");
+        // Any EXR reader sees channels V and E, row 0 at the top.
+        let image = exr::prelude::read_first_flat_layer_from_file(dir.path().join(&out)).unwrap();
+        let channel = |name: &str| -> Vec<f32> {
+            let c = image.layer_data.channel_data.list.iter().find(|c| c.name.eq(name)).unwrap();
+            c.sample_data.values_as_f32().collect()
+        };
+        assert_eq!((image.layer_data.size.width(), image.layer_data.size.height()), (96, 72));
+        assert!(
+            bits(&SoftReference { visibility: channel("V"), std_error: channel("E"), ..expected.clone() })
+                == bits(&expected),
+            "{kind}"
+        );
+        let read = shadowtruth::report::read_soft_exr(&dir.path().join(&out)).unwrap();
+        assert!(read == expected, "{kind}: read back differs");
+    }
+}
+
+#[test]
+fn reference_command_rejects_sizeless_lights_and_bad_sample_counts() {
+    let dir = tempfile::tempdir().unwrap();
+    small_scene_file(dir.path(), None);
+    let cases: [(&[&str], &[&str]); 4] = [
+        (&["--kind", "area"], &["small.json", "'sun'", "angular_diameter_deg"]),
+        (&["--kind", "coverage", "--samples", "0"], &["--samples", "0"]),
+        (&["--kind", "coverage", "--samples", "100000"], &["--samples", "100000"]),
+        (&["--samples", "4"], &["--samples"]),
+    ];
+    for (extra, needles) in cases {
+        let mut args = vec!["reference", "small.json", "-o", "out.exr"];
+        args.extend_from_slice(extra);
+        let (code, stderr) = shadowtruth(&args, dir.path());
+        assert_eq!(code, 2, "{args:?}: {stderr}");
+        for n in needles {
+            assert!(stderr.contains(n), "{args:?}: '{n}' missing from: {stderr}");
+        }
+        assert!(!dir.path().join("out.exr").exists(), "{args:?}: nothing is written");
+    }
+}
