@@ -180,8 +180,8 @@ fn coverage_is_hard_away_from_boundaries_and_the_shadow_area_fraction_across_the
     let boundary = near_boundary(g.width, g.height, &hard.mask_codes(&g));
     // Away from the shadow edge every sub-pixel agrees with the centre.
     let mut far = 0;
-    for i in 0..g.pixel_count() {
-        if !boundary[i] {
+    for (i, &near) in boundary.iter().enumerate() {
+        if !near {
             assert_eq!(cov.visibility[i], hard.lit[i] as f32, "pixel {i}");
             assert_eq!(cov.std_error[i], 0.0, "pixel {i}");
             far += 1;
