@@ -1,9 +1,10 @@
 //! Tracer benchmarks on the bundled OBJ scene (rocks, 8k triangles, 1024×768): BVH build,
-//! G-buffer (primary rays) and hard reference (shadow rays).
+//! G-buffer (primary rays), hard reference (shadow rays) and the area-light reference (4×4 shadow
+//! rays per pixel towards a sun of 2° angular diameter; throughput in shadow rays).
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use shadowtruth::scene::load_scene;
-use shadowtruth::trace::{GBuffer, SceneBvh, trace_hard_reference};
+use shadowtruth::trace::{GBuffer, SceneBvh, trace_area_light_reference, trace_hard_reference};
 use std::path::Path;
 
 fn trace(c: &mut Criterion) {
@@ -20,6 +21,13 @@ fn trace(c: &mut Criterion) {
     g.bench_function("gbuffer", |b| b.iter(|| GBuffer::trace(&scene, &bvh, camera, light)));
     g.throughput(Throughput::Elements(gbuffer.evaluated.len() as u64));
     g.bench_function("hard_reference", |b| b.iter(|| trace_hard_reference(&bvh, &gbuffer, light)));
+    let mut sun = light.clone();
+    sun.angular_diameter_deg = Some(2.0);
+    let grid = 4;
+    g.throughput(Throughput::Elements(gbuffer.evaluated.len() as u64 * (grid * grid) as u64));
+    g.bench_function("area_light_reference_4x4", |b| {
+        b.iter(|| trace_area_light_reference(&bvh, &gbuffer, &sun, grid).expect("the sun has a size"))
+    });
     g.finish();
 }
 

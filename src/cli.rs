@@ -8,10 +8,13 @@ use shadowtruth::metrics::{Stopwatch, median_ms};
 use shadowtruth::plan::{Event, Plan, execute, read_plan};
 use shadowtruth::report::{
     PageAssets, Report, ReportWriter, load_report, run_stem, write_mask_png, write_report_outputs,
-    write_world_obj,
+    write_soft_exr, write_world_obj,
 };
 use shadowtruth::scene::{Scene, load_scene};
-use shadowtruth::trace::{GBuffer, SceneBvh, trace_hard_reference};
+use shadowtruth::trace::{
+    GBuffer, SceneBvh, SoftReference, trace_area_light_reference, trace_coverage_reference,
+    trace_hard_reference, validate_area_light,
+};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -33,10 +36,12 @@ enum Command {
     /// With no arguments: every scene of `scenes/` with the default plan (plans/default.json:
     /// every technique at a few settings; shadow maps 512² to 4096² in f32 depth).
     Run(RunArgs),
-    /// Write the exact hard shadow mask of one camera and light as a PNG.
+    /// Write the exact hard shadow mask of one camera and light as a PNG, or a soft reference
+    /// (pixel coverage, area light) as an EXR.
     ///
-    /// Grey levels: 255 lit, 0 shadowed, 128 background, 64 facing away from the light,
-    /// 192 outside the light.
+    /// Hard mask grey levels: 255 lit, 0 shadowed, 128 background, 64 facing away from the
+    /// light, 192 outside the light. Soft references: channels V (visibility in [0, 1], 0 where
+    /// not evaluated) and E (its standard error), f32, row 0 at the top.
     Reference(ReferenceArgs),
     /// Write the scene's world-space triangles as OBJ (one `o` group per object), with
     /// coordinates that read back as the same f32 values.
@@ -119,6 +124,20 @@ struct RunArgs {
     zoom: Option<Vec<u32>>,
 }
 
+/// Which reference `shadowtruth reference` writes.
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum ReferenceKind {
+    /// The hard shadow mask (PNG).
+    Hard,
+    /// Hard visibility averaged over an N×N sub-pixel grid (EXR: V, E).
+    Coverage,
+    /// Fraction of N×N light samples unoccluded; needs the light's size (EXR: V, E).
+    Area,
+}
+
+/// Largest N of an N×N sample grid accepted on the command line (4096 samples per pixel).
+const MAX_SAMPLE_GRID: u32 = 64;
+
 #[derive(Args)]
 struct ReferenceArgs {
     scene: PathBuf,
@@ -128,8 +147,17 @@ struct ReferenceArgs {
     /// Light name (default: the scene's first light).
     #[arg(long)]
     light: Option<String>,
+    /// Output: a PNG mask for `hard`, a two-channel f32 EXR (V visibility, E standard error,
+    /// row 0 at the top) for `coverage` and `area`.
     #[arg(short, long)]
     out: PathBuf,
+    /// hard, coverage (sub-pixel grid) or area (light samples; the light needs
+    /// `angular_diameter_deg` or `radius`).
+    #[arg(long, value_enum, default_value_t = ReferenceKind::Hard)]
+    kind: ReferenceKind,
+    /// N for an N×N grid of samples per pixel (default: 4 for coverage, 8 for area; 1 to 64).
+    #[arg(long)]
+    samples: Option<u32>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -370,17 +398,62 @@ fn pick<'a, T>(
 }
 
 fn reference(a: ReferenceArgs) -> Result<u8> {
+    let grid = match (a.kind, a.samples) {
+        (ReferenceKind::Hard, Some(_)) => bail!("--samples applies to --kind coverage and --kind area only"),
+        (ReferenceKind::Hard, None) => 1,
+        (ReferenceKind::Coverage, n) => n.unwrap_or(4),
+        (ReferenceKind::Area, n) => n.unwrap_or(8),
+    };
+    if !(1..=MAX_SAMPLE_GRID).contains(&grid) {
+        bail!("--samples {grid} is outside 1..={MAX_SAMPLE_GRID} (N for an N×N grid per pixel)");
+    }
     set_threads(a.threads)?;
     let scene: Scene = load_scene(&a.scene)?;
     let camera = pick(&scene.cameras, a.camera.as_deref(), |c| &c.name, "camera", &a.scene)?;
     let light = pick(&scene.lights, a.light.as_deref(), |l| &l.name, "light", &a.scene)?;
+    if a.kind == ReferenceKind::Area {
+        validate_area_light(light, grid).with_context(|| format!("{}: --kind area", a.scene.display()))?;
+    }
     let bvh = SceneBvh::build(&scene);
     let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
-    let reference = trace_hard_reference(&bvh, &gbuffer, light);
-    write_mask_png(&a.out, gbuffer.width, gbuffer.height, &reference.mask_codes(&gbuffer))
-        .with_context(|| format!("writing {}", a.out.display()))?;
+    let trace_soft = |g: &GBuffer| -> Result<SoftReference> {
+        Ok(match a.kind {
+            ReferenceKind::Coverage => trace_coverage_reference(&scene, &bvh, g, camera, light, grid),
+            _ => trace_area_light_reference(&bvh, g, light, grid)?,
+        })
+    };
+    if a.kind == ReferenceKind::Hard {
+        let reference = trace_hard_reference(&bvh, &gbuffer, light);
+        write_mask_png(&a.out, gbuffer.width, gbuffer.height, &reference.mask_codes(&gbuffer))
+            .with_context(|| format!("writing {}", a.out.display()))?;
+    } else {
+        write_soft_exr(&a.out, &trace_soft(&gbuffer)?)
+            .with_context(|| format!("writing {}", a.out.display()))?;
+    }
     if a.timing {
         print_trace_timing(&scene, &bvh, camera, light, a.repeats);
+        if a.kind != ReferenceKind::Hard {
+            let mut ms = Vec::new();
+            for _ in 0..a.repeats.max(1) {
+                let sw = Stopwatch::start();
+                std::hint::black_box(trace_soft(&gbuffer)?);
+                ms.push(sw.ms());
+            }
+            let samples = gbuffer.evaluated.len() * (grid * grid) as usize;
+            let what = match a.kind {
+                ReferenceKind::Coverage => {
+                    "sub-pixel samples (a primary ray and at most one shadow ray each)"
+                }
+                _ => "shadow rays",
+            };
+            println!(
+                "shadowtruth {} threads  {} {grid}×{grid}  {:.3} M/s ({samples} {what})   (median of {})",
+                rayon::current_num_threads(),
+                if a.kind == ReferenceKind::Coverage { "coverage" } else { "area light" },
+                samples as f64 / median_ms(&ms) / 1e3,
+                ms.len()
+            );
+        }
     }
     Ok(0)
 }

@@ -263,17 +263,18 @@ impl ReferenceCache {
             .then_some(reference)
     }
 
-    /// Writes a soft reference (EXR) and records it in the manifest (both atomically).
+    /// Writes a soft reference (EXR) and records it in the manifest (both atomically), under the
+    /// n×n grid of its `samples`.
     pub fn store_soft(
         &self,
         scene: &str,
         camera: &str,
         light: &str,
         kind: SoftKind,
-        grid: u32,
         digest: &str,
         reference: &SoftReference,
     ) -> std::io::Result<()> {
+        let grid = reference.samples.isqrt();
         let rel = Self::soft_path(scene, camera, light, kind, grid);
         write_atomic(&self.dir.join(&rel), &reference.to_exr()?)?;
         let entry = ManifestEntry {
@@ -366,13 +367,13 @@ impl ReferenceCache {
     ) -> std::io::Result<(SoftReference, bool)> {
         let digest = soft_reference_digest(scene, camera, light, kind, grid);
         let names = (&scene.name, &camera.name, &light.name);
-        if let Some(cached) = self.load_soft(names.0, names.1, names.2, kind, grid, &digest) {
-            if cached.fits(gbuffer) {
-                return Ok((cached, true));
-            }
+        if let Some(cached) = self.load_soft(names.0, names.1, names.2, kind, grid, &digest)
+            && cached.fits(gbuffer)
+        {
+            return Ok((cached, true));
         }
         let reference = trace()?;
-        self.store_soft(names.0, names.1, names.2, kind, grid, &digest, &reference)?;
+        self.store_soft(names.0, names.1, names.2, kind, &digest, &reference)?;
         Ok((reference, false))
     }
 }
