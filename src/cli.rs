@@ -57,6 +57,35 @@ enum Command {
     /// Re-render report.csv, the plots and index.html of a report folder from its report.json,
     /// without running anything.
     Report(ReportArgs),
+    /// Reproduce the papers' results and judge each claim: Ehm et al.'s Figure 12 on the island
+    /// (scenes/papers/island.json), Weiskopf & Ertl's Fig. 5 on the L-shape, Pagot et al.'s
+    /// Table 1 and Fig. 6, Ehm et al.'s Fig. 4 and Table 1.
+    ///
+    /// Writes the usual report into OUT_DIR, plus claims.json (per claim: id, paper, statement,
+    /// rule, our numbers, verdict holds / partly / does_not_hold) and claims.html.
+    Papers(PapersArgs),
+}
+
+#[derive(Args)]
+struct PapersArgs {
+    /// Output folder.
+    #[arg(short, long, default_value = "reports/papers")]
+    out: PathBuf,
+    /// Folder holding papers/island.json and l_shape.json.
+    #[arg(long, default_value = "scenes")]
+    scenes: PathBuf,
+    /// Reference cache folder.
+    #[arg(long, default_value = "references")]
+    references: PathBuf,
+    /// Trace every reference instead of reading or writing the cache.
+    #[arg(long)]
+    no_cache: bool,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// No progress bar and no table.
+    #[arg(short, long)]
+    quiet: bool,
 }
 
 #[derive(Args)]
@@ -212,6 +241,7 @@ pub fn run(cli: Cli) -> Result<u8> {
             Ok(0)
         }
         Command::Gate(a) => gate(a),
+        Command::Papers(a) => papers(a),
     }
 }
 
@@ -272,6 +302,63 @@ fn expand_scenes(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
     Ok(out)
 }
 
+/// The runs progress bar (hidden when `quiet`).
+fn progress_bar(quiet: bool) -> ProgressBar {
+    let bar = if quiet { ProgressBar::hidden() } else { ProgressBar::new(0) };
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} runs  {msg}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    bar
+}
+
+fn papers(a: PapersArgs) -> Result<u8> {
+    set_threads(a.threads)?;
+    let cache = (!a.no_cache).then(|| shadowtruth::trace::ReferenceCache::new(&a.references));
+    let mut writer = ReportWriter::new(&a.out);
+    let started = Instant::now();
+    let bar = progress_bar(a.quiet);
+    let mut planned = 0;
+    let claims =
+        shadowtruth::papers::run_papers(&a.scenes, &mut writer, cache.as_ref(), &mut |event| match event {
+            Event::Planned { runs } => {
+                planned += runs as u64;
+                bar.set_length(planned)
+            }
+            Event::Stage(s) => bar.set_message(s),
+            Event::RunDone(_) => bar.inc(1),
+            Event::FiguresDone { .. } => {}
+        })?;
+    bar.set_message("figures, plots and pages");
+    write_report_outputs(&a.out, writer.report(), page_assets(&a.out, writer.report()))
+        .with_context(|| format!("writing into {}", a.out.display()))?;
+    let document = serde_json::json!({ "format": "shadowtruth/claims/v1", "claims": claims });
+    let mut text = serde_json::to_string_pretty(&document)?;
+    text.push('\n');
+    shadowtruth::atomic_file::write_atomic(&a.out.join("claims.json"), text.as_bytes())
+        .with_context(|| format!("writing {}", a.out.join("claims.json").display()))?;
+    shadowtruth::atomic_file::write_atomic(
+        &a.out.join("claims.html"),
+        shadowtruth::papers::claims_html(&claims).as_bytes(),
+    )
+    .with_context(|| format!("writing {}", a.out.join("claims.html").display()))?;
+    bar.finish_and_clear();
+    if !a.quiet {
+        for c in &claims {
+            println!("{:<28} {:<14} {}", c.id, c.verdict.name(), c.statement);
+        }
+        println!(
+            "{} claims from {} runs in {:.1} s; open {}",
+            claims.len(),
+            writer.report().runs.len(),
+            started.elapsed().as_secs_f64(),
+            a.out.join("claims.html").display()
+        );
+    }
+    Ok(0)
+}
+
 fn run_plan(a: RunArgs) -> Result<u8> {
     set_threads(a.threads)?;
     let mut plan = match &a.plan {
@@ -303,12 +390,7 @@ fn run_plan(a: RunArgs) -> Result<u8> {
     let cache = (!a.no_cache).then(|| shadowtruth::trace::ReferenceCache::new(&a.references));
     let mut writer = ReportWriter::new(&a.out);
     let started = Instant::now();
-    let bar = if a.quiet { ProgressBar::hidden() } else { ProgressBar::new(0) };
-    bar.set_style(
-        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} runs  {msg}")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
+    let bar = progress_bar(a.quiet);
     let mut figures_ms = 0.0;
     execute(&plan, &mut writer, cache.as_ref(), &mut |event| match event {
         Event::Planned { runs } => bar.set_length(runs as u64),
