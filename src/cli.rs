@@ -57,6 +57,24 @@ enum Command {
     /// Re-render report.csv, the plots and index.html of a report folder from its report.json,
     /// without running anything.
     Report(ReportArgs),
+    /// Generate the island of Ehm et al. (WSCG 2015, Figure 12) from a seed: DIR/island.json
+    /// and DIR/meshes/island_terrain.obj.
+    ///
+    /// Noisy terrain rising from a sea plane, thin-trunked trees, a low spot light `sun_spot`,
+    /// a `front` camera on the lit side (the featured tree's trunk `tree00_trunk` in view) and
+    /// a `back` camera where the light grazes the slopes. The same seed gives the same bytes;
+    /// the default seed gives the committed scenes/papers/island.json.
+    Island(IslandArgs),
+}
+
+#[derive(Args)]
+struct IslandArgs {
+    /// Seed of the terrain noise and the tree placement.
+    #[arg(long, default_value_t = shadowtruth::papers::ISLAND_SEED)]
+    seed: u64,
+    /// Output folder (created if missing).
+    #[arg(short, long, default_value = "scenes/papers")]
+    out: PathBuf,
 }
 
 #[derive(Args)]
@@ -212,6 +230,12 @@ pub fn run(cli: Cli) -> Result<u8> {
             Ok(0)
         }
         Command::Gate(a) => gate(a),
+        Command::Island(a) => {
+            shadowtruth::papers::write_island(&a.out, a.seed)
+                .with_context(|| format!("writing the island into {}", a.out.display()))?;
+            println!("{}", a.out.join(shadowtruth::papers::ISLAND_SCENE_FILE).display());
+            Ok(0)
+        }
     }
 }
 

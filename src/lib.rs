@@ -7,6 +7,7 @@
 
 pub mod atomic_file;
 pub mod metrics;
+pub mod papers;
 pub mod plan;
 pub mod raster;
 pub mod report;
