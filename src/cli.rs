@@ -64,6 +64,14 @@ enum Command {
     /// Writes the usual report into OUT_DIR, plus claims.json (per claim: id, paper, statement,
     /// rule, our numbers, verdict holds / partly / does_not_hold) and claims.html.
     Papers(PapersArgs),
+    /// Generate the island of Ehm et al. (WSCG 2015, Figure 12) from a seed: DIR/island.json
+    /// and DIR/meshes/island_terrain.obj.
+    ///
+    /// Noisy terrain rising from a sea plane, thin-trunked trees, a low spot light `sun_spot`,
+    /// a `front` camera on the lit side (the featured tree's trunk `tree00_trunk` in view) and
+    /// a `back` camera where the light grazes the slopes. The same seed gives the same bytes;
+    /// the default seed gives the committed scenes/papers/island.json.
+    Island(IslandArgs),
 }
 
 #[derive(Args)]
@@ -86,6 +94,16 @@ struct PapersArgs {
     /// No progress bar and no table.
     #[arg(short, long)]
     quiet: bool,
+}
+
+#[derive(Args)]
+struct IslandArgs {
+    /// Seed of the terrain noise and the tree placement.
+    #[arg(long, default_value_t = shadowtruth::papers::ISLAND_SEED)]
+    seed: u64,
+    /// Output folder (created if missing).
+    #[arg(short, long, default_value = "scenes/papers")]
+    out: PathBuf,
 }
 
 #[derive(Args)]
@@ -242,6 +260,12 @@ pub fn run(cli: Cli) -> Result<u8> {
         }
         Command::Gate(a) => gate(a),
         Command::Papers(a) => papers(a),
+        Command::Island(a) => {
+            shadowtruth::papers::write_island(&a.out, a.seed)
+                .with_context(|| format!("writing the island into {}", a.out.display()))?;
+            println!("{}", a.out.join(shadowtruth::papers::ISLAND_SCENE_FILE).display());
+            Ok(0)
+        }
     }
 }
 

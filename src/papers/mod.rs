@@ -1,6 +1,7 @@
-//! Reproducing the papers' results: the island of Ehm et al.'s Figure 12 (a seeded generator),
-//! the claims of Figure 12, Weiskopf & Ertl's Fig. 5, Pagot et al.'s Table 1 and Fig. 6 and Ehm
-//! et al.'s Fig. 4 and Table 1, each as measured numbers with a verdict.
+//! Reproducing the papers' results: the island of Ehm et al.'s Figure 12 (a seeded generator, so
+//! that the scene can be rebuilt bit for bit), the claims of Figure 12, Weiskopf & Ertl's Fig. 5,
+//! Pagot et al.'s Table 1 and Fig. 6 and Ehm et al.'s Fig. 4 and Table 1, each as measured
+//! numbers with a verdict.
 
 pub mod claims;
 pub mod island;

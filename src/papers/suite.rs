@@ -25,8 +25,10 @@ const ADAPTIVE_LARGE_K: &str = r#"{ "technique": "adaptive", "k": 0.01, "epsilon
 const ADAPTIVE_ENHANCED: &str = r#"{ "technique": "adaptive", "k": 0.0001, "epsilon": "ehm" }"#;
 const PCF11_RECEIVER_PLANE: &str =
     r#"{ "technique": "pcf", "kernel": "box", "size": 11, "bias": "receiver_plane", "bias_depth": 0.00001 }"#;
-const PCF11_ADAPTIVE: &str = r#"{ "technique": "pcf", "kernel": "box", "size": 11, "bias": "adaptive", "k": 0.0001 }"#;
-const PCF11_DELTA: &str = r#"{ "technique": "pcf", "kernel": "box", "size": 11, "bias": "adaptive_delta", "k": 0.0001 }"#;
+const PCF11_ADAPTIVE: &str =
+    r#"{ "technique": "pcf", "kernel": "box", "size": 11, "bias": "adaptive", "k": 0.0001 }"#;
+const PCF11_DELTA: &str =
+    r#"{ "technique": "pcf", "kernel": "box", "size": 11, "bias": "adaptive_delta", "k": 0.0001 }"#;
 const MDSM3_PCF3: &str = r#"{ "technique": "mdsm", "depths": 3, "neighbourhood": 3, "select": "min_max",
     "kernel": "box", "size": 3, "bias": "receiver_plane", "bias_depth": 0.00001 }"#;
 const MDSM1_PCF4: &str = r#"{ "technique": "mdsm", "depths": 1, "kernel": "box", "size": 4,
@@ -46,7 +48,12 @@ fn spec(json: &str) -> TechniqueSpec {
     serde_json::from_str(json).expect("the suite's technique specs are valid")
 }
 
-fn plan_of(scene: &Path, techniques: &[&str], resolutions: &[u32], repeats: usize) -> Result<Plan, PlanError> {
+fn plan_of(
+    scene: &Path,
+    techniques: &[&str],
+    resolutions: &[u32],
+    repeats: usize,
+) -> Result<Plan, PlanError> {
     let text = json!({
         "format": crate::plan::PLAN_FORMAT,
         "techniques": techniques.iter().map(|t| serde_json::from_str::<Value>(t).expect("valid JSON")).collect::<Vec<_>>(),
@@ -68,11 +75,9 @@ struct View<'a> {
 
 impl<'a> View<'a> {
     fn new(scene: &'a Scene, bvh: &'a SceneBvh, camera_name: &str) -> Result<Self, PlanError> {
-        let camera = scene
-            .cameras
-            .iter()
-            .position(|c| c.name == camera_name)
-            .ok_or_else(|| PlanError::Invalid(format!("{}: no camera '{camera_name}'", scene.source.display())))?;
+        let camera = scene.cameras.iter().position(|c| c.name == camera_name).ok_or_else(|| {
+            PlanError::Invalid(format!("{}: no camera '{camera_name}'", scene.source.display()))
+        })?;
         let light = &scene.lights[0];
         let gbuffer = GBuffer::trace(scene, bvh, &scene.cameras[camera], light);
         let reference = crate::trace::trace_hard_reference(bvh, &gbuffer, light);
@@ -128,8 +133,15 @@ impl<'a> View<'a> {
 }
 
 /// The run of `report` for (scene, camera, technique label, resolution).
-fn find<'r>(runs: &'r [RunRecord], scene: &str, camera: &str, label: &str, resolution: u32) -> Option<&'r RunRecord> {
-    runs.iter().find(|r| r.scene == scene && r.camera == camera && r.label == label && r.resolution == resolution)
+fn find<'r>(
+    runs: &'r [RunRecord],
+    scene: &str,
+    camera: &str,
+    label: &str,
+    resolution: u32,
+) -> Option<&'r RunRecord> {
+    runs.iter()
+        .find(|r| r.scene == scene && r.camera == camera && r.label == label && r.resolution == resolution)
 }
 
 fn missing(what: &str) -> PlanError {
@@ -189,7 +201,13 @@ pub fn run_papers(
         .map_err(|source| PlanError::Io { path: writer.dir().join(&figure12), source })?;
 
     let mut out = Vec::new();
-    let claim = |id: &str, paper: &str, statement: &str, rule: &str, numbers: Value, verdict: Verdict, figures: Vec<String>| Claim {
+    let claim = |id: &str,
+                 paper: &str,
+                 statement: &str,
+                 rule: &str,
+                 numbers: Value,
+                 verdict: Verdict,
+                 figures: Vec<String>| Claim {
         id: id.into(),
         paper: paper.into(),
         statement: statement.into(),
@@ -231,7 +249,10 @@ pub fn run_papers(
     ));
 
     // Ehm et al. Fig. 4 and Table 1: per-tap adaptive against Δbias, 11×11.
-    let (a, d) = (front.shade(&spec(PCF11_ADAPTIVE), ISLAND_RESOLUTION), front.shade(&spec(PCF11_DELTA), ISLAND_RESOLUTION));
+    let (a, d) = (
+        front.shade(&spec(PCF11_ADAPTIVE), ISLAND_RESOLUTION),
+        front.shade(&spec(PCF11_DELTA), ISLAND_RESOLUTION),
+    );
     let differing = a.iter().zip(&d).filter(|(x, y)| (*x - *y).abs() > 1e-6).count() as u64;
     let largest = a.iter().zip(&d).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
     let mean = a.iter().zip(&d).map(|(x, y)| (x - y).abs() as f64).sum::<f64>() / a.len().max(1) as f64;
@@ -313,7 +334,10 @@ pub fn run_papers(
             .map(|json| {
                 let s = spec(json);
                 find(&runs, &l_name, "main", &s.label(), resolution)
-                    .or_else(|| runs.iter().find(|r| r.scene == l_name && r.label == s.label() && r.resolution == resolution))
+                    .or_else(|| {
+                        runs.iter()
+                            .find(|r| r.scene == l_name && r.label == s.label() && r.resolution == resolution)
+                    })
                     .map(|r| (s.label(), r.counts.false_shadow + r.counts.false_lit))
                     .ok_or_else(|| missing(&s.label()))
             })
@@ -344,10 +368,16 @@ fn write_figure12(
     trunk_box: (u32, u32, u32, u32),
 ) -> std::io::Result<()> {
     let light = &front.scene.lights[0];
-    let (front_canvas, back_canvas) =
-        (ViewCanvas::new(&front.gbuffer, &front.reference, light), ViewCanvas::new(&back.gbuffer, &back.reference, light));
+    let (front_canvas, back_canvas) = (
+        ViewCanvas::new(&front.gbuffer, &front.reference, light),
+        ViewCanvas::new(&back.gbuffer, &back.reference, light),
+    );
     let reference = |v: &View, c: &ViewCanvas| {
-        visibility_image(&v.gbuffer, c, &crate::report::figures::reference_visibility(&v.gbuffer, &v.reference))
+        visibility_image(
+            &v.gbuffer,
+            c,
+            &crate::report::figures::reference_visibility(&v.gbuffer, &v.reference),
+        )
     };
     let mut images = vec![
         ("(a) reference, front".to_string(), reference(front, &front_canvas)),
@@ -363,7 +393,8 @@ fn write_figure12(
         images.push((format!("{} {name}, trunk", l[1]), zoom(&e_front, trunk_box, 4)));
         images.push((format!("{} {name}, back", l[2]), e_back));
     }
-    let cells: Vec<GridCell> = images.iter().map(|(caption, image)| GridCell { image, caption: caption.clone() }).collect();
+    let cells: Vec<GridCell> =
+        images.iter().map(|(caption, image)| GridCell { image, caption: caption.clone() }).collect();
     grid(&cells, 3, 512).write_png(&dir.join(file))
 }
 
