@@ -133,6 +133,7 @@ pub fn poisson_set(taps: u32) -> &'static [(f32, f32)] {
 pub const POISSON_SIZES: [u32; 3] = [16, 25, 32];
 
 #[rustfmt::skip]
+#[allow(clippy::excessive_precision)] // the published digits, verbatim
 const POISSON_16: [(f32, f32); 16] = [
     (-0.94201624, -0.39906216), (0.94558609, -0.76890725), (-0.094184101, -0.92938870),
     (0.34495938, 0.29387760), (-0.91588581, 0.45771432), (-0.81544232, -0.87912464),
@@ -143,6 +144,7 @@ const POISSON_16: [(f32, f32); 16] = [
 ];
 
 #[rustfmt::skip]
+#[allow(clippy::excessive_precision)] // the published digits, verbatim
 const POISSON_25: [(f32, f32); 25] = [
     (-0.978698, -0.0884121), (-0.841121, 0.521165), (-0.71746, -0.50322), (-0.702933, 0.903134),
     (-0.663198, 0.15482), (-0.495102, -0.232887), (-0.364238, -0.961791), (-0.345866, -0.564379),
@@ -154,6 +156,7 @@ const POISSON_25: [(f32, f32); 25] = [
 ];
 
 #[rustfmt::skip]
+#[allow(clippy::excessive_precision)] // the published digits, verbatim
 const POISSON_32: [(f32, f32); 32] = [
     (-0.975402, -0.0711386), (-0.920347, -0.41142), (-0.883908, 0.217872), (-0.884518, 0.568041),
     (-0.811945, 0.90521), (-0.792474, -0.779962), (-0.614856, 0.386578), (-0.580859, -0.208777),
