@@ -365,9 +365,7 @@ fn validate_bias(
     if !adaptive && (k.is_some() || epsilon.is_some()) {
         return Err(err("k and epsilon belong to bias \"adaptive\" and \"adaptive_delta\""));
     }
-    if let Some(k) = k
-        && !(k.is_finite() && k >= 0.0)
-    {
+    if k.is_some_and(|k| !(k.is_finite() && k >= 0.0)) {
         return Err(err("k must be a finite number ≥ 0"));
     }
     if adaptive && bias_depth.is_some() {
