@@ -351,7 +351,7 @@ fn papers(a: PapersArgs) -> Result<u8> {
                 bar.set_length(planned)
             }
             Event::Stage(s) => bar.set_message(s),
-            Event::RunDone(_) => bar.inc(1),
+            Event::RunDone { .. } => bar.inc(1),
             Event::FiguresDone { .. } => {}
         })?;
     bar.set_message("figures, plots and pages");
@@ -419,7 +419,7 @@ fn run_plan(a: RunArgs) -> Result<u8> {
     execute(&plan, &mut writer, cache.as_ref(), &mut |event| match event {
         Event::Planned { runs } => bar.set_length(runs as u64),
         Event::Stage(s) => bar.set_message(s),
-        Event::RunDone(_) => bar.inc(1),
+        Event::RunDone { .. } => bar.inc(1),
         Event::FiguresDone { ms } => figures_ms += ms,
     })?;
     let outputs_started = Instant::now();

@@ -32,7 +32,7 @@ fn a_plan_writes_one_record_per_run_with_consistent_counts() {
     let mut writer = ReportWriter::new(dir.path());
     let mut done = 0;
     execute(&plan, &mut writer, None, &mut |e| {
-        if let shadowtruth::plan::Event::RunDone(_) = e {
+        if let shadowtruth::plan::Event::RunDone { .. } = e {
             done += 1
         }
     })

@@ -11,4 +11,4 @@ mod suite;
 pub use claims::{Claim, Verdict};
 pub use island::*;
 pub use page::claims_html;
-pub use suite::{ISLAND_RESOLUTION, L_SHAPE_RESOLUTIONS, default_scenes_dir, run_papers};
+pub use suite::{ISLAND_RESOLUTION, L_SHAPE_RESOLUTIONS, run_papers};

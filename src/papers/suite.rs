@@ -5,15 +5,15 @@
 
 use super::claims::{self, Claim, IslandNumbers, Verdict, island_numbers_json};
 use super::island::FEATURED_TRUNK;
-use crate::plan::{Event, Plan, PlanError, build_layers, execute, parse_plan};
-use crate::raster::{DepthFormat, LightView};
+use crate::plan::{Event, Plan, PlanError, execute, parse_plan};
 use crate::report::figures::{GridCell, ViewCanvas, grid, run_images, visibility_image, zoom};
 use crate::report::{ReportWriter, RunRecord};
 use crate::scene::{Scene, load_scene};
-use crate::technique::{ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated};
+use crate::technique::TechniqueSpec;
 use crate::trace::{GBuffer, HardReference, ReferenceCache, SceneBvh};
 use serde_json::{Map, Value, json};
-use std::path::{Path, PathBuf};
+use std::collections::HashMap;
+use std::path::Path;
 
 /// The shadow-map resolution of the island runs.
 pub const ISLAND_RESOLUTION: u32 = 2048;
@@ -84,15 +84,6 @@ impl<'a> View<'a> {
         Ok(View { scene, gbuffer, reference })
     }
 
-    /// Visibility of every evaluated pixel under `spec` at `resolution`.
-    fn shade(&self, spec: &TechniqueSpec, resolution: u32) -> Vec<f32> {
-        let technique = spec.build();
-        let view = LightView::new(&self.scene.lights[0], self.scene.bounds(), resolution);
-        let (layers, _) = build_layers(self.scene, &view, DepthFormat::F32, &technique.layer_needs(), 1);
-        let ctx = ShadeContext::new(self.scene, &view, layers.as_layers());
-        shade_evaluated(technique.as_ref(), &ShadeOrder::new(&self.gbuffer, &view), &ctx)
-    }
-
     /// The pixel box (x, y, w, h) around the object named `name`, padded by half its size (at
     /// least 8 pixels) on every side; None when the object is not in view.
     fn object_box(&self, name: &str) -> Option<(u32, u32, u32, u32)> {
@@ -160,9 +151,24 @@ pub fn run_papers(
     let l_shape_path = scenes_dir.join("l_shape.json");
     let mut island_techniques = vec![ADAPTIVE_SMALL_K, ADAPTIVE_LARGE_K, ADAPTIVE_ENHANCED];
     island_techniques.extend([PCF11_RECEIVER_PLANE, PCF11_ADAPTIVE, PCF11_DELTA, MDSM3_PCF3, MDSM1_PCF4]);
-    execute(&plan_of(&island_path, &island_techniques, &[ISLAND_RESOLUTION], 3)?, writer, cache, on_event)?;
+    // The island runs' visibilities, kept for the measurements a report does not hold.
+    let mut island_visibility: HashMap<(String, String), Vec<f32>> = HashMap::new();
+    let mut keep = |event: Event| {
+        if let Event::RunDone { record, visibility } = &event {
+            island_visibility.insert((record.camera.clone(), record.label.clone()), visibility.to_vec());
+        }
+        on_event(event)
+    };
+    let island_plan = plan_of(&island_path, &island_techniques, &[ISLAND_RESOLUTION], 3)?;
+    execute(&island_plan, writer, cache, &mut keep)?;
     execute(&plan_of(&l_shape_path, &L_SHAPE_SIX, &L_SHAPE_RESOLUTIONS, 1)?, writer, cache, on_event)?;
     on_event(Event::Stage("papers: measuring the claims".into()));
+    let visibility = |camera: &str, json: &str| {
+        let label = spec(json).label();
+        island_visibility
+            .get(&(camera.to_string(), label.clone()))
+            .ok_or_else(|| missing(&format!("{label} on {camera}")))
+    };
 
     let island = load_scene(&island_path)?;
     let bvh = SceneBvh::build(&island);
@@ -184,14 +190,13 @@ pub fn run_papers(
     for json in [ADAPTIVE_SMALL_K, ADAPTIVE_LARGE_K, ADAPTIVE_ENHANCED] {
         let (front_false_shadow, front_false_lit) = rates("front", json)?;
         let (back_false_shadow, back_false_lit) = rates("back", json)?;
-        let v_front = front.shade(&spec(json), ISLAND_RESOLUTION);
-        let v_back = back.shade(&spec(json), ISLAND_RESOLUTION);
+        let (v_front, v_back) = (visibility("front", json)?, visibility("back", json)?);
         settings.push(IslandNumbers {
             front_false_shadow,
             front_false_lit,
             back_false_shadow,
             back_false_lit,
-            trunk_false_lit: front.false_lit_in(&v_front, trunk_box),
+            trunk_false_lit: front.false_lit_in(v_front, trunk_box),
         });
         visibilities.push((v_front, v_back));
     }
@@ -249,13 +254,10 @@ pub fn run_papers(
     ));
 
     // Ehm et al. Fig. 4 and Table 1: per-tap adaptive against Δbias, 11×11.
-    let (a, d) = (
-        front.shade(&spec(PCF11_ADAPTIVE), ISLAND_RESOLUTION),
-        front.shade(&spec(PCF11_DELTA), ISLAND_RESOLUTION),
-    );
-    let differing = a.iter().zip(&d).filter(|(x, y)| (*x - *y).abs() > 1e-6).count() as u64;
-    let largest = a.iter().zip(&d).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
-    let mean = a.iter().zip(&d).map(|(x, y)| (x - y).abs() as f64).sum::<f64>() / a.len().max(1) as f64;
+    let (a, d) = (visibility("front", PCF11_ADAPTIVE)?, visibility("front", PCF11_DELTA)?);
+    let differing = a.iter().zip(d.iter()).filter(|(x, y)| (*x - *y).abs() > 1e-6).count() as u64;
+    let largest = a.iter().zip(d.iter()).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
+    let mean = a.iter().zip(d.iter()).map(|(x, y)| (x - y).abs() as f64).sum::<f64>() / a.len().max(1) as f64;
     let evaluated = a.len() as u64;
     out.push(claim(
         "ehm2015-fig4",
@@ -292,14 +294,14 @@ pub fn run_papers(
     const PAGOT: &str = "Pagot, Comba & Oliveira, Multiple-depth shadow maps (SIBGRAPI 2004)";
     // Distinct values up to summation rounding (the values are multiples of 1/(n·k), far
     // coarser than 1e-5).
-    let distinct = |json: &str| {
-        let v = front.shade(&spec(json), ISLAND_RESOLUTION);
+    let distinct = |json: &str| -> Result<usize, PlanError> {
+        let v = visibility("front", json)?;
         let mut keys: Vec<i64> = v.iter().map(|x| (*x as f64 * 1e5).round() as i64).collect();
         keys.sort_unstable();
         keys.dedup();
-        keys.len()
+        Ok(keys.len())
     };
-    let configs = [(9u32, 3u32, distinct(MDSM3_PCF3)), (16, 1, distinct(MDSM1_PCF4))];
+    let configs = [(9u32, 3u32, distinct(MDSM3_PCF3)?), (16, 1, distinct(MDSM1_PCF4)?)];
     out.push(claim(
         "pagot2004-table1",
         PAGOT,
@@ -364,7 +366,7 @@ fn write_figure12(
     file: &str,
     front: &View,
     back: &View,
-    visibilities: &[(Vec<f32>, Vec<f32>)],
+    visibilities: &[(&Vec<f32>, &Vec<f32>)],
     trunk_box: (u32, u32, u32, u32),
 ) -> std::io::Result<()> {
     let light = &front.scene.lights[0];
@@ -396,9 +398,4 @@ fn write_figure12(
     let cells: Vec<GridCell> =
         images.iter().map(|(caption, image)| GridCell { image, caption: caption.clone() }).collect();
     grid(&cells, 3, 512).write_png(&dir.join(file))
-}
-
-/// Where the papers suite reads its scenes by default.
-pub fn default_scenes_dir() -> PathBuf {
-    PathBuf::from("scenes")
 }

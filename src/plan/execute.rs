@@ -20,17 +20,15 @@ use std::path::PathBuf;
 /// Progress of a plan, for progress bars and logs.
 pub enum Event<'a> {
     /// The number of runs the plan expands to.
-    Planned {
-        runs: usize,
-    },
+    Planned { runs: usize },
     /// A stage began (a short description).
     Stage(String),
-    RunDone(&'a RunRecord),
+    /// A run finished: its record, and its visibility per evaluated pixel (in the order of the
+    /// G-buffer's `evaluated`), for callers that measure more than the report holds.
+    RunDone { record: &'a RunRecord, visibility: &'a [f32] },
     /// Figures were drawn and written, taking this many milliseconds of wall time (the runs wait
     /// for them, so a batch's figure cost is the sum of these).
-    FiguresDone {
-        ms: f64,
-    },
+    FiguresDone { ms: f64 },
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -243,13 +241,19 @@ pub fn execute(
                                 reference: reference_used,
                                 soft,
                             };
-                            if canvas.is_some() {
+                            let figure = canvas.is_some().then(|| {
                                 let caption =
                                     format!("{}  error {:.3}%", record.label, 100.0 * record.rates.error);
-                                pending.push((run_stem(&record), caption, visibility, spec.reference_kind()));
-                            }
+                                (run_stem(&record), caption)
+                            });
                             writer.add_run(record).map_err(io(writer.path()))?;
-                            on_event(Event::RunDone(writer.report().runs.last().expect("just added")));
+                            on_event(Event::RunDone {
+                                record: writer.report().runs.last().expect("just added"),
+                                visibility: &visibility,
+                            });
+                            if let Some((stem, caption)) = figure {
+                                pending.push((stem, caption, visibility, spec.reference_kind()));
+                            }
                         }
                     }
                     if let Some(canvas) = &canvas {

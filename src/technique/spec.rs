@@ -428,13 +428,6 @@ impl TechniqueSpec {
 
     /// Checks the parameters: finite numbers, and the constant bias given one way.
     pub fn validate(&self) -> Result<(), TechniqueSpecError> {
-        let finite = |name: &str, x: f64| {
-            if x.is_finite() {
-                Ok(())
-            } else {
-                Err(TechniqueSpecError(format!("{name} must be a finite number")))
-            }
-        };
         match *self {
             TechniqueSpec::None => Ok(()),
             TechniqueSpec::Constant { bias_depth, bias_world } => match (bias_depth, bias_world) {
@@ -582,22 +575,24 @@ impl TechniqueSpec {
                 z_offset,
                 cull_back_faces,
             } => {
+                // The layers of the depth-layer technique underneath, as it asks for them.
                 let cull = cull_back_faces.unwrap_or(false);
-                let two = |z_offset: f32| {
-                    let culling = if cull { Culling::BackFacesOfClosed } else { Culling::None };
-                    (
-                        TapThreshold::TwoLayers { z_offset },
-                        LayerNeeds { culling, second_layer: true, ..LayerNeeds::default() },
-                    )
-                };
                 let (threshold, mut needs) = match layers {
                     LayerSpec::Nearest => (TapThreshold::Nearest, LayerNeeds::default()),
-                    LayerSpec::SecondDepth => (
-                        TapThreshold::Nearest,
-                        LayerNeeds { culling: Culling::FrontFacesOfClosed, ..LayerNeeds::default() },
+                    LayerSpec::SecondDepth => {
+                        (TapThreshold::Nearest, SecondDepth { bias_depth: 0.0 }.layer_needs())
+                    }
+                    LayerSpec::Midpoint => (
+                        TapThreshold::TwoLayers { z_offset: f32::INFINITY },
+                        Midpoint { cull_back_faces: cull }.layer_needs(),
                     ),
-                    LayerSpec::Midpoint => two(f32::INFINITY),
-                    LayerSpec::Dual => two(z_offset.unwrap_or(0.0) as f32),
+                    LayerSpec::Dual => {
+                        let z_offset = z_offset.unwrap_or(0.0) as f32;
+                        (
+                            TapThreshold::TwoLayers { z_offset },
+                            DualDepth { z_offset, cull_back_faces: cull }.layer_needs(),
+                        )
+                    }
                 };
                 if bias == TapBiasSpec::SlopeScaled {
                     needs.slope_factor = factor.unwrap_or(0.0) as f32;

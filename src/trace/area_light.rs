@@ -16,13 +16,12 @@
 //! upper bound that falls as 1/√N on penumbra pixels.
 
 use super::bvh::SceneBvh;
-use super::gbuffer::{GBuffer, PixelClass};
+use super::gbuffer::GBuffer;
 use super::offset::offset_ray_origin;
 use super::sampling::{concentric_disk, jittered_stratum, orthonormal_frame};
-use super::soft_reference::{SoftReference, mean_and_std_error};
+use super::soft_reference::{SoftReference, mean_and_std_error, trace_evaluated};
 use crate::scene::{Light, LightKind};
 use glam::DVec3;
-use rayon::prelude::*;
 
 /// Why an area-light reference cannot be traced.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -91,54 +90,32 @@ pub fn trace_area_light_reference(
 ) -> Result<SoftReference, AreaLightError> {
     let emitter = emitter(light, grid)?;
     let m = grid * grid;
-    let n = gbuffer.pixel_count();
-    let w = gbuffer.width as usize;
-    let mut visibility = vec![0f32; n];
-    let mut std_error = vec![0f32; n];
-    visibility.par_chunks_mut(w).zip(std_error.par_chunks_mut(w)).enumerate().for_each_init(
-        || bvh.scratch(),
-        |scratch, (y, (vis, err))| {
-            for x in 0..w {
-                let i = y * w + x;
-                if gbuffer.class[i] != PixelClass::Evaluated {
-                    continue;
+    Ok(trace_evaluated(bvh, gbuffer, m, |scratch, _, _, i| {
+        let (p, normal) = (gbuffer.position[i], gbuffer.normal[i]);
+        let origin = offset_ray_origin(p, normal);
+        let (p64, n64, o64) = (p.as_dvec3(), normal.as_dvec3(), origin.as_dvec3());
+        let mut hits = 0u32;
+        for k in 0..m {
+            let (u, v) = jittered_stratum(i as u64, k, grid, LIGHT_SALT);
+            let (dx, dy) = concentric_disk(u, v);
+            let unoccluded = match emitter {
+                Emitter::Cap { axis, tangent, bitangent, one_minus_cos } => {
+                    // Uniform in solid angle: the disk's r² is the cap's area fraction,
+                    // 1 − cos θ = r²(1 − cos θmax); sin θ / r = √(k(2 − r²k)).
+                    let r2k = (dx * dx + dy * dy) * one_minus_cos;
+                    let sin_over_r = (one_minus_cos * (2.0 - r2k)).sqrt();
+                    let dir = ((1.0 - r2k) * axis + sin_over_r * (dx * tangent + dy * bitangent)).normalize();
+                    n64.dot(dir) > 0.0 && !bvh.occluded(scratch, origin, dir.as_vec3(), 0.0, f32::INFINITY)
                 }
-                let (p, normal) = (gbuffer.position[i], gbuffer.normal[i]);
-                let origin = offset_ray_origin(p, normal);
-                let (p64, n64, o64) = (p.as_dvec3(), normal.as_dvec3(), origin.as_dvec3());
-                let mut hits = 0u32;
-                for k in 0..m {
-                    let (u, v) = jittered_stratum(i as u64, k, grid, LIGHT_SALT);
-                    let (dx, dy) = concentric_disk(u, v);
-                    let unoccluded = match emitter {
-                        Emitter::Cap { axis, tangent, bitangent, one_minus_cos } => {
-                            // Uniform in solid angle: the disk's r² is the cap's area fraction,
-                            // 1 − cos θ = r²(1 − cos θmax); sin θ / r = √(k(2 − r²k)).
-                            let r2k = (dx * dx + dy * dy) * one_minus_cos;
-                            let sin_over_r = (one_minus_cos * (2.0 - r2k)).sqrt();
-                            let dir = ((1.0 - r2k) * axis + sin_over_r * (dx * tangent + dy * bitangent))
-                                .normalize();
-                            n64.dot(dir) > 0.0
-                                && !bvh.occluded(scratch, origin, dir.as_vec3(), 0.0, f32::INFINITY)
-                        }
-                        Emitter::Disk { centre, tangent, bitangent, radius } => {
-                            let q = centre + radius * (dx * tangent + dy * bitangent);
-                            let to = q - o64;
-                            n64.dot(q - p64) > 0.0
-                                && !bvh.occluded(
-                                    scratch,
-                                    origin,
-                                    to.normalize().as_vec3(),
-                                    0.0,
-                                    to.length() as f32,
-                                )
-                        }
-                    };
-                    hits += unoccluded as u32;
+                Emitter::Disk { centre, tangent, bitangent, radius } => {
+                    let q = centre + radius * (dx * tangent + dy * bitangent);
+                    let to = q - o64;
+                    n64.dot(q - p64) > 0.0
+                        && !bvh.occluded(scratch, origin, to.normalize().as_vec3(), 0.0, to.length() as f32)
                 }
-                (vis[x], err[x]) = mean_and_std_error(hits, m);
-            }
-        },
-    );
-    Ok(SoftReference { width: gbuffer.width, height: gbuffer.height, visibility, std_error, samples: m })
+            };
+            hits += unoccluded as u32;
+        }
+        mean_and_std_error(hits, m)
+    }))
 }

@@ -13,9 +13,8 @@ use super::bvh::SceneBvh;
 use super::gbuffer::{GBuffer, PixelClass, primary_sample};
 use super::reference::hard_visible;
 use super::sampling::stratum_centre;
-use super::soft_reference::{SoftReference, mean_and_std_error};
+use super::soft_reference::{SoftReference, mean_and_std_error, trace_evaluated};
 use crate::scene::{Camera, Light, Scene};
-use rayon::prelude::*;
 
 /// Traces the coverage reference on an n×n sub-pixel grid (`grid` = n ≥ 1).
 ///
@@ -30,44 +29,27 @@ pub fn trace_coverage_reference(
     grid: u32,
 ) -> SoftReference {
     assert!(grid >= 1, "the coverage grid must be at least 1×1");
-    let m = grid * grid;
-    let n = gbuffer.pixel_count();
-    let w = gbuffer.width as usize;
     let basis = camera.basis();
-    let mut visibility = vec![0f32; n];
-    let mut std_error = vec![0f32; n];
-    visibility.par_chunks_mut(w).zip(std_error.par_chunks_mut(w)).enumerate().for_each_init(
-        || bvh.scratch(),
-        |scratch, (y, (vis, err))| {
-            for x in 0..w {
-                let i = y * w + x;
-                if gbuffer.class[i] != PixelClass::Evaluated {
-                    continue;
-                }
-                let (mut hits, mut surfaces) = (0u32, 0u32);
-                for k in 0..m {
-                    let (sx, sy) = stratum_centre(k, grid);
-                    let dir = camera.film_direction(&basis, x as f64 + sx, y as f64 + sy);
-                    let Some(s) = primary_sample(scene, bvh, scratch, camera.position, dir, light) else {
-                        continue;
-                    };
-                    surfaces += 1;
-                    if s.class == PixelClass::Evaluated
-                        && hard_visible(bvh, scratch, s.position, s.normal, light)
-                    {
-                        hits += 1;
-                    }
-                }
-                (vis[x], err[x]) = if surfaces > 0 {
-                    mean_and_std_error(hits, surfaces)
-                } else {
-                    // Only possible if no sub-ray reproduces the centre hit: fall back to the
-                    // centre's hard visibility.
-                    let lit = hard_visible(bvh, scratch, gbuffer.position[i], gbuffer.normal[i], light);
-                    (lit as u32 as f32, 0.0)
-                };
+    trace_evaluated(bvh, gbuffer, grid * grid, |scratch, x, y, i| {
+        let (mut hits, mut surfaces) = (0u32, 0u32);
+        for k in 0..grid * grid {
+            let (sx, sy) = stratum_centre(k, grid);
+            let dir = camera.film_direction(&basis, x as f64 + sx, y as f64 + sy);
+            let Some(s) = primary_sample(scene, bvh, scratch, camera.position, dir, light) else {
+                continue;
+            };
+            surfaces += 1;
+            if s.class == PixelClass::Evaluated && hard_visible(bvh, scratch, s.position, s.normal, light) {
+                hits += 1;
             }
-        },
-    );
-    SoftReference { width: gbuffer.width, height: gbuffer.height, visibility, std_error, samples: m }
+        }
+        if surfaces > 0 {
+            mean_and_std_error(hits, surfaces)
+        } else {
+            // Only possible if no sub-ray reproduces the centre hit: fall back to the centre's
+            // hard visibility.
+            let lit = hard_visible(bvh, scratch, gbuffer.position[i], gbuffer.normal[i], light);
+            (lit as u32 as f32, 0.0)
+        }
+    })
 }

@@ -3,8 +3,10 @@
 //! with the sample count in a `samples` header attribute. f32 samples in a lossless EXR read
 //! back bit for bit.
 
+use super::bvh::{SceneBvh, TraversalScratch};
 use super::gbuffer::{GBuffer, PixelClass};
 use exr::prelude::*;
+use rayon::prelude::*;
 use std::io::Cursor;
 
 /// Which soft reference: the two share the type and the file format.
@@ -50,6 +52,34 @@ pub(super) fn mean_and_std_error(hits: u32, m: u32) -> (f32, f32) {
     let p = hits as f64 / m as f64;
     let se = if m > 1 { (p * (1.0 - p) / (m - 1) as f64).sqrt() } else { 0.0 };
     (p as f32, se as f32)
+}
+
+/// A soft reference of `samples` samples per pixel: `estimate(scratch, x, y, i)` gives (visibility,
+/// standard error) of every evaluated pixel (index i = y·width + x); the others hold zeros. Rows
+/// run in parallel with one traversal scratch per worker; each pixel's estimate depends on the
+/// pixel alone, so the bits do not depend on the thread count.
+pub(super) fn trace_evaluated(
+    bvh: &SceneBvh,
+    gbuffer: &GBuffer,
+    samples: u32,
+    estimate: impl Fn(&mut TraversalScratch, usize, usize, usize) -> (f32, f32) + Sync,
+) -> SoftReference {
+    let n = gbuffer.pixel_count();
+    let w = gbuffer.width as usize;
+    let mut visibility = vec![0f32; n];
+    let mut std_error = vec![0f32; n];
+    visibility.par_chunks_mut(w).zip(std_error.par_chunks_mut(w)).enumerate().for_each_init(
+        || bvh.scratch(),
+        |scratch, (y, (vis, err))| {
+            for x in 0..w {
+                let i = y * w + x;
+                if gbuffer.class[i] == PixelClass::Evaluated {
+                    (vis[x], err[x]) = estimate(scratch, x, y, i);
+                }
+            }
+        },
+    );
+    SoftReference { width: gbuffer.width, height: gbuffer.height, visibility, std_error, samples }
 }
 
 impl SoftReference {
