@@ -2,7 +2,7 @@
 //!
 //! Data flows one way: `scene` → `trace` (BVH, G-buffer, reference) and `raster` (light
 //! projection, depth layers) → `technique` (visibility per G-buffer sample) → `metrics` →
-//! `report`. `plan` expands a sweep into runs and schedules the shared work; `cli` parses
+//! `report`. `verify` checks the reference against exact predicates. `plan` expands a sweep into runs and schedules the shared work; `cli` parses
 //! arguments only.
 
 pub mod atomic_file;
@@ -14,3 +14,4 @@ pub mod report;
 pub mod scene;
 pub mod technique;
 pub mod trace;
+pub mod verify;

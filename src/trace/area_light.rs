@@ -10,14 +10,15 @@
 //! The unit square is split into n×n strata, each jittered by a hash of (pixel, stratum) (never
 //! by a generator's state, so the bits do not depend on the thread count) and mapped to the unit
 //! disk by Shirley & Chiu's concentric map, which keeps strata compact. Origins are offset as in
-//! the hard reference. A light sample below the receiver's tangent plane (N·ω ≤ 0) counts as
+//! the hard reference (shadow_ray.rs): the ray never tests its own triangle and accepts only hits
+//! certainly in front of its origin. A light sample below the receiver's tangent plane (N·ω ≤ 0) counts as
 //! occluded: the receiver's own surface hides it. The standard error is √(p(1 − p)/(N − 1)),
 //! that of N independent samples; stratification makes the true error smaller, so it is an
 //! upper bound that falls as 1/√N on penumbra pixels.
 
 use super::bvh::SceneBvh;
 use super::gbuffer::GBuffer;
-use super::offset::offset_ray_origin;
+use super::shadow_ray::ShadowRay;
 use super::sampling::{concentric_disk, jittered_stratum, orthonormal_frame};
 use super::soft_reference::{SoftReference, mean_and_std_error, trace_evaluated};
 use crate::scene::{Light, LightKind};
@@ -91,9 +92,8 @@ pub fn trace_area_light_reference(
     let emitter = emitter(light, grid)?;
     let m = grid * grid;
     Ok(trace_evaluated(bvh, gbuffer, m, |scratch, _, _, i| {
-        let (p, normal) = (gbuffer.position[i], gbuffer.normal[i]);
-        let origin = offset_ray_origin(p, normal);
-        let (p64, n64, o64) = (p.as_dvec3(), normal.as_dvec3(), origin.as_dvec3());
+        let point = gbuffer.surface_point(i);
+        let (p64, n64) = (point.position.as_dvec3(), point.normal.as_dvec3());
         let mut hits = 0u32;
         for k in 0..m {
             let (u, v) = jittered_stratum(i as u64, k, grid, LIGHT_SALT);
@@ -105,13 +105,11 @@ pub fn trace_area_light_reference(
                     let r2k = (dx * dx + dy * dy) * one_minus_cos;
                     let sin_over_r = (one_minus_cos * (2.0 - r2k)).sqrt();
                     let dir = ((1.0 - r2k) * axis + sin_over_r * (dx * tangent + dy * bitangent)).normalize();
-                    n64.dot(dir) > 0.0 && !bvh.occluded(scratch, origin, dir.as_vec3(), 0.0, f32::INFINITY)
+                    n64.dot(dir) > 0.0 && bvh.shadow_occluder(scratch, &ShadowRay::along(&point, dir)).is_none()
                 }
                 Emitter::Disk { centre, tangent, bitangent, radius } => {
                     let q = centre + radius * (dx * tangent + dy * bitangent);
-                    let to = q - o64;
-                    n64.dot(q - p64) > 0.0
-                        && !bvh.occluded(scratch, origin, to.normalize().as_vec3(), 0.0, to.length() as f32)
+                    n64.dot(q - p64) > 0.0 && bvh.shadow_occluder(scratch, &ShadowRay::to_point(&point, q)).is_none()
                 }
             };
             hits += unoccluded as u32;

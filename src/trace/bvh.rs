@@ -12,6 +12,7 @@
 //!   sized to the tree's depth;
 //! - `Triangle::compute_barycentric` is wrong: barycentrics come from the watertight test.
 
+use super::shadow_ray::ShadowRay;
 use super::simd4::{F4, Span4};
 use super::watertight::WatertightRay;
 use crate::scene::Scene;
@@ -207,6 +208,38 @@ impl SceneBvh {
             );
         }
         hit
+    }
+}
+
+impl SceneBvh {
+    /// The scene id of a triangle that occludes a shadow ray (any one, not the nearest), or
+    /// `None`: a hit counts when its distance is certainly positive and at most `tmax`, and
+    /// the ray's own triangle is never tested (shadow_ray.rs).
+    pub fn shadow_occluder(&self, scratch: &mut TraversalScratch, shadow: &ShadowRay) -> Option<u32> {
+        let ray = WatertightRay::new(shadow.origin.into(), shadow.direction.into());
+        let node_ray = NodeRay::new(ray.origin, ray.direction);
+        self.reset(scratch, ray.direction);
+        let state = scratch;
+        let mut node: &CwBvhNode;
+        let mut occluder = None;
+        'search: {
+            obvhs::traverse!(
+                self.bvh,
+                node,
+                state,
+                intersect_node(node, &node_ray, 0.0, shadow.tmax, state.oct_inv4),
+                {
+                    let i = state.primitive_id as usize;
+                    let id = self.scene_ids[i];
+                    let [v0, v1, v2] = self.triangles[i];
+                    if id != shadow.skip_triangle && ray.intersect_beyond_error(v0, v1, v2, shadow.tmax).is_some() {
+                        occluder = Some(id);
+                        break 'search;
+                    }
+                }
+            );
+        }
+        occluder
     }
 }
 

@@ -39,7 +39,7 @@ pub fn trace_coverage_reference(
                 continue;
             };
             surfaces += 1;
-            if s.class == PixelClass::Evaluated && hard_visible(bvh, scratch, s.position, s.normal, light) {
+            if s.class == PixelClass::Evaluated && hard_visible(bvh, scratch, &s.point, light) {
                 hits += 1;
             }
         }
@@ -48,7 +48,7 @@ pub fn trace_coverage_reference(
         } else {
             // Only possible if no sub-ray reproduces the centre hit: fall back to the centre's
             // hard visibility.
-            let lit = hard_visible(bvh, scratch, gbuffer.position[i], gbuffer.normal[i], light);
+            let lit = hard_visible(bvh, scratch, &gbuffer.surface_point(i), light);
             (lit as u32 as f32, 0.0)
         }
     })

@@ -2,6 +2,7 @@
 //! class. The reference and every technique evaluate exactly these surface points.
 
 use super::bvh::{SceneBvh, TraversalScratch};
+use super::shadow_ray::{SurfacePoint, position_error};
 use super::watertight::barycentric_point;
 use crate::scene::{Camera, Light, LightKind, Scene};
 use glam::{DVec3, Vec3};
@@ -28,6 +29,8 @@ pub struct GBuffer {
     pub class: Vec<PixelClass>,
     /// Surface point, from the hit triangle's vertices and barycentrics.
     pub position: Vec<Vec3>,
+    /// Per-axis bound on the rounding error of `position` (`trace::position_error`).
+    pub position_error: Vec<Vec3>,
     /// Unit geometric normal, turned towards the camera.
     pub normal: Vec<Vec3>,
     /// Scene triangle id (u32::MAX for background).
@@ -45,6 +48,16 @@ impl GBuffer {
 
     pub fn count(&self, class: PixelClass) -> usize {
         self.class.iter().filter(|&&c| c == class).count()
+    }
+
+    /// The surface point of pixel `i`, as the shadow test takes it.
+    pub fn surface_point(&self, i: usize) -> SurfacePoint {
+        SurfacePoint {
+            position: self.position[i],
+            error: self.position_error[i],
+            normal: self.normal[i],
+            triangle: self.triangle[i],
+        }
     }
 }
 
@@ -73,11 +86,9 @@ pub fn inside_light(light: &Light, p: DVec3) -> bool {
 /// The surface seen along one primary ray, classified for a light.
 pub(super) struct SurfaceSample {
     pub class: PixelClass,
-    /// From the hit triangle's vertices and barycentrics (not origin + t·dir).
-    pub position: Vec3,
-    /// Unit geometric normal, turned towards the ray's origin.
-    pub normal: Vec3,
-    pub triangle: u32,
+    /// From the hit triangle's vertices and barycentrics (not origin + t·dir), with its
+    /// error bound; the normal is the geometric one, turned towards the ray's origin.
+    pub point: SurfacePoint,
 }
 
 /// The closest hit of a primary ray and its class (`None`: background). Shared by the G-buffer
@@ -107,7 +118,13 @@ pub(super) fn primary_sample(
     } else {
         PixelClass::Evaluated
     };
-    Some(SurfaceSample { class, position: p32, normal: ng.as_vec3(), triangle: hit.triangle })
+    let point = SurfacePoint {
+        position: p32,
+        error: position_error(p32, verts),
+        normal: ng.as_vec3(),
+        triangle: hit.triangle,
+    };
+    Some(SurfaceSample { class, point })
 }
 
 impl GBuffer {
@@ -118,34 +135,38 @@ impl GBuffer {
         let basis = camera.basis();
         let mut class = vec![PixelClass::Background; n];
         let mut position = vec![Vec3::ZERO; n];
+        let mut position_error = vec![Vec3::ZERO; n];
         let mut normal = vec![Vec3::ZERO; n];
         let mut triangle = vec![u32::MAX; n];
         let mut object = vec![u32::MAX; n];
         class
             .par_chunks_mut(w as usize)
             .zip(position.par_chunks_mut(w as usize))
+            .zip(position_error.par_chunks_mut(w as usize))
             .zip(normal.par_chunks_mut(w as usize))
             .zip(triangle.par_chunks_mut(w as usize))
             .zip(object.par_chunks_mut(w as usize))
             .enumerate()
             .for_each_init(
                 || bvh.scratch(),
-                |scratch, (y, ((((cls, pos), nrm), tri), obj))| {
+                |scratch, (y, (((((cls, pos), err), nrm), tri), obj))| {
                     for x in 0..w as usize {
                         let dir = camera.pixel_direction(&basis, x as u32, y as u32);
                         let Some(sample) = primary_sample(scene, bvh, scratch, camera.position, dir, light)
                         else {
                             continue;
                         };
+                        let p = sample.point;
                         cls[x] = sample.class;
-                        pos[x] = sample.position;
-                        nrm[x] = sample.normal;
-                        tri[x] = sample.triangle;
-                        obj[x] = scene.triangle_object[sample.triangle as usize];
+                        pos[x] = p.position;
+                        err[x] = p.error;
+                        nrm[x] = p.normal;
+                        tri[x] = p.triangle;
+                        obj[x] = scene.triangle_object[p.triangle as usize];
                     }
                 },
             );
         let evaluated = (0..n as u32).filter(|&i| class[i as usize] == PixelClass::Evaluated).collect();
-        GBuffer { width: w, height: h, class, position, normal, triangle, object, evaluated }
+        GBuffer { width: w, height: h, class, position, position_error, normal, triangle, object, evaluated }
     }
 }

@@ -10,9 +10,9 @@ mod bvh;
 mod cache;
 mod coverage;
 mod gbuffer;
-mod offset;
 mod reference;
 mod sampling;
+mod shadow_ray;
 mod simd4;
 mod soft_reference;
 mod watertight;
@@ -23,10 +23,10 @@ pub use bvh::{Hit, SceneBvh, TraversalScratch};
 pub use cache::{CachedReference, ReferenceCache, reference_digest, soft_reference_digest};
 pub use coverage::trace_coverage_reference;
 pub use gbuffer::{GBuffer, PixelClass};
-pub use offset::offset_ray_origin;
-pub use reference::{HardReference, MaskCode, trace_hard_reference};
+pub use shadow_ray::{ShadowRay, SurfacePoint, offset_ray_origin, position_error};
+pub use reference::{HardReference, MaskCode, hard_shadow_ray, trace_hard_reference};
 pub use soft_reference::{SoftKind, SoftReference};
 pub use watertight::{RayTriangleHit, WatertightRay};
 
 /// Bumped whenever a change to the tracer could change a reference bit.
-pub const TRACER_VERSION: &str = "shadowtruth-tracer/1";
+pub const TRACER_VERSION: &str = "shadowtruth-tracer/2";

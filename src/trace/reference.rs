@@ -1,11 +1,11 @@
 //! The exact hard reference: a pixel is lit when the segment from its surface point to the light
-//! hits no triangle. The origin is offset by `offset_ray_origin`, never by a scene epsilon.
+//! meets no triangle other than the ones that contain the point (docs/reference.md). The shadow
+//! ray cannot hit its own surface (shadow_ray.rs); no scene-dependent epsilon enters.
 
 use super::bvh::{SceneBvh, TraversalScratch};
 use super::gbuffer::{GBuffer, PixelClass, to_light};
-use super::offset::offset_ray_origin;
+use super::shadow_ray::{ShadowRay, SurfacePoint};
 use crate::scene::{Light, LightKind};
-use glam::Vec3;
 use rayon::prelude::*;
 
 /// The grey levels of a reference mask PNG (DESIGN.md, `shadowtruth reference`).
@@ -55,25 +55,18 @@ impl HardReference {
     }
 }
 
-/// Whether the segment from surface point `p` (unit geometric normal `n`, on the side the shadow
-/// ray leaves towards) to the light's centre hits no triangle. Shared by the hard reference and
-/// the sub-pixel samples of the pixel-coverage reference.
-pub(super) fn hard_visible(
-    bvh: &SceneBvh,
-    scratch: &mut TraversalScratch,
-    p: Vec3,
-    n: Vec3,
-    light: &Light,
-) -> bool {
-    let origin = offset_ray_origin(p, n);
-    let (dir, tmax) = match &light.kind {
-        LightKind::Directional { .. } => (to_light(light, p.as_dvec3()).as_vec3(), f32::INFINITY),
-        LightKind::Spot { position, .. } => {
-            let to = position.as_dvec3() - origin.as_dvec3();
-            (to.normalize().as_vec3(), to.length() as f32)
-        }
-    };
-    !bvh.occluded(scratch, origin, dir, 0.0, tmax)
+/// The shadow ray from a surface point to the light's centre.
+pub fn hard_shadow_ray(point: &SurfacePoint, light: &Light) -> ShadowRay {
+    match &light.kind {
+        LightKind::Directional { .. } => ShadowRay::along(point, to_light(light, point.position.as_dvec3())),
+        LightKind::Spot { position, .. } => ShadowRay::to_point(point, position.as_dvec3()),
+    }
+}
+
+/// Whether the segment from a surface point to the light's centre meets no other triangle.
+/// Shared by the hard reference and the sub-pixel samples of the pixel-coverage reference.
+pub(super) fn hard_visible(bvh: &SceneBvh, scratch: &mut TraversalScratch, point: &SurfacePoint, light: &Light) -> bool {
+    bvh.shadow_occluder(scratch, &hard_shadow_ray(point, light)).is_none()
 }
 
 /// Traces one shadow ray per evaluated pixel.
@@ -88,7 +81,7 @@ pub fn trace_hard_reference(bvh: &SceneBvh, gbuffer: &GBuffer, light: &Light) ->
                 if gbuffer.class[i] != PixelClass::Evaluated {
                     continue;
                 }
-                *out = hard_visible(bvh, scratch, gbuffer.position[i], gbuffer.normal[i], light) as u8;
+                *out = hard_visible(bvh, scratch, &gbuffer.surface_point(i), light) as u8;
             }
         },
     );

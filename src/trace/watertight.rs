@@ -1,6 +1,12 @@
 //! Watertight ray–triangle intersection (Woop, Benthin & Wald, "Watertight Ray/Triangle
 //! Intersection", JCGT 2(1), 2013). A ray through a shared edge or vertex hits at least one of
 //! the triangles that share it, which obvhs's own Möller–Trumbore test does not guarantee.
+//!
+//! Shadow rays use `intersect_beyond_error`, which also bounds the rounding error of the hit
+//! distance (Pharr, Jakob & Humphreys, *Physically Based Rendering*, 4th ed., §6.8.4) and
+//! accepts a hit only when its distance is positive beyond that bound: a hit that may lie behind
+//! the origin is never reported. docs/reference.md explains why this, with the origin offset of
+//! `shadow_ray.rs`, makes a surface unable to shadow itself.
 
 use glam::{DVec3, Vec3A};
 
@@ -24,6 +30,23 @@ pub struct RayTriangleHit {
     pub barycentric: [f32; 3],
 }
 
+/// A triangle in the ray's sheared frame: the ray runs along +z through (0, 0).
+struct Sheared {
+    /// x, y of the vertices A, B, C.
+    x: [f32; 3],
+    y: [f32; 3],
+    /// z of the vertices scaled by `sz`: the hit distance is their barycentric mean.
+    z: [f32; 3],
+    /// Edge functions: twice the signed areas opposite A, B and C; the unnormalised barycentrics.
+    e: [f32; 3],
+}
+
+/// γ(n) of Higham: n f32 roundings (unit roundoff u = 2⁻²⁴) compound to at most γ(n)·|x|.
+const fn gamma(n: i32) -> f64 {
+    let u = f32::EPSILON as f64 * 0.5;
+    n as f64 * u / (1.0 - n as f64 * u)
+}
+
 impl WatertightRay {
     pub fn new(origin: Vec3A, direction: Vec3A) -> Self {
         let abs = direction.abs();
@@ -44,54 +67,75 @@ impl WatertightRay {
         WatertightRay { origin, direction, kx, ky, kz, sx: direction[kx] * sz, sy: direction[ky] * sz, sz }
     }
 
-    /// The hit with t in the closed interval [tmin, tmax], from either side of the triangle.
-    #[inline]
-    pub fn intersect(&self, v0: Vec3A, v1: Vec3A, v2: Vec3A, tmin: f32, tmax: f32) -> Option<RayTriangleHit> {
+    #[inline(always)]
+    fn shear(&self, v0: Vec3A, v1: Vec3A, v2: Vec3A) -> Sheared {
         let (kx, ky, kz) = (self.kx, self.ky, self.kz);
         let a = v0 - self.origin;
         let b = v1 - self.origin;
         let c = v2 - self.origin;
-        let ax = a[kx] - self.sx * a[kz];
-        let ay = a[ky] - self.sy * a[kz];
-        let bx = b[kx] - self.sx * b[kz];
-        let by = b[ky] - self.sy * b[kz];
-        let cx = c[kx] - self.sx * c[kz];
-        let cy = c[ky] - self.sy * c[kz];
-        let u = cx * by - cy * bx;
-        let v = ax * cy - ay * cx;
-        let w = bx * ay - by * ax;
-        // An edge function that is exactly zero in f32 (a ray through an edge or vertex, or a
-        // product that underflowed on a tiny triangle) sends the whole test to f64, so that the
-        // two triangles sharing an edge agree on the sign.
-        if u == 0.0 || v == 0.0 || w == 0.0 {
-            let z = [self.sz * a[kz], self.sz * b[kz], self.sz * c[kz]];
-            return intersect_f64([ax, ay, bx, by, cx, cy], z, tmin, tmax);
-        }
-        if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
-            return None;
-        }
-        let det = u + v + w;
-        if det == 0.0 {
-            return None;
-        }
-        let az = self.sz * a[kz];
-        let bz = self.sz * b[kz];
-        let cz = self.sz * c[kz];
-        let t_scaled = u * az + v * bz + w * cz;
-        // A division (not a multiplication by 1/det) keeps t exact when the hit distance is.
-        let t = t_scaled / det;
-        let inv_det = 1.0 / det;
-        if !(t >= tmin && t <= tmax) {
-            return None;
-        }
-        Some(RayTriangleHit { t, barycentric: [u * inv_det, v * inv_det, w * inv_det] })
+        let x = [a[kx] - self.sx * a[kz], b[kx] - self.sx * b[kz], c[kx] - self.sx * c[kz]];
+        let y = [a[ky] - self.sy * a[kz], b[ky] - self.sy * b[kz], c[ky] - self.sy * c[kz]];
+        let e = [x[2] * y[1] - y[2] * x[1], x[0] * y[2] - y[0] * x[2], x[1] * y[0] - y[1] * x[0]];
+        Sheared { x, y, z: [self.sz * a[kz], self.sz * b[kz], self.sz * c[kz]], e }
+    }
+
+    /// The hit with t in the closed interval [tmin, tmax], from either side of the triangle.
+    #[inline]
+    pub fn intersect(&self, v0: Vec3A, v1: Vec3A, v2: Vec3A, tmin: f32, tmax: f32) -> Option<RayTriangleHit> {
+        let s = self.shear(v0, v1, v2);
+        let solved = solve(&s)?;
+        (solved.hit.t >= tmin && solved.hit.t <= tmax).then_some(solved.hit)
+    }
+
+    /// The distance of a hit whose distance is certainly positive (beyond the rounding bound of
+    /// the test) and at most `tmax`: what a shadow ray counts as an occluder.
+    #[inline]
+    pub fn intersect_beyond_error(&self, v0: Vec3A, v1: Vec3A, v2: Vec3A, tmax: f32) -> Option<f32> {
+        let s = self.shear(v0, v1, v2);
+        let solved = solve(&s)?;
+        let t = solved.hit.t;
+        (t <= tmax && t as f64 > distance_error_bound(&s, &solved)).then_some(t)
     }
 }
 
-/// The watertight test in f64 on the sheared vertices (x, y of A, B, C) and their scaled z.
+/// A hit with the edge functions it came from (in the precision that decided it).
+struct Solved {
+    hit: RayTriangleHit,
+    max_abs_edge: f64,
+    det: f64,
+}
+
+/// The hit of the ray with a sheared triangle, if the edge functions agree in sign.
+#[inline(always)]
+fn solve(s: &Sheared) -> Option<Solved> {
+    let [u, v, w] = s.e;
+    // An edge function that is exactly zero in f32 (a ray through an edge or vertex, or a
+    // product that underflowed on a tiny triangle) sends the whole test to f64, so that the
+    // two triangles sharing an edge agree on the sign.
+    if u == 0.0 || v == 0.0 || w == 0.0 {
+        return solve_f64(s);
+    }
+    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        return None;
+    }
+    let det = u + v + w;
+    if det == 0.0 {
+        return None;
+    }
+    let t_scaled = u * s.z[0] + v * s.z[1] + w * s.z[2];
+    // A division (not a multiplication by 1/det) keeps t exact when the hit distance is.
+    let t = t_scaled / det;
+    let inv_det = 1.0 / det;
+    let max_abs_edge = u.abs().max(v.abs()).max(w.abs()) as f64;
+    let hit = RayTriangleHit { t, barycentric: [u * inv_det, v * inv_det, w * inv_det] };
+    Some(Solved { hit, max_abs_edge, det: det as f64 })
+}
+
+/// The watertight test in f64 on the sheared vertices.
 #[cold]
-fn intersect_f64(xy: [f32; 6], z: [f32; 3], tmin: f32, tmax: f32) -> Option<RayTriangleHit> {
-    let [ax, ay, bx, by, cx, cy] = xy.map(|x| x as f64);
+fn solve_f64(s: &Sheared) -> Option<Solved> {
+    let [ax, bx, cx] = s.x.map(|x| x as f64);
+    let [ay, by, cy] = s.y.map(|y| y as f64);
     let u = cx * by - cy * bx;
     let v = ax * cy - ay * cx;
     let w = bx * ay - by * ax;
@@ -102,11 +146,26 @@ fn intersect_f64(xy: [f32; 6], z: [f32; 3], tmin: f32, tmax: f32) -> Option<RayT
     if det == 0.0 {
         return None;
     }
-    let t = ((u * z[0] as f64 + v * z[1] as f64 + w * z[2] as f64) / det) as f32;
-    if !(t >= tmin && t <= tmax) {
-        return None;
-    }
-    Some(RayTriangleHit { t, barycentric: [(u / det) as f32, (v / det) as f32, (w / det) as f32] })
+    let t = ((u * s.z[0] as f64 + v * s.z[1] as f64 + w * s.z[2] as f64) / det) as f32;
+    let hit = RayTriangleHit { t, barycentric: [(u / det) as f32, (v / det) as f32, (w / det) as f32] };
+    Some(Solved { hit, max_abs_edge: u.abs().max(v.abs()).max(w.abs()), det })
+}
+
+/// A bound on |t − t_exact|, where t_exact is the distance along this ray (its f32 origin and
+/// direction taken as exact) to the plane of the f32 triangle: pbrt-v4's error analysis of the
+/// watertight test (§6.8.4), term for term. It bounds the rounding of the translation to the
+/// origin, the shear, the edge functions and the final division, with the edge functions of
+/// whichever precision decided the hit (the f64 path rounds less, so the bound holds for it).
+/// Evaluated in f64 so that the bound itself neither rounds down nor underflows.
+#[inline(always)]
+fn distance_error_bound(s: &Sheared, solved: &Solved) -> f64 {
+    let max3 = |v: [f32; 3]| v[0].abs().max(v[1].abs()).max(v[2].abs()) as f64;
+    let (max_x, max_y, max_z, max_e) = (max3(s.x), max3(s.y), max3(s.z), solved.max_abs_edge);
+    let delta_z = gamma(3) * max_z;
+    let delta_x = gamma(5) * (max_x + max_z);
+    let delta_y = gamma(5) * (max_y + max_z);
+    let delta_e = 2.0 * (gamma(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    3.0 * (gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) / solved.det.abs()
 }
 
 /// The point of a hit from the triangle's vertices and barycentrics, in f64 (not origin + t·dir).
