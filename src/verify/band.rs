@@ -11,6 +11,7 @@
 //! perturbation misses it; otherwise it is *fragile*: its exact answer lies inside the band and
 //! either answer is accepted. Computed in f64, whose rounding (2⁻⁵³) is far below every term.
 
+use crate::trace::SurfacePoint;
 use glam::{DVec2, DVec3, Vec3};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -38,10 +39,11 @@ fn gamma(n: f64) -> f64 {
 }
 
 impl Frame {
-    /// `direction` need not be unit; `error` is the per-axis bound on p's rounding
-    /// (`trace::position_error`), from which r_p = 2·Σ error (the offset moves the origin by
-    /// |n|·error ≤ Σ error, plus one ulp per axis, itself below the error).
-    pub fn new(p: Vec3, error: Vec3, direction: DVec3, length: f64) -> Frame {
+    /// `direction` need not be unit. r_p bounds how far the tracer's origin lies from p: the
+    /// offset moves it by |n|·error along the unit normal n, then by at most one ulp per axis
+    /// (2⁻²³·|p|, doubled for margin).
+    pub fn new(point: &SurfacePoint, direction: DVec3, length: f64) -> Frame {
+        let p = point.position;
         let d = direction.normalize();
         let tangent = d.any_orthonormal_vector();
         Frame {
@@ -50,7 +52,7 @@ impl Frame {
             tangent,
             bitangent: d.cross(tangent),
             length,
-            r_p: 2.0 * (error.x + error.y + error.z) as f64,
+            r_p: point.normal.abs().as_dvec3().dot(point.error.as_dvec3()) + 2f64.powi(-22) * p.abs().as_dvec3().element_sum(),
         }
     }
 
