@@ -118,10 +118,10 @@ mod tests {
 
     #[test]
     fn scaled_integers_are_exact_at_both_ends_of_the_range() {
-        assert_eq!(scaled(1.0), BigInt::from(1) << 149);
-        assert_eq!(scaled(-0.5), -(BigInt::from(1) << 148));
+        assert_eq!(scaled(1.0), BigInt::from(1) << 149usize);
+        assert_eq!(scaled(-0.5), -(BigInt::from(1) << 148usize));
         assert_eq!(scaled(f32::from_bits(1)), BigInt::from(1));
-        assert_eq!(scaled(f32::MAX), BigInt::from(0xff_ffffu32) << (127 - 23 + 149));
+        assert_eq!(scaled(f32::MAX), BigInt::from(0xff_ffffu32) << (127usize - 23 + 149));
         assert_eq!(scaled(0.0), BigInt::zero());
         assert_eq!(scaled(-0.0), BigInt::zero());
     }
