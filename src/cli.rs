@@ -666,7 +666,10 @@ fn print_verification(scene: &Path, v: &ViewVerification) {
     println!("    outside the error band      {:>9}", v.disagree_outside_band);
     println!("  exact answer inside the band  {:>9} ({:.4} %)", v.in_band, pct(v.in_band));
     if v.inconsistent > 0 {
-        println!("  ADJUDICATOR INCONSISTENT on {} pixels: the exact test and the band disagree", v.inconsistent);
+        println!(
+            "  ADJUDICATOR INCONSISTENT on {} pixels: the exact test and the band disagree",
+            v.inconsistent
+        );
     }
     for c in &v.cases {
         let verdict = |shadowed: bool| if shadowed { "shadowed" } else { "lit" };

@@ -9,7 +9,9 @@ use common::scene_from_json;
 use glam::{DVec3, Vec3, vec3};
 use serde_json::{Value, json};
 use shadowtruth::scene::{Object, Scene};
-use shadowtruth::trace::{GBuffer, PixelClass, SceneBvh, trace_area_light_reference, trace_coverage_reference, trace_hard_reference};
+use shadowtruth::trace::{
+    GBuffer, PixelClass, SceneBvh, trace_area_light_reference, trace_coverage_reference, trace_hard_reference,
+};
 use shadowtruth::verify::{Adjudicator, PixelSelection, ViewVerification, verify_view};
 
 fn with_threads<T: Send>(n: usize, f: impl FnOnce() -> T + Send) -> T {
@@ -25,15 +27,30 @@ fn check(case: &str, scene: &Scene, occluded: bool, max_band_fraction: f64) -> V
     for threads in [1, 2] {
         for camera in &scene.cameras {
             for light in &scene.lights {
-                let v = with_threads(threads, || verify_view(scene, &bvh, &adjudicator, camera, light, PixelSelection::All));
-                let what = format!("{case}, camera {}, light {}, {threads} thread(s)", camera.name, light.name);
+                let v = with_threads(threads, || {
+                    verify_view(scene, &bvh, &adjudicator, camera, light, PixelSelection::All)
+                });
+                let what =
+                    format!("{case}, camera {}, light {}, {threads} thread(s)", camera.name, light.name);
                 assert_eq!(v.inconsistent, 0, "{what}: the adjudicator contradicts itself: {:?}", v.cases);
-                assert_eq!(v.disagree_outside_band, 0, "{what}: disagreements outside the band: {:#?}", v.cases);
+                assert_eq!(
+                    v.disagree_outside_band, 0,
+                    "{what}: disagreements outside the band: {:#?}",
+                    v.cases
+                );
                 assert!(v.evaluated > 500, "{what}: only {} evaluated pixels", v.evaluated);
                 assert_eq!(v.checked, v.evaluated, "{what}: every pixel is checked");
                 let band = v.in_band as f64 / v.checked as f64;
-                println!("{what}: band {:.4} %, {} disagreements inside it", 100.0 * band, v.disagree_in_band);
-                assert!(band <= max_band_fraction, "{what}: {:.4} % of the pixels lie in the band", 100.0 * band);
+                println!(
+                    "{what}: band {:.4} %, {} disagreements inside it",
+                    100.0 * band,
+                    v.disagree_in_band
+                );
+                assert!(
+                    band <= max_band_fraction,
+                    "{what}: {:.4} % of the pixels lie in the band",
+                    100.0 * band
+                );
                 if threads == 1 {
                     first.push(v);
                 }
@@ -63,7 +80,12 @@ fn check(case: &str, scene: &Scene, occluded: bool, max_band_fraction: f64) -> V
 fn append(scene: &mut Scene, name: &str, triangles: Vec<[Vec3; 3]>, closed: bool) {
     let first = scene.triangles.len() as u32;
     let object = scene.objects.len() as u32;
-    scene.objects.push(Object { name: name.into(), closed, first_triangle: first, triangle_count: triangles.len() as u32 });
+    scene.objects.push(Object {
+        name: name.into(),
+        closed,
+        first_triangle: first,
+        triangle_count: triangles.len() as u32,
+    });
     scene.triangle_object.extend(std::iter::repeat_n(object, triangles.len()));
     scene.triangles.extend(triangles);
 }
@@ -74,7 +96,15 @@ fn camera(name: &str, position: DVec3, look_at: DVec3, width: u32, height: u32) 
 }
 
 /// A spot light `distance` from `target` at `elevation_deg`, aimed at it.
-fn spot(name: &str, target: DVec3, distance: f64, elevation_deg: f64, azimuth_deg: f64, near: f64, far: f64) -> Value {
+fn spot(
+    name: &str,
+    target: DVec3,
+    distance: f64,
+    elevation_deg: f64,
+    azimuth_deg: f64,
+    near: f64,
+    far: f64,
+) -> Value {
     let (e, a) = (elevation_deg.to_radians(), azimuth_deg.to_radians());
     let position = target + distance * DVec3::new(e.cos() * a.cos(), e.sin(), e.cos() * a.sin());
     json!({ "name": name, "type": "spot", "position": position.to_array(), "direction": (target - position).to_array(),
@@ -100,12 +130,18 @@ fn sea_and_island(lights: Vec<Value>) -> Scene {
         camera("shore", DVec3::new(-60.0, 40.0, 140.0), DVec3::ZERO, 160, 120),
         camera("open_sea", DVec3::new(100.0, 30.0, -110.0), DVec3::ZERO, 160, 120),
     ];
-    let mut s = scene("sea_and_island", json!([{ "name": "sea", "shape": { "type": "plane", "size": [800, 800] } }]), cameras, lights);
+    let mut s = scene(
+        "sea_and_island",
+        json!([{ "name": "sea", "shape": { "type": "plane", "size": [800, 800] } }]),
+        cameras,
+        lights,
+    );
     let n = 161;
     let height = |x: f64, z: f64| {
         let r2 = (x * x + z * z) / (70.0 * 70.0);
         let falloff = (1.0 - r2).max(0.0);
-        36.0 * falloff - 6.0 + falloff * (2.0 * (0.31 * x + 1.3).sin() * (0.27 * z - 0.4).cos() + (0.69 * x + 0.5 * z).sin())
+        36.0 * falloff - 6.0
+            + falloff * (2.0 * (0.31 * x + 1.3).sin() * (0.27 * z - 0.4).cos() + (0.69 * x + 0.5 * z).sin())
     };
     let vertex = |i: usize, j: usize| {
         let (x, z) = (-70.0 + 140.0 * i as f64 / (n - 1) as f64, -70.0 + 140.0 * j as f64 / (n - 1) as f64);
@@ -174,28 +210,49 @@ fn ground_planes_from_10_to_1e5_units_under_lights_from_5_to_85_degrees() {
 #[test]
 fn ground_planes_far_from_the_origin_and_scaled() {
     let lights = |size: f64, at: DVec3| {
-        vec![directional("sun", 35.0, 40.0), spot("spot", at, 0.6 * size, 35.0, 40.0, 0.01 * size, 3.0 * size)]
+        vec![
+            directional("sun", 35.0, 40.0),
+            spot("spot", at, 0.6 * size, 35.0, 40.0, 0.01 * size, 3.0 * size),
+        ]
     };
     // f32 points there are known to 2⁻²⁴ of their magnitude (0.03 units at 1e6): the band
     // widens with the distance from the origin, never the disagreements outside it.
     for (offset, max_band) in [(1e4, 0.005), (1e5, 0.05), (1e6, 0.4)] {
         let at = DVec3::new(offset, 0.25 * offset, -0.5 * offset);
-        check(&format!("ground 10 across at {at}"), &ground_with_box(10.0, at, lights(10.0, at)), true, max_band);
+        check(
+            &format!("ground 10 across at {at}"),
+            &ground_with_box(10.0, at, lights(10.0, at)),
+            true,
+            max_band,
+        );
     }
     for scale in [1e-3, 1e3] {
         let size = 10.0 * scale;
-        check(&format!("ground {size} across"), &ground_with_box(size, DVec3::ZERO, lights(size, DVec3::ZERO)), true, 0.002);
+        check(
+            &format!("ground {size} across"),
+            &ground_with_box(size, DVec3::ZERO, lights(size, DVec3::ZERO)),
+            true,
+            0.002,
+        );
     }
 }
 
 #[test]
 fn a_plane_lit_at_89_99_degrees() {
-    let lights = vec![directional("grazing", 0.01, 10.0), spot("grazing_spot", DVec3::ZERO, 20.0, 0.01, 10.0, 0.1, 60.0)];
+    let lights = vec![
+        directional("grazing", 0.01, 10.0),
+        spot("grazing_spot", DVec3::ZERO, 20.0, 0.01, 10.0, 0.1, 60.0),
+    ];
     let objects = json!([
         { "name": "ground", "shape": { "type": "plane", "size": [20, 20] } },
         { "name": "wall", "shape": { "type": "box", "size": [0.2, 0.5, 3] }, "closed": true, "transform": { "translate": [2, 0.25, 0] } }
     ]);
-    let s = scene("grazing", objects, vec![camera("main", DVec3::new(-6.0, 5.0, 7.0), DVec3::ZERO, 96, 72)], lights);
+    let s = scene(
+        "grazing",
+        objects,
+        vec![camera("main", DVec3::new(-6.0, 5.0, 7.0), DVec3::ZERO, 96, 72)],
+        lights,
+    );
     check("plane lit at 89.99°", &s, true, 0.01);
 }
 
@@ -217,7 +274,8 @@ fn sliver_triangles_of_aspect_ratio_1e4() {
     let mut ground = Vec::new();
     for k in 0..strips {
         let x0 = -0.5 + k as f32 * w;
-        let (a, b, c, d) = (vec3(x0, 0.0, -5.0), vec3(x0 + w, 0.0, -5.0), vec3(x0, 0.0, 5.0), vec3(x0 + w, 0.0, 5.0));
+        let (a, b, c, d) =
+            (vec3(x0, 0.0, -5.0), vec3(x0 + w, 0.0, -5.0), vec3(x0, 0.0, 5.0), vec3(x0 + w, 0.0, 5.0));
         ground.push([a, c, d]);
         ground.push([a, d, b]);
     }
@@ -232,7 +290,8 @@ fn sliver_triangles_of_aspect_ratio_1e4() {
     let mut roof = Vec::new();
     for k in 0..2000 {
         let z0 = -1.0 + k as f32 * w;
-        let (a, b, c, d) = (vec3(-1.0, 1.0, z0), vec3(1.0, 1.0, z0), vec3(-1.0, 1.0, z0 + w), vec3(1.0, 1.0, z0 + w));
+        let (a, b, c, d) =
+            (vec3(-1.0, 1.0, z0), vec3(1.0, 1.0, z0), vec3(-1.0, 1.0, z0 + w), vec3(1.0, 1.0, z0 + w));
         roof.push([a, c, d]);
         roof.push([a, d, b]);
     }
@@ -252,10 +311,16 @@ fn closed_meshes_with_shared_edges_have_no_cracks() {
           "transform": { "translate": centre.to_array() } }
     ]);
     let lights = vec![directional("sun", 70.0, 20.0), spot("spot", DVec3::ZERO, 6.0, 75.0, 20.0, 0.5, 20.0)];
-    let s = scene("ball", objects, vec![camera("main", DVec3::new(-3.0, 6.0, 5.0), DVec3::new(0.3, 0.0, 0.0), 128, 96)], lights);
+    let s = scene(
+        "ball",
+        objects,
+        vec![camera("main", DVec3::new(-3.0, 6.0, 5.0), DVec3::new(0.3, 0.0, 0.0), 128, 96)],
+        lights,
+    );
     check("closed sphere", &s, true, 0.002);
     let ball = &s.objects[1];
-    let inscribed = s.triangles[ball.first_triangle as usize..(ball.first_triangle + ball.triangle_count) as usize]
+    let inscribed = s.triangles
+        [ball.first_triangle as usize..(ball.first_triangle + ball.triangle_count) as usize]
         .iter()
         .map(|t| {
             let (a, b, c) = (t[0].as_dvec3(), t[1].as_dvec3(), t[2].as_dvec3());
@@ -275,7 +340,9 @@ fn closed_meshes_with_shared_edges_have_no_cracks() {
             }
             let p = g.position[i].as_dvec3();
             let (dir, length) = match &light.kind {
-                shadowtruth::scene::LightKind::Directional { direction } => (-direction.as_dvec3().normalize(), f64::INFINITY),
+                shadowtruth::scene::LightKind::Directional { direction } => {
+                    (-direction.as_dvec3().normalize(), f64::INFINITY)
+                }
                 shadowtruth::scene::LightKind::Spot { position, .. } => {
                     let d = position.as_dvec3() - p;
                     (d.normalize(), d.length())
@@ -284,7 +351,11 @@ fn closed_meshes_with_shared_edges_have_no_cracks() {
             let along = (centre - p).dot(dir).clamp(0.0, length);
             if (p + dir * along - centre).length() < 0.999 * inscribed {
                 through_ball += 1;
-                assert_eq!(r.lit[i], 0, "light {}: pixel {i}'s segment passes through the ball but is lit", light.name);
+                assert_eq!(
+                    r.lit[i], 0,
+                    "light {}: pixel {i}'s segment passes through the ball but is lit",
+                    light.name
+                );
             }
         }
     }
@@ -303,7 +374,12 @@ fn coplanar_overlapping_surfaces_do_not_shadow_each_other() {
         { "name": "post", "shape": { "type": "box", "size": [0.3, 2, 0.3] }, "closed": true, "transform": { "translate": [-1, 1, 1] } }
     ]);
     let lights = vec![directional("sun", 40.0, 30.0), spot("spot", DVec3::ZERO, 7.0, 45.0, 60.0, 0.5, 25.0)];
-    let s = scene("coplanar", objects, vec![camera("main", DVec3::new(-4.0, 5.0, 6.0), DVec3::ZERO, 128, 96)], lights);
+    let s = scene(
+        "coplanar",
+        objects,
+        vec![camera("main", DVec3::new(-4.0, 5.0, 6.0), DVec3::ZERO, 128, 96)],
+        lights,
+    );
     check("coplanar overlapping surfaces", &s, true, 0.002);
 }
 
@@ -316,7 +392,8 @@ fn a_thin_occluder_just_above_its_receiver() {
         { "name": "slab", "shape": { "type": "box", "size": [1, 0.0001, 1] }, "closed": true,
           "transform": { "translate": [0, 0.00015, 0] } }
     ]);
-    let lights = vec![directional("sun", 10.0, -80.0), spot("spot", DVec3::ZERO, 3.0, 10.0, -100.0, 0.2, 10.0)];
+    let lights =
+        vec![directional("sun", 10.0, -80.0), spot("spot", DVec3::ZERO, 3.0, 10.0, -100.0, 0.2, 10.0)];
     let edge = DVec3::new(0.1, 0.0, 0.5006);
     let eye = edge + DVec3::new(0.0, 0.004, 0.006);
     let s = scene("thin", objects, vec![camera("main", eye, edge, 128, 96)], lights);
@@ -329,9 +406,15 @@ fn a_spot_light_just_above_a_surface() {
         { "name": "ground", "shape": { "type": "plane", "size": [10, 10] } },
         { "name": "stone", "shape": { "type": "box", "size": [0.5, 0.3, 0.5] }, "closed": true, "transform": { "translate": [1.5, 0.15, 0.5] } }
     ]);
-    let lights = vec![json!({ "name": "low", "type": "spot", "position": [0, 0.001, 0], "direction": [1, -0.05, 0.2],
+    let lights =
+        vec![json!({ "name": "low", "type": "spot", "position": [0, 0.001, 0], "direction": [1, -0.05, 0.2],
                                "cone_deg": 150, "near": 0.0001, "far": 20 })];
-    let s = scene("low_spot", objects, vec![camera("main", DVec3::new(-2.0, 3.0, 3.0), DVec3::new(2.0, 0.0, 0.0), 128, 96)], lights);
+    let s = scene(
+        "low_spot",
+        objects,
+        vec![camera("main", DVec3::new(-2.0, 3.0, 3.0), DVec3::new(2.0, 0.0, 0.0), 128, 96)],
+        lights,
+    );
     check("spot light 1e-3 above the ground", &s, true, 0.002);
 }
 
@@ -352,7 +435,12 @@ fn soft_references_show_no_self_shadow_speckle_on_a_large_plane() {
         },
     ];
     let cameras = vec![camera("main", DVec3::new(-60.0, 40.0, 140.0), DVec3::ZERO, 96, 72)];
-    let s = scene("sea", json!([{ "name": "sea", "shape": { "type": "plane", "size": [800, 800] } }]), cameras, lights);
+    let s = scene(
+        "sea",
+        json!([{ "name": "sea", "shape": { "type": "plane", "size": [800, 800] } }]),
+        cameras,
+        lights,
+    );
     // A second, coplanar sea with other triangles: the case where the tracer tests the sea.
     let mut s = s;
     let h = 400.0f32;
@@ -363,7 +451,8 @@ fn soft_references_show_no_self_shadow_speckle_on_a_large_plane() {
         assert!(g.evaluated.len() > 3000);
         let area = trace_area_light_reference(&bvh, &g, light, 4).unwrap();
         // Sub-pixel samples past a spot light's cone count as shadowed: coverage under the sun.
-        let coverage = light.is_directional().then(|| trace_coverage_reference(&s, &bvh, &g, &s.cameras[0], light, 3));
+        let coverage =
+            light.is_directional().then(|| trace_coverage_reference(&s, &bvh, &g, &s.cameras[0], light, 3));
         for &i in &g.evaluated {
             let i = i as usize;
             assert_eq!(g.class[i], PixelClass::Evaluated);

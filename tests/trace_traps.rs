@@ -7,7 +7,9 @@ use obvhs::BvhBuildParams;
 use obvhs::cwbvh::builder::build_cwbvh_from_tris;
 use obvhs::ray::{Ray, RayHit};
 use obvhs::triangle::Triangle;
-use shadowtruth::trace::{SceneBvh, ShadowRay, SurfacePoint, WatertightRay, offset_ray_origin, position_error};
+use shadowtruth::trace::{
+    SceneBvh, ShadowRay, SurfacePoint, WatertightRay, offset_ray_origin, position_error,
+};
 use std::time::Duration;
 
 fn quad(y: f32, half: f32) -> Vec<[Vec3; 3]> {
@@ -133,7 +135,12 @@ fn occluder_5e_5_above_the_surface_is_found() {
     for p in [vec3(0.0, 0.0, 0.0), vec3(0.25, 0.0, -0.3), vec3(-0.4, 0.0, 0.45)] {
         // The ground triangle under p (quad's first triangle covers x ≥ z).
         let triangle = if p.x >= p.z { 0 } else { 1 };
-        let point = SurfacePoint { position: p, error: position_error(p, &tris[triangle]), normal: up, triangle: triangle as u32 };
+        let point = SurfacePoint {
+            position: p,
+            error: position_error(p, &tris[triangle]),
+            normal: up,
+            triangle: triangle as u32,
+        };
         let origin = offset_ray_origin(&point);
         assert!(origin.y < 5e-5, "the offset origin must stay below the occluder");
         let dir = vec3(0.1, 1.0, 0.05).normalize();

@@ -18,8 +18,8 @@
 
 use super::bvh::SceneBvh;
 use super::gbuffer::GBuffer;
-use super::shadow_ray::ShadowRay;
 use super::sampling::{concentric_disk, jittered_stratum, orthonormal_frame};
+use super::shadow_ray::ShadowRay;
 use super::soft_reference::{SoftReference, mean_and_std_error, trace_evaluated};
 use crate::scene::{Light, LightKind};
 use glam::DVec3;
@@ -105,11 +105,13 @@ pub fn trace_area_light_reference(
                     let r2k = (dx * dx + dy * dy) * one_minus_cos;
                     let sin_over_r = (one_minus_cos * (2.0 - r2k)).sqrt();
                     let dir = ((1.0 - r2k) * axis + sin_over_r * (dx * tangent + dy * bitangent)).normalize();
-                    n64.dot(dir) > 0.0 && bvh.shadow_occluder(scratch, &ShadowRay::along(&point, dir)).is_none()
+                    n64.dot(dir) > 0.0
+                        && bvh.shadow_occluder(scratch, &ShadowRay::along(&point, dir)).is_none()
                 }
                 Emitter::Disk { centre, tangent, bitangent, radius } => {
                     let q = centre + radius * (dx * tangent + dy * bitangent);
-                    n64.dot(q - p64) > 0.0 && bvh.shadow_occluder(scratch, &ShadowRay::to_point(&point, q)).is_none()
+                    n64.dot(q - p64) > 0.0
+                        && bvh.shadow_occluder(scratch, &ShadowRay::to_point(&point, q)).is_none()
                 }
             };
             hits += unoccluded as u32;

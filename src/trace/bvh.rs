@@ -232,7 +232,9 @@ impl SceneBvh {
                     let i = state.primitive_id as usize;
                     let id = self.scene_ids[i];
                     let [v0, v1, v2] = self.triangles[i];
-                    if id != shadow.skip_triangle && ray.intersect_beyond_error(v0, v1, v2, shadow.tmax).is_some() {
+                    if id != shadow.skip_triangle
+                        && ray.intersect_beyond_error(v0, v1, v2, shadow.tmax).is_some()
+                    {
                         occluder = Some(id);
                         break 'search;
                     }

@@ -23,8 +23,8 @@ pub use bvh::{Hit, SceneBvh, TraversalScratch};
 pub use cache::{CachedReference, ReferenceCache, reference_digest, soft_reference_digest};
 pub use coverage::trace_coverage_reference;
 pub use gbuffer::{GBuffer, PixelClass};
-pub use shadow_ray::{ShadowRay, SurfacePoint, offset_ray_origin, position_error};
 pub use reference::{HardReference, MaskCode, hard_shadow_ray, trace_hard_reference};
+pub use shadow_ray::{ShadowRay, SurfacePoint, offset_ray_origin, position_error};
 pub use soft_reference::{SoftKind, SoftReference};
 pub use watertight::{RayTriangleHit, WatertightRay};
 

@@ -65,7 +65,12 @@ pub fn hard_shadow_ray(point: &SurfacePoint, light: &Light) -> ShadowRay {
 
 /// Whether the segment from a surface point to the light's centre meets no other triangle.
 /// Shared by the hard reference and the sub-pixel samples of the pixel-coverage reference.
-pub(super) fn hard_visible(bvh: &SceneBvh, scratch: &mut TraversalScratch, point: &SurfacePoint, light: &Light) -> bool {
+pub(super) fn hard_visible(
+    bvh: &SceneBvh,
+    scratch: &mut TraversalScratch,
+    point: &SurfacePoint,
+    light: &Light,
+) -> bool {
     bvh.shadow_occluder(scratch, &hard_shadow_ray(point, light)).is_none()
 }
 

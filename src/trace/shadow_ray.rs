@@ -20,30 +20,18 @@ pub struct SurfacePoint {
     pub triangle: u32,
 }
 
-/// Unit roundoff of f32 and f64.
-const U32: f64 = f32::EPSILON as f64 * 0.5;
-const U64: f64 = f64::EPSILON * 0.5;
-
 /// A bound, per axis, on the distance between `p` (the f32 rounding of `barycentric_point`,
 /// v0 + b1·(v1 − v0) + b2·(v2 − v0) evaluated in f64) and the exact value of that expression.
 ///
-/// Rounding to f32 moves a value by at most u₃₂·|p| (and by at most half the smallest subnormal
-/// step, 2⁻¹⁵⁰, below the normal range); the f64 evaluation adds at most γ₆₄(4)·(|v0| + |v1| +
-/// |v2|) (two differences, two products, two sums, each rounding once). Both terms are doubled
-/// so that the rounding of this bound itself is covered many times over.
+/// Rounding to f32 moves a value by at most 2⁻²⁴·|p|(1 + 2⁻²⁴) (and by at most 2⁻¹⁵⁰ below the
+/// normal range); the f64 evaluation adds at most γ₆₄(4)·(|v0| + |v1| + |v2|) < 2⁻⁵¹·Σ|v| (two
+/// differences, two products, two sums, each rounding once). Each term is doubled, and the
+/// factor 1 + 2⁻²⁰ covers the few f32 roundings of the bound itself.
+#[inline]
 pub fn position_error(p: Vec3, triangle: &[Vec3; 3]) -> Vec3 {
-    let sum_abs = triangle[0].abs().as_dvec3() + triangle[1].abs().as_dvec3() + triangle[2].abs().as_dvec3();
-    let gamma4 = 4.0 * U64 / (1.0 - 4.0 * U64);
-    let bound = 2.0 * (U32 * (1.0 + U32) * p.abs().as_dvec3() + gamma4 * sum_abs) + DVec3::splat(2f64.powi(-149));
-    round_up(bound)
-}
-
-/// An f64 vector rounded up to f32 component by component.
-fn round_up(v: DVec3) -> Vec3 {
-    Vec3::from_array(v.to_array().map(|x| {
-        let f = x as f32;
-        if (f as f64) < x { f.next_up() } else { f }
-    }))
+    let sum_abs = triangle[0].abs() + triangle[1].abs() + triangle[2].abs();
+    let bound = p.abs() * 2f32.powi(-23) + sum_abs * 2f32.powi(-50) + Vec3::splat(2f32.powi(-148));
+    bound * (1.0 + 2f32.powi(-20))
 }
 
 /// The origin of a ray leaving the surface at `point` along its normal: moved by

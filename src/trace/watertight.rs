@@ -35,8 +35,9 @@ struct Sheared {
     /// x, y of the vertices A, B, C.
     x: [f32; 3],
     y: [f32; 3],
-    /// z of the vertices scaled by `sz`: the hit distance is their barycentric mean.
-    z: [f32; 3],
+    /// z of the vertices before scaling by `sz` (scaled only once a hit is likely).
+    z_unscaled: [f32; 3],
+    sz: f32,
     /// Edge functions: twice the signed areas opposite A, B and C; the unnormalised barycentrics.
     e: [f32; 3],
 }
@@ -76,7 +77,7 @@ impl WatertightRay {
         let x = [a[kx] - self.sx * a[kz], b[kx] - self.sx * b[kz], c[kx] - self.sx * c[kz]];
         let y = [a[ky] - self.sy * a[kz], b[ky] - self.sy * b[kz], c[ky] - self.sy * c[kz]];
         let e = [x[2] * y[1] - y[2] * x[1], x[0] * y[2] - y[0] * x[2], x[1] * y[0] - y[1] * x[0]];
-        Sheared { x, y, z: [self.sz * a[kz], self.sz * b[kz], self.sz * c[kz]], e }
+        Sheared { x, y, z_unscaled: [a[kz], b[kz], c[kz]], sz: self.sz, e }
     }
 
     /// The hit with t in the closed interval [tmin, tmax], from either side of the triangle.
@@ -95,6 +96,14 @@ impl WatertightRay {
         let solved = solve(&s)?;
         let t = solved.hit.t;
         (t <= tmax && t as f64 > distance_error_bound(&s, &solved)).then_some(t)
+    }
+}
+
+impl Sheared {
+    /// The vertices' z scaled by `sz`: the hit distance is their barycentric mean.
+    #[inline(always)]
+    fn z(&self) -> [f32; 3] {
+        self.z_unscaled.map(|z| self.sz * z)
     }
 }
 
@@ -122,7 +131,8 @@ fn solve(s: &Sheared) -> Option<Solved> {
     if det == 0.0 {
         return None;
     }
-    let t_scaled = u * s.z[0] + v * s.z[1] + w * s.z[2];
+    let z = s.z();
+    let t_scaled = u * z[0] + v * z[1] + w * z[2];
     // A division (not a multiplication by 1/det) keeps t exact when the hit distance is.
     let t = t_scaled / det;
     let inv_det = 1.0 / det;
@@ -146,7 +156,8 @@ fn solve_f64(s: &Sheared) -> Option<Solved> {
     if det == 0.0 {
         return None;
     }
-    let t = ((u * s.z[0] as f64 + v * s.z[1] as f64 + w * s.z[2] as f64) / det) as f32;
+    let z = s.z();
+    let t = ((u * z[0] as f64 + v * z[1] as f64 + w * z[2] as f64) / det) as f32;
     let hit = RayTriangleHit { t, barycentric: [(u / det) as f32, (v / det) as f32, (w / det) as f32] };
     Some(Solved { hit, max_abs_edge: u.abs().max(v.abs()).max(w.abs()), det })
 }
@@ -160,7 +171,7 @@ fn solve_f64(s: &Sheared) -> Option<Solved> {
 #[inline(always)]
 fn distance_error_bound(s: &Sheared, solved: &Solved) -> f64 {
     let max3 = |v: [f32; 3]| v[0].abs().max(v[1].abs()).max(v[2].abs()) as f64;
-    let (max_x, max_y, max_z, max_e) = (max3(s.x), max3(s.y), max3(s.z), solved.max_abs_edge);
+    let (max_x, max_y, max_z, max_e) = (max3(s.x), max3(s.y), max3(s.z()), solved.max_abs_edge);
     let delta_z = gamma(3) * max_z;
     let delta_x = gamma(5) * (max_x + max_z);
     let delta_y = gamma(5) * (max_y + max_z);

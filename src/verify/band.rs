@@ -52,7 +52,8 @@ impl Frame {
             tangent,
             bitangent: d.cross(tangent),
             length,
-            r_p: point.normal.abs().as_dvec3().dot(point.error.as_dvec3()) + 2f64.powi(-22) * p.abs().as_dvec3().element_sum(),
+            r_p: point.normal.abs().as_dvec3().dot(point.error.as_dvec3())
+                + 2f64.powi(-22) * p.abs().as_dvec3().element_sum(),
         }
     }
 

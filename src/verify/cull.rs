@@ -79,12 +79,15 @@ impl Cull {
         if self.nodes.is_empty() {
             return;
         }
-        let scale = origin.abs().max_element() + if s_max.is_finite() { (direction * s_max).abs().max_element() } else { 0.0 };
+        let scale = origin.abs().max_element()
+            + if s_max.is_finite() { (direction * s_max).abs().max_element() } else { 0.0 };
         stack.clear();
         stack.push(0);
         while let Some(n) = stack.pop() {
             let node = &self.nodes[n as usize];
-            let widen = DVec3::splat(WIDEN * (scale.max(node.lo.abs().max_element()).max(node.hi.abs().max_element())));
+            let widen = DVec3::splat(
+                WIDEN * (scale.max(node.lo.abs().max_element()).max(node.hi.abs().max_element())),
+            );
             if !segment_meets_box(origin, direction, s_max, node.lo - widen, node.hi + widen) {
                 continue;
             }

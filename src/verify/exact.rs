@@ -74,7 +74,8 @@ pub fn det3_sign(m: [[Diff; 3]; 3]) -> Ordering {
     let a = m.map(|row| row.map(Diff::approx));
     let minor = |i: usize, j: usize, k: usize, l: usize| a[1][i] * a[2][j] - a[1][k] * a[2][l];
     let det = a[0][0] * minor(1, 2, 2, 1) - a[0][1] * minor(0, 2, 2, 0) + a[0][2] * minor(0, 1, 1, 0);
-    let pminor = |i: usize, j: usize, k: usize, l: usize| (a[1][i] * a[2][j]).abs() + (a[1][k] * a[2][l]).abs();
+    let pminor =
+        |i: usize, j: usize, k: usize, l: usize| (a[1][i] * a[2][j]).abs() + (a[1][k] * a[2][l]).abs();
     let permanent = a[0][0].abs() * pminor(1, 2, 2, 1)
         + a[0][1].abs() * pminor(0, 2, 2, 0)
         + a[0][2].abs() * pminor(0, 1, 1, 0);
@@ -168,7 +169,11 @@ mod tests {
             ((h >> 40) as f32 / (1u64 << 24) as f32 - 0.5) * 2.0f32.powi((h >> 33 & 31) as i32 - 12)
         };
         for _ in 0..20_000 {
-            let (a, b, c) = (Vec3::new(next(), next(), next()), Vec3::new(next(), next(), next()), Vec3::new(next(), next(), next()));
+            let (a, b, c) = (
+                Vec3::new(next(), next(), next()),
+                Vec3::new(next(), next(), next()),
+                Vec3::new(next(), next(), next()),
+            );
             // d near the plane of a, b, c: an affine combination rounded to f32.
             let (s, t) = (next().abs().fract(), next().abs().fract());
             let d = a + (b - a) * s + (c - a) * t;
@@ -182,8 +187,20 @@ mod tests {
         // differences makes the filter undecided when both sides nearly cancel.
         let (p, m) = (1.0f32 + f32::EPSILON, 1.0f32 - f32::EPSILON);
         assert_eq!(det2_sign([[Diff::of(p), Diff::of(1.0)], [Diff::of(1.0), Diff::of(m)]]), Ordering::Less);
-        assert_eq!(det2_sign([[Diff::of(2.0), Diff::of(4.0)], [Diff::of(1.0), Diff::of(2.0)]]), Ordering::Equal);
-        assert_eq!(dot_sign([Diff::of(1e30), Diff::of(1e-30), Diff::of(-1e30)], [Diff::of(1.0), Diff::of(1.0), Diff::of(1.0)]), Ordering::Greater);
-        assert_eq!(dot_sign([Diff { x: 3.0, y: 1.0 }, Diff::of(-4.0)], [Diff::of(2.0), Diff::of(1.0)]), Ordering::Equal);
+        assert_eq!(
+            det2_sign([[Diff::of(2.0), Diff::of(4.0)], [Diff::of(1.0), Diff::of(2.0)]]),
+            Ordering::Equal
+        );
+        assert_eq!(
+            dot_sign(
+                [Diff::of(1e30), Diff::of(1e-30), Diff::of(-1e30)],
+                [Diff::of(1.0), Diff::of(1.0), Diff::of(1.0)]
+            ),
+            Ordering::Greater
+        );
+        assert_eq!(
+            dot_sign([Diff { x: 3.0, y: 1.0 }, Diff::of(-4.0)], [Diff::of(2.0), Diff::of(1.0)]),
+            Ordering::Equal
+        );
     }
 }

@@ -102,7 +102,12 @@ impl<'a> Adjudicator<'a> {
             (None, Some(_)) => Expected::Either,
             (None, None) => Expected::Lit,
         };
-        Judgement { exact_shadowed: meets.is_some(), expected, triangle: robust_hit.or(meets).or(fragile), inconsistent }
+        Judgement {
+            exact_shadowed: meets.is_some(),
+            expected,
+            triangle: robust_hit.or(meets).or(fragile),
+            inconsistent,
+        }
     }
 }
 
@@ -128,7 +133,8 @@ impl SamePlane {
     fn leaves_plane_of(&self, other: &[glam::Vec3; 3]) -> bool {
         let [a, b, c] = self.triangle;
         let (e1, e2) = (Diff::vec(b, a), Diff::vec(c, a));
-        self.leaves && other.iter().all(|&v| det3_sign([e1, e2, Diff::vec(v, a)]) == std::cmp::Ordering::Equal)
+        self.leaves
+            && other.iter().all(|&v| det3_sign([e1, e2, Diff::vec(v, a)]) == std::cmp::Ordering::Equal)
     }
 }
 
@@ -261,7 +267,11 @@ pub fn verify_view(
             continue;
         }
         let point = g.surface_point(i);
-        let triangle = if traced_shadowed { bvh.shadow_occluder(&mut scratch, &hard_shadow_ray(&point, light)) } else { j.triangle };
+        let triangle = if traced_shadowed {
+            bvh.shadow_occluder(&mut scratch, &hard_shadow_ray(&point, light))
+        } else {
+            j.triangle
+        };
         let case = Case {
             x: (i % g.width as usize) as u32,
             y: (i / g.width as usize) as u32,

@@ -44,7 +44,11 @@ pub fn contact(p: Vec3, toward: Toward, triangle: &[Vec3; 3]) -> Contact {
             None => Contact::Misses,
             Some(plane) if plane.contains(p) => Contact::ContainsOrigin,
             Some(plane) if side_end == Equal => {
-                if plane.edges_meet(p, toward) { Contact::Meets } else { Contact::Misses }
+                if plane.edges_meet(p, toward) {
+                    Contact::Meets
+                } else {
+                    Contact::Misses
+                }
             }
             Some(_) => Contact::Misses,
         };
