@@ -5,7 +5,8 @@ use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use shadowtruth::atomic_file::write_atomic;
 use shadowtruth::metrics::{Stopwatch, median_ms};
-use shadowtruth::plan::{Event, Plan, execute, read_plan};
+use shadowtruth::plan::{DEFAULT_MAX_RUNS, Event, Plan, execute, read_plan};
+use shadowtruth::raster::MAX_SHADOW_MAP_RESOLUTION;
 use shadowtruth::report::{
     PageAssets, Report, ReportWriter, load_report, run_stem, write_mask_png, write_report_outputs,
     write_soft_exr, write_world_obj,
@@ -58,7 +59,9 @@ enum Command {
     /// Check a report against rules: exit 0 when every rule holds, 1 on violations, 2 on bad input.
     ///
     /// Rules (TOML, `[[rule]]` tables) select runs by glob patterns and bound a metric absolutely
-    /// (`max`) and/or against a baseline report (`max_increase`, `max_increase_ratio`).
+    /// (`max`) and/or against a baseline report (`max_increase`, `max_increase_ratio`). With
+    /// --baseline every baseline run must pair with a run of the report (same view, resolution,
+    /// depth format, reference and technique parameters); one that does not is a violation.
     Gate(GateArgs),
     /// Write one depth layer of a light as a one-channel f32 EXR, with a JSON sidecar holding
     /// clip_from_world and the near and far planes, to check the rasterizer against another.
@@ -159,9 +162,12 @@ struct RunArgs {
     /// Trace every reference instead of reading or writing the cache.
     #[arg(long)]
     no_cache: bool,
-    /// Override the plan's shadow-map resolutions, e.g. --resolutions 512,1024.
-    #[arg(long, value_delimiter = ',')]
+    /// Override the plan's shadow-map resolutions, e.g. --resolutions 512,1024 (1 to 16384).
+    #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(u32).range(1..=MAX_SHADOW_MAP_RESOLUTION as i64))]
     resolutions: Option<Vec<u32>>,
+    /// Refuse a plan that expands to more runs than this, before anything is built.
+    #[arg(long, default_value_t = DEFAULT_MAX_RUNS, value_parser = clap::value_parser!(u64).range(1..))]
+    max_runs: u64,
     /// Timings are medians of this many layer builds and shading passes (default: the plan's, 3).
     #[arg(long)]
     repeats: Option<usize>,
@@ -176,7 +182,7 @@ struct RunArgs {
     no_figures: bool,
     /// Also write every run's error map enlarged 4× over this region of the camera image,
     /// given as x,y,width,height in pixels (the papers' enlarged panels).
-    #[arg(long, value_delimiter = ',', num_args = 4, value_names = ["X", "Y", "W", "H"])]
+    #[arg(long, value_delimiter = ',', value_name = "X,Y,W,H")]
     zoom: Option<Vec<u32>>,
 }
 
@@ -269,15 +275,22 @@ struct GateArgs {
     /// The rules file (TOML).
     #[arg(long)]
     rules: PathBuf,
-    /// The report to compare with for regression bounds (a report.json file or its folder).
+    /// The report to compare with (a report.json file or its folder): every one of its runs must
+    /// pair with a run of the report, and regression bounds compare with it.
     #[arg(long)]
     baseline: Option<PathBuf>,
-    /// Also write JUnit XML: one testcase per (rule, run) checked.
+    /// Also write JUnit XML: one testcase per (rule, run) checked and per baseline run missing
+    /// from the report.
     #[arg(long)]
     junit: Option<PathBuf>,
-    /// Also write a Markdown table (rule, run, value, limit, status) for CI job summaries.
+    /// Also write a Markdown table (rule, run, value, limit, status; missing baseline runs) and
+    /// the new runs, for CI job summaries.
     #[arg(long)]
     summary: Option<PathBuf>,
+    /// Let baseline runs that the report lacks pass with a warning (for a change that removes or
+    /// renames runs on purpose); without it each one is a violation.
+    #[arg(long, requires = "baseline")]
+    allow_missing: bool,
 }
 
 pub fn run(cli: Cli) -> Result<u8> {
@@ -289,6 +302,8 @@ pub fn run(cli: Cli) -> Result<u8> {
         Command::Report(a) => {
             let (report, file) = load_report(&a.dir)?;
             let dir = file.parent().unwrap_or(Path::new(".")).to_path_buf();
+            shadowtruth::report::remove_stray_report_temp_files(&dir)
+                .with_context(|| format!("cleaning {}", dir.display()))?;
             write_report_outputs(&dir, &report, page_assets(&dir, &report))
                 .with_context(|| format!("writing into {}", dir.display()))?;
             println!("{}", dir.join("index.html").display());
@@ -310,16 +325,16 @@ pub fn run(cli: Cli) -> Result<u8> {
     }
 }
 
-/// Reads everything first (any bad input exits 2 before anything is written), evaluates, writes
-/// the optional JUnit and Markdown files, prints the violations and the summary line.
+/// Reads and checks everything first (any bad input exits 2 before anything is written),
+/// evaluates, writes the optional JUnit and Markdown files, prints the violations, the missing and
+/// new runs and the summary line.
 fn gate(a: GateArgs) -> Result<u8> {
+    use shadowtruth::report::{CheckedReport, GateOptions};
     let rules = shadowtruth::report::load_rules(&a.rules)?;
-    let (report, _) = load_report(&a.report)?;
-    let baseline = match &a.baseline {
-        Some(b) => Some(load_report(b)?.0),
-        None => None,
-    };
-    let outcome = shadowtruth::report::evaluate(&report, baseline.as_ref(), &rules)?;
+    let report = CheckedReport::load(&a.report)?;
+    let baseline = a.baseline.as_deref().map(CheckedReport::load).transpose()?;
+    let options = GateOptions { allow_missing: a.allow_missing };
+    let outcome = shadowtruth::report::evaluate(&report, baseline.as_ref(), &rules, options)?;
     if let Some(path) = &a.junit {
         write_atomic(path, shadowtruth::report::junit_xml(&outcome).as_bytes())
             .with_context(|| format!("writing {}", path.display()))?;
@@ -381,7 +396,7 @@ fn progress_bar(quiet: bool) -> ProgressBar {
 fn papers(a: PapersArgs) -> Result<u8> {
     set_threads(a.threads)?;
     let cache = (!a.no_cache).then(|| shadowtruth::trace::ReferenceCache::new(&a.references));
-    let mut writer = ReportWriter::new(&a.out);
+    let mut writer = ReportWriter::create(&a.out).with_context(|| format!("opening {}", a.out.display()))?;
     let started = Instant::now();
     let bar = progress_bar(a.quiet);
     let mut planned = 0;
@@ -427,9 +442,10 @@ fn papers(a: PapersArgs) -> Result<u8> {
 fn run_plan(a: RunArgs) -> Result<u8> {
     set_threads(a.threads)?;
     let mut plan = match &a.plan {
-        Some(p) => read_plan(p).map_err(anyhow::Error::msg)?,
+        Some(p) => read_plan(p, a.max_runs)?,
         None => Plan::default_for(Vec::new()),
     };
+    plan.max_runs = a.max_runs;
     if !a.scenes.is_empty() {
         plan.scenes = a.scenes.clone();
     } else if plan.scenes.is_empty() {
@@ -453,7 +469,7 @@ fn run_plan(a: RunArgs) -> Result<u8> {
         plan.repeats = n;
     }
     let cache = (!a.no_cache).then(|| shadowtruth::trace::ReferenceCache::new(&a.references));
-    let mut writer = ReportWriter::new(&a.out);
+    let mut writer = ReportWriter::create(&a.out).with_context(|| format!("opening {}", a.out.display()))?;
     let started = Instant::now();
     let bar = progress_bar(a.quiet);
     let mut figures_ms = 0.0;
@@ -756,8 +772,8 @@ fn depth_map(a: DepthMapArgs) -> Result<u8> {
         "front" => Culling::FrontFacesOfClosed,
         other => bail!("--cull: unknown value '{other}' (none, back, front)"),
     };
-    if !(1..=16384).contains(&a.resolution) {
-        bail!("--resolution {} is outside 1..=16384", a.resolution);
+    if !(1..=MAX_SHADOW_MAP_RESOLUTION).contains(&a.resolution) {
+        bail!("--resolution {} is outside 1..={MAX_SHADOW_MAP_RESOLUTION}", a.resolution);
     }
     let scene = load_scene(&a.scene)?;
     let light = pick(&scene.lights, a.light.as_deref(), |l| &l.name, "light", &a.scene)?;

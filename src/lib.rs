@@ -6,6 +6,9 @@
 //! arguments only.
 
 pub mod atomic_file;
+#[doc(hidden)]
+pub mod fuzzing;
+mod json_input;
 pub mod metrics;
 pub mod papers;
 pub mod plan;

@@ -1,6 +1,7 @@
 //! `shadowtruth gate`: exit 0 when every rule holds, 1 on violations, 2 on bad input; a one-pixel
 //! regression is caught with zero slack; JUnit XML and the Markdown summary have their shape.
 
+use serde_json::json;
 use shadowtruth::metrics::Counts;
 use shadowtruth::report::{Report, RunRecord, Timings};
 use std::path::Path;
@@ -22,9 +23,11 @@ fn gate(args: &[&str], dir: &Path) -> (i32, String, String) {
 
 const EVALUATED: u64 = 786_432; // 1024 × 768: one pixel is 1.27e-6 of a rate
 
+/// A run of `spec` (`{"technique": ..., parameters...}`, as plans write techniques) shown as
+/// `label`.
 fn run(
     scene: &str,
-    technique: &str,
+    spec: serde_json::Value,
     label: &str,
     resolution: u32,
     false_shadow: u64,
@@ -38,12 +41,14 @@ fn run(
         false_lit,
         ..Counts::default()
     };
+    let mut parameters = spec.as_object().expect("a JSON object").clone();
+    let technique = parameters.remove("technique").expect("a technique").as_str().unwrap().to_string();
     RunRecord {
         scene: scene.into(),
         camera: "main".into(),
         light: "sun".into(),
-        technique: technique.into(),
-        parameters: Default::default(),
+        technique,
+        parameters,
         label: label.into(),
         resolution,
         depth_format: "f32".into(),
@@ -56,15 +61,26 @@ fn run(
     }
 }
 
+const SLOPE: &str = "slope_scaled(factor=2,units=4)";
+const CONSTANT: &str = "constant(bias_depth=0.001)";
+
+fn slope() -> serde_json::Value {
+    json!({"technique": "slope_scaled", "factor": 2.0, "units": 4.0})
+}
+
+fn constant() -> serde_json::Value {
+    json!({"technique": "constant", "bias_depth": 0.001})
+}
+
 /// A small report: two scenes, a slope-scaled bias and a constant bias at 1024² and 2048².
 /// `acne_px` is the false-shadow count of plane_box's slope-scaled run at 2048².
 fn report(acne_px: u64) -> Report {
     Report {
         runs: vec![
-            run("plane_box", "slope_scaled", "slope_scaled(factor=2,units=4)", 2048, acne_px, 300),
-            run("plane_box", "slope_scaled", "slope_scaled(factor=2,units=4)", 1024, 40, 900),
-            run("plane_box", "constant", "constant(bias_depth=0.001)", 2048, 5000, 200),
-            run("rocks", "slope_scaled", "slope_scaled(factor=2,units=4)", 2048, 10, 100),
+            run("plane_box", slope(), SLOPE, 2048, acne_px, 300),
+            run("plane_box", slope(), SLOPE, 1024, 40, 900),
+            run("plane_box", constant(), CONSTANT, 2048, 5000, 200),
+            run("rocks", slope(), SLOPE, 2048, 10, 100),
         ],
         ..Report::new()
     }
@@ -153,7 +169,10 @@ fn a_one_pixel_regression_fails_with_zero_slack() {
         assert!(f.contains("baseline"), "{f}");
     }
     assert!(fails[0].contains("501 of 786432 px") && fails[0].contains("500 px"), "{}", fails[0]);
-    assert!(stdout.ends_with("2 rules, 4 runs checked, 2 violations\n"), "{stdout}");
+    assert!(
+        stdout.ends_with("2 rules, 4 runs checked, 2 violations; baseline: 4 paired, 0 missing, 0 new\n"),
+        "{stdout}"
+    );
 
     // Identical reports pass with zero slack.
     let (code, stdout, _) = gate(&["base", "--rules", "rules.toml", "--baseline", "base"], dir.path());
@@ -188,7 +207,11 @@ fn runs_missing_from_the_baseline_are_listed_as_new() {
     write(dir.path(), "rules.toml", &regression_rules(0.0));
     let (code, stdout, stderr) = gate(&["now", "--rules", "rules.toml", "--baseline", "base"], dir.path());
     assert_eq!(code, 0, "stdout: {stdout}\nstderr: {stderr}");
-    assert!(stdout.contains("new: rocks/main/sun slope_scaled(factor=2,units=4) @2048 f32"), "{stdout}");
+    assert!(
+        stdout.contains("new: rocks/main/sun slope_scaled(factor=2,units=4) @2048 f32 [hard×1]"),
+        "{stdout}"
+    );
+    assert!(stdout.ends_with("; baseline: 3 paired, 0 missing, 1 new\n"), "{stdout}");
 }
 
 fn assert_bad_input(args: &[&str], dir: &Path, needles: &[&str]) {
@@ -303,7 +326,7 @@ fn junit_xml_has_the_testsuite_testcase_failure_shape() {
     assert_eq!(failing.len(), 1);
     assert_eq!(
         failing[0].attribute("name"),
-        Some("plane_box/main/sun slope_scaled(factor=2,units=4) @2048 f32")
+        Some("plane_box/main/sun slope_scaled(factor=2,units=4) @2048 f32 [hard×1]")
     );
     let failure = failing[0].children().find(|f| f.has_tag_name("failure")).unwrap();
     assert!(failure.attribute("message").unwrap().contains("0.00127157"));
@@ -348,9 +371,10 @@ fn the_example_gate_runs_on_a_report_with_the_shipped_setting() {
     let dir = tempfile::tempdir().unwrap();
     let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("gates/shadow-settings.toml");
     let shipped = "slope_scaled(cull=none,factor=2.0,units=4.0)";
+    let spec = json!({"technique": "slope_scaled", "factor": 2.0, "units": 4.0, "cull": "none"});
     let mut now = report(0);
-    now.runs.push(run("plane_box", "slope_scaled", shipped, 2048, 90, 177));
-    now.runs.push(run("plane_box", "slope_scaled", shipped, 1024, 88, 52));
+    now.runs.push(run("terrain", spec.clone(), shipped, 2048, 90, 177));
+    now.runs.push(run("terrain", spec, shipped, 1024, 88, 52));
     write_report(dir.path(), "base", &now);
     write_report(dir.path(), "now", &now);
     let example = example.to_str().unwrap();
@@ -365,4 +389,216 @@ fn the_example_gate_runs_on_a_report_with_the_shipped_setting() {
     assert!(
         stdout.contains("shipped bias: no regression") && stdout.contains(&format!("{shipped} @1024 f32"))
     );
+}
+
+/// The line a baseline run missing from the report gets.
+fn missing_line(scene: &str, label: &str, resolution: u32) -> String {
+    format!(
+        "missing: {scene}/main/sun {label} @{resolution} f32 [hard×1]: in the baseline, not in the report"
+    )
+}
+
+#[test]
+fn a_removed_run_fails_unless_allowed() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut now = report(500);
+    write_report(dir.path(), "base", &now);
+    now.runs.retain(|r| r.scene != "rocks");
+    write_report(dir.path(), "now", &now);
+    write(dir.path(), "rules.toml", &regression_rules(0.0));
+    let args = ["now", "--rules", "rules.toml", "--baseline", "base"];
+    let (code, stdout, stderr) = gate(&[&args[..], &["--junit", "junit.xml"]].concat(), dir.path());
+    assert_eq!(code, 1, "stdout: {stdout}\nstderr: {stderr}");
+    let missing = missing_line("rocks", SLOPE, 2048);
+    assert!(stdout.lines().any(|l| l == missing), "{stdout}");
+    assert!(
+        stdout.ends_with("2 rules, 3 runs checked, 1 violations; baseline: 3 paired, 1 missing, 0 new\n")
+    );
+    let xml = std::fs::read_to_string(dir.path().join("junit.xml")).unwrap();
+    let doc = roxmltree::Document::parse(&xml).unwrap();
+    assert_eq!(doc.root_element().attribute("failures"), Some("1"), "{xml}");
+    let failure = doc.descendants().find(|n| n.has_tag_name("failure")).expect("a failure");
+    assert_eq!(failure.attribute("message"), Some(missing.as_str()));
+
+    let (code, stdout, stderr) = gate(&[&args[..], &["--allow-missing"]].concat(), dir.path());
+    assert_eq!(code, 0, "stdout: {stdout}\nstderr: {stderr}");
+    assert!(
+        stdout.lines().any(|l| l == format!("warning: {missing} (allowed by --allow-missing)")),
+        "{stdout}"
+    );
+    assert!(stdout.ends_with("0 violations; baseline: 3 paired, 1 missing (allowed), 0 new\n"), "{stdout}");
+}
+
+#[test]
+fn a_renamed_parameter_is_a_different_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut now = report(500);
+    write_report(dir.path(), "base", &now);
+    // Same label, same value, but a world-space bias instead of a depth bias.
+    let renamed = &mut now.runs[2].parameters;
+    let value = renamed.remove("bias_depth").unwrap();
+    renamed.insert("bias_world".into(), value);
+    write_report(dir.path(), "now", &now);
+    write(dir.path(), "rules.toml", &regression_rules(0.0));
+    let (code, stdout, stderr) = gate(&["now", "--rules", "rules.toml", "--baseline", "base"], dir.path());
+    assert_eq!(code, 1, "stdout: {stdout}\nstderr: {stderr}");
+    assert!(stdout.lines().any(|l| l == missing_line("plane_box", CONSTANT, 2048)), "{stdout}");
+    assert!(stdout.contains(&format!("new: plane_box/main/sun {CONSTANT} @2048 f32 [hard×1]")), "{stdout}");
+    assert!(stdout.ends_with("; baseline: 3 paired, 1 missing, 1 new\n"), "{stdout}");
+}
+
+#[test]
+fn a_disjoint_baseline_fails_and_a_regression_rule_pairing_nothing_exits_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut base = report(786);
+    for r in &mut base.runs {
+        r.scene = format!("old_{}", r.scene);
+    }
+    write_report(dir.path(), "base", &base);
+    write_report(dir.path(), "now", &report(786));
+    write(dir.path(), "rules.toml", ABSOLUTE);
+    let (code, stdout, stderr) = gate(&["now", "--rules", "rules.toml", "--baseline", "base"], dir.path());
+    assert_eq!(code, 1, "stdout: {stdout}\nstderr: {stderr}");
+    assert!(stdout.lines().any(|l| l == missing_line("old_rocks", SLOPE, 2048)), "{stdout}");
+    assert_eq!(stdout.lines().filter(|l| l.starts_with("missing: ")).count(), 4, "{stdout}");
+    assert!(
+        stdout.ends_with("1 rules, 2 runs checked, 4 violations; baseline: 0 paired, 4 missing, 4 new\n")
+    );
+
+    write(dir.path(), "rules.toml", &regression_rules(0.0));
+    assert_bad_input(
+        &["now", "--rules", "rules.toml", "--baseline", "base"],
+        dir.path(),
+        &[
+            "rules.toml: rule[0] \"no acne regression\"",
+            "none of its 2 matched runs is in the baseline base/report.json",
+        ],
+    );
+}
+
+/// `report` as compact JSON with `from` replaced by `to` (which must occur).
+fn write_edited(dir: &Path, name: &str, report: &Report, edits: &[(&str, &str)]) {
+    let mut text = serde_json::to_string(report).unwrap();
+    for (from, to) in edits {
+        assert!(text.contains(from), "{from} not in {text}");
+        text = text.replace(from, to);
+    }
+    std::fs::create_dir_all(dir.join(name)).unwrap();
+    std::fs::write(dir.join(name).join("report.json"), text).unwrap();
+}
+
+#[test]
+fn a_parameter_key_renamed_in_the_report_format_unpairs_the_run() {
+    let dir = tempfile::tempdir().unwrap();
+    write_report(dir.path(), "base", &report(786));
+    // As if another version wrote the slope factor under another key: its runs no longer read as
+    // the same technique, so each baseline run of it is missing.
+    let edit =
+        (r#""parameters":{"factor":2.0,"units":4.0}"#, r#""parameters":{"slope_factor":2.0,"units":4.0}"#);
+    write_edited(dir.path(), "now", &report(786), &[edit]);
+    write(dir.path(), "rules.toml", ABSOLUTE);
+    let (code, stdout, stderr) = gate(&["now", "--rules", "rules.toml", "--baseline", "base"], dir.path());
+    assert_eq!(code, 1, "stdout: {stdout}\nstderr: {stderr}");
+    assert!(stdout.lines().any(|l| l == missing_line("plane_box", SLOPE, 1024)), "{stdout}");
+    assert!(stdout.ends_with("; baseline: 1 paired, 3 missing, 3 new\n"), "{stdout}");
+}
+
+#[test]
+fn printing_changes_still_pair() {
+    let dir = tempfile::tempdir().unwrap();
+    write_report(dir.path(), "base", &report(500));
+    let edits = [
+        // Keys reordered, integers for floats, a default (cull = none) written out.
+        (
+            r#""parameters":{"factor":2.0,"units":4.0}"#,
+            r#""parameters":{"units":4,"cull":"none","factor":2e0}"#,
+        ),
+        (r#""bias_depth":0.001"#, r#""bias_depth":1e-3"#),
+        (SLOPE, "slope_scaled(cull=none,factor=2.0,units=4.0)"),
+        (CONSTANT, "constant(bias_depth=1e-3)"),
+    ];
+    write_edited(dir.path(), "now", &report(500), &edits);
+    write(dir.path(), "rules.toml", &regression_rules(0.0));
+    let (code, stdout, stderr) = gate(&["now", "--rules", "rules.toml", "--baseline", "base"], dir.path());
+    assert_eq!(code, 0, "stdout: {stdout}\nstderr: {stderr}");
+    assert_eq!(stdout, "2 rules, 4 runs checked, 0 violations; baseline: 4 paired, 0 missing, 0 new\n");
+    // And still compares: one more pixel fails.
+    write_edited(dir.path(), "now", &report(501), &edits);
+    let (code, stdout, _) = gate(&["now", "--rules", "rules.toml", "--baseline", "base"], dir.path());
+    assert_eq!(code, 1, "{stdout}");
+}
+
+#[test]
+fn inconsistent_reports_exit_2_naming_the_file_and_path() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "rules.toml", &regression_rules(0.0));
+    write_report(dir.path(), "good", &report(0));
+    let check = |name: &str, needles: &[&str]| {
+        assert_bad_input(&[name, "--rules", "rules.toml", "--baseline", "good"], dir.path(), needles);
+        // The baseline is checked the same way.
+        assert_bad_input(&["good", "--rules", "rules.toml", "--baseline", name], dir.path(), needles);
+    };
+
+    let mut over = report(0);
+    over.runs[2].counts.false_shadow = EVALUATED + 1;
+    write_report(dir.path(), "over", &over);
+    check(
+        "over",
+        &[&format!(
+            "over/report.json: runs[2].counts.false_shadow: {} > evaluated {EVALUATED}",
+            EVALUATED + 1
+        )],
+    );
+
+    let mut negative = serde_json::to_value(report(0)).unwrap();
+    negative["runs"][1]["counts"]["false_lit"] = json!(-1);
+    std::fs::create_dir_all(dir.path().join("negative")).unwrap();
+    write(dir.path(), "negative/report.json", &negative.to_string());
+    check("negative", &["negative/report.json: runs[1].counts.false_lit: invalid value: integer `-1`"]);
+
+    let mut future = serde_json::to_value(report(0)).unwrap();
+    future["schema"] = json!("shadowtruth/report/v2");
+    future["runs"] = json!({"renamed": "in v2"});
+    std::fs::create_dir_all(dir.path().join("future")).unwrap();
+    write(dir.path(), "future/report.json", &future.to_string());
+    check(
+        "future",
+        &["future/report.json: schema: expected \"shadowtruth/report/v1\", got \"shadowtruth/report/v2\""],
+    );
+
+    let mut empty = report(0);
+    for r in &mut empty.runs {
+        r.counts = Counts { pixels: 10, background: 10, ..Counts::default() };
+    }
+    write_report(dir.path(), "empty", &empty);
+    check("empty", &["empty/report.json: runs: none of the 4 runs evaluated a pixel"]);
+
+    let mut twice = report(0);
+    let mut again = twice.runs[0].clone();
+    again.label = "slope_scaled(cull=none,factor=2.0,units=4.0)".into();
+    twice.runs.push(again);
+    write_report(dir.path(), "twice", &twice);
+    check("twice", &["twice/report.json: runs[4]: the same run as runs[0]"]);
+}
+
+#[test]
+fn a_rule_matching_a_run_that_evaluated_nothing_exits_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut now = report(0);
+    now.runs[3].counts = Counts { pixels: 10, background: 10, ..Counts::default() };
+    write_report(dir.path(), "now", &now);
+    write(dir.path(), "rules.toml", ABSOLUTE);
+    assert_bad_input(
+        &["now", "--rules", "rules.toml"],
+        dir.path(),
+        &["rules.toml: rule[0]", "evaluated no pixel", "now/report.json: runs[3].counts.evaluated = 0"],
+    );
+}
+
+#[test]
+fn allow_missing_is_explained_in_help() {
+    let dir = tempfile::tempdir().unwrap();
+    let (code, stdout, _) = gate(&["--help"], dir.path());
+    assert_eq!(code, 0);
+    assert!(stdout.contains("--allow-missing") && stdout.contains("warning"), "{stdout}");
 }

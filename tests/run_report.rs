@@ -17,6 +17,7 @@ fn a_plan_writes_one_record_per_run_with_consistent_counts() {
         TechniqueSpec::SlopeScaled { factor: 1.0, units: 1.0, cull: CullSpec::None },
     ];
     let plan = Plan {
+        source: None,
         scenes: vec![repo().join("scenes/plane_box.json"), repo().join("scenes/spot.json")],
         cameras: None,
         lights: None,
@@ -28,6 +29,7 @@ fn a_plan_writes_one_record_per_run_with_consistent_counts() {
         zoom: None,
         coverage_grid: shadowtruth::plan::DEFAULT_COVERAGE_GRID,
         area_light_grid: shadowtruth::plan::DEFAULT_AREA_LIGHT_GRID,
+        max_runs: shadowtruth::plan::DEFAULT_MAX_RUNS,
     };
     let mut writer = ReportWriter::new(dir.path());
     let mut done = 0;

@@ -466,3 +466,23 @@ fn odd_inputs_give_errors_not_panics() {
         assert!(!err.problems.is_empty(), "{text}");
     }
 }
+
+#[test]
+fn procedural_shapes_are_limited_per_scene() {
+    // 4 194 304 triangles for the shapes of a scene, alone or together: a few bytes of JSON must
+    // not ask for gigabytes (the fuzz corpus holds the same cases: fuzz/corpus/scene_reader/).
+    let alone = with(base(), |s| {
+        let plane = json!({ "type": "plane", "size": [1, 1], "subdivisions": 1449 });
+        push(&mut s["objects"], json!({ "name": "plane", "shape": plane }));
+    });
+    assert_problem(&problems(&alone), "objects[1].shape", "would have 4199202 triangles");
+    let together = with(base(), |s| {
+        // Exactly the limit alone, over it with the box before it: refused before it is built.
+        let sphere = json!({ "type": "sphere", "radius": 1, "segments": 4096, "rings": 513 });
+        push(&mut s["objects"], json!({ "name": "ball", "shape": sphere }));
+        push(&mut s["objects"], json!({ "name": "ball2", "shape": sphere }));
+    });
+    let found = problems(&together);
+    assert_problem(&found, "objects[1].shape", "the procedural shapes up to this one have 4194316 triangles");
+    assert_eq!(found.len(), 1, "only the first shape over the limit is named: {found:#?}");
+}

@@ -230,7 +230,7 @@ fn pcss_penumbra_widens_with_the_distance_to_the_blocker() {
 #[test]
 fn the_soft_plan_parses_and_covers_every_filtered_family() {
     let path = common::repo().join("plans/soft.json");
-    let plan = shadowtruth::plan::read_plan(&path).unwrap();
+    let plan = shadowtruth::plan::read_plan(&path, shadowtruth::plan::DEFAULT_MAX_RUNS).unwrap();
     let names: BTreeSet<&str> = plan.techniques.iter().map(|t| t.name()).collect();
     assert_eq!(names, BTreeSet::from(["mdsm", "pcf", "pcss"]));
     // Every bundled light has an area size, so PCSS can run on the whole suite.

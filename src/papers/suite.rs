@@ -61,7 +61,7 @@ fn plan_of(
         "repeats": repeats,
     })
     .to_string();
-    let mut plan = parse_plan(&text, Path::new("papers")).map_err(PlanError::Invalid)?;
+    let mut plan = parse_plan(&text, Path::new("papers"))?;
     plan.scenes = vec![scene.to_path_buf()];
     Ok(plan)
 }

@@ -3,15 +3,17 @@
 //! shared by every technique that reads it.
 
 use super::Plan;
+use super::PlanInputError;
 use super::build_layers;
 use super::references::ViewReferences;
 use crate::metrics::{LightUv, Stopwatch, attribute, median_ms, score_hard, score_soft};
 use crate::raster::LightView;
+use crate::raster::MAX_SHADOW_MAP_RESOLUTION;
 use crate::report::{
     GridCell, IndexedImage, ReportWriter, RunRecord, SceneRecord, Timings, ViewCanvas, downscale, grid,
     run_stem, view_stem, write_reference_figure, write_run_figures, zoom,
 };
-use crate::scene::{LightKind, Scene, SceneError, load_scene};
+use crate::scene::{LightKind, Problem, Scene, SceneError, load_scene};
 use crate::technique::{LayerNeeds, ReferenceKind, ShadeContext, ShadeOrder, shade_evaluated};
 use crate::trace::{GBuffer, ReferenceCache, SceneBvh};
 use rayon::prelude::*;
@@ -33,12 +35,11 @@ pub enum Event<'a> {
 
 #[derive(Debug, thiserror::Error)]
 pub enum PlanError {
-    #[error("{0}")]
+    #[error(transparent)]
     Scene(#[from] SceneError),
-    #[error("{file}: no camera named '{name}' (have: {have})")]
-    NoCamera { file: String, name: String, have: String },
-    #[error("{file}: no light named '{name}' (have: {have})")]
-    NoLight { file: String, name: String, have: String },
+    /// What the plan asks for is wrong or does not exist: every problem with its file and path.
+    #[error(transparent)]
+    Input(#[from] PlanInputError),
     #[error("plan: {0}")]
     Invalid(String),
     #[error("writing {path}: {source}")]
@@ -54,34 +55,127 @@ struct Selected {
     pairs: Vec<(usize, usize)>,
 }
 
-/// Indices of the items named in `wanted` (all items when None); Err(name, names available)
-/// for a name the scene lacks.
-fn indices_of(wanted: &Option<Vec<String>>, names: &[&str]) -> Result<Vec<usize>, (String, String)> {
-    match wanted {
-        None => Ok((0..names.len()).collect()),
-        Some(wanted) => wanted
-            .iter()
-            .map(|w| names.iter().position(|n| n == w).ok_or_else(|| (w.clone(), names.join(", "))))
-            .collect(),
-    }
+/// Where the plan's problems are reported: its file, or `plan` for a plan built in code.
+fn plan_file(plan: &Plan) -> PathBuf {
+    plan.source.clone().unwrap_or_else(|| PathBuf::from("plan"))
 }
 
-fn select(plan: &Plan, scene: Scene) -> Result<Selected, PlanError> {
-    let file = scene.source.display().to_string();
+/// Indices of the items named in `wanted` (all items when None); each name the scene lacks is a
+/// problem at the plan's `field[i]`.
+fn indices_of(
+    plan: &Plan,
+    scene: &Scene,
+    (field, kind): (&str, &str),
+    wanted: &Option<Vec<String>>,
+    names: &[&str],
+    problems: &mut Vec<Problem>,
+) -> Vec<usize> {
+    let Some(wanted) = wanted else { return (0..names.len()).collect() };
+    let mut found = Vec::new();
+    for (i, w) in wanted.iter().enumerate() {
+        match names.iter().position(|n| n == w) {
+            Some(index) => found.push(index),
+            None => problems.push(Problem {
+                file: plan_file(plan),
+                path: format!("{field}[{i}]"),
+                message: format!(
+                    "no {kind} named '{w}' in {} (it has: {})",
+                    scene.source.display(),
+                    if names.is_empty() { "none".to_string() } else { names.join(", ") }
+                ),
+            }),
+        }
+    }
+    found
+}
+
+/// The (camera, light) pairs the plan runs on `scene`; a scene without a camera or a light has
+/// nothing to score and is a problem of its own.
+fn select(plan: &Plan, scene: Scene, problems: &mut Vec<Problem>) -> Selected {
     let camera_names: Vec<&str> = scene.cameras.iter().map(|c| c.name.as_str()).collect();
     let light_names: Vec<&str> = scene.lights.iter().map(|l| l.name.as_str()).collect();
-    let cams = indices_of(&plan.cameras, &camera_names).map_err(|(name, have)| PlanError::NoCamera {
-        file: file.clone(),
-        name,
-        have,
-    })?;
-    let lights = indices_of(&plan.lights, &light_names).map_err(|(name, have)| PlanError::NoLight {
-        file: file.clone(),
-        name,
-        have,
-    })?;
+    for (field, names) in [("cameras", &camera_names), ("lights", &light_names)] {
+        if names.is_empty() {
+            let message =
+                format!("the scene has no {}: there is nothing to score", &field[..field.len() - 1]);
+            problems.push(Problem { file: scene.source.clone(), path: field.into(), message });
+        }
+    }
+    let cams = indices_of(plan, &scene, ("cameras", "camera"), &plan.cameras, &camera_names, problems);
+    let lights = indices_of(plan, &scene, ("lights", "light"), &plan.lights, &light_names, problems);
     let pairs = cams.iter().flat_map(|&c| lights.iter().map(move |&l| (c, l))).collect();
-    Ok(Selected { scene, pairs })
+    Selected { scene, pairs }
+}
+
+/// Checks what `parse_plan` checks for a plan built in code or changed after reading
+/// (`--resolutions`), before any scene is loaded.
+fn check_plan(plan: &Plan) -> Result<(), PlanError> {
+    let file = plan_file(plan);
+    let mut problems = Vec::new();
+    let mut problem =
+        |path: String, message: String| problems.push(Problem { file: file.clone(), path, message });
+    for (field, empty) in [
+        ("techniques", plan.techniques.is_empty()),
+        ("resolutions", plan.resolutions.is_empty()),
+        ("depth_formats", plan.depth_formats.is_empty()),
+        ("scenes", plan.scenes.is_empty()),
+    ] {
+        if empty {
+            problem(field.into(), "an empty list: the plan selects no run".into());
+        }
+    }
+    for (i, t) in plan.techniques.iter().enumerate() {
+        if let Err(e) = t.validate() {
+            problem(format!("techniques[{i}]"), format!("{}: {e}", t.label()));
+        }
+    }
+    for (i, &r) in plan.resolutions.iter().enumerate() {
+        if !(1..=MAX_SHADOW_MAP_RESOLUTION).contains(&r) {
+            problem(
+                format!("resolutions[{i}]"),
+                format!("must be between 1 and {MAX_SHADOW_MAP_RESOLUTION}, found {r}"),
+            );
+        }
+    }
+    if problems.is_empty() { Ok(()) } else { Err(PlanInputError { problems }.into()) }
+}
+
+/// Refuses a plan of more than `plan.max_runs` runs, now that every view is known.
+fn check_run_count(plan: &Plan, views: usize) -> Result<usize, PlanError> {
+    let per_view =
+        plan.techniques.len() as u128 * plan.resolutions.len() as u128 * plan.depth_formats.len() as u128;
+    let runs = per_view.saturating_mul(views as u128);
+    if runs > plan.max_runs as u128 {
+        let message = format!(
+            "the plan expands to {runs} runs, more than the limit of {} (raise it with --max-runs): {} techniques × \
+             {} resolutions × {} depth formats × {views} (scene, camera, light) views",
+            plan.max_runs,
+            plan.techniques.len(),
+            plan.resolutions.len(),
+            plan.depth_formats.len()
+        );
+        return Err(PlanInputError::one(&plan_file(plan), "", message).into());
+    }
+    Ok(runs as usize)
+}
+
+/// Loads every scene and selects its views, reporting every problem at once.
+fn load_selected(plan: &Plan) -> Result<Vec<Selected>, PlanError> {
+    let mut selected = Vec::new();
+    let (mut scene_problems, mut problems) = (Vec::new(), Vec::new());
+    for path in &plan.scenes {
+        match load_scene(path) {
+            Ok(scene) => selected.push(select(plan, scene, &mut problems)),
+            Err(e) => scene_problems.extend(e.problems),
+        }
+    }
+    if !scene_problems.is_empty() {
+        return Err(SceneError { problems: scene_problems }.into());
+    }
+    if !problems.is_empty() {
+        return Err(PlanInputError { problems }.into());
+    }
+    Ok(selected)
 }
 
 /// Runs `plan`, adding each finished run to `writer` (which rewrites report.json). References
@@ -92,29 +186,8 @@ pub fn execute(
     cache: Option<&ReferenceCache>,
     on_event: &mut dyn FnMut(Event),
 ) -> Result<(), PlanError> {
-    if plan.techniques.is_empty() || plan.resolutions.is_empty() || plan.depth_formats.is_empty() {
-        return Err(PlanError::Invalid(
-            "a plan needs at least one technique, resolution and depth format".into(),
-        ));
-    }
-    for t in &plan.techniques {
-        t.validate().map_err(|e| PlanError::Invalid(format!("{}: {e}", t.label())))?;
-    }
-    if let Some(&r) = plan.resolutions.iter().find(|&&r| !(1..=16384).contains(&r)) {
-        return Err(PlanError::Invalid(format!("resolution {r} is outside 1..=16384")));
-    }
-    // Load and check everything before the first run, and report every scene's problems at once.
-    let mut selected = Vec::new();
-    let mut problems = Vec::new();
-    for path in &plan.scenes {
-        match load_scene(path) {
-            Ok(scene) => selected.push(select(plan, scene)?),
-            Err(e) => problems.extend(e.problems),
-        }
-    }
-    if !problems.is_empty() {
-        return Err(SceneError { problems }.into());
-    }
+    check_plan(plan)?;
+    let selected = load_selected(plan)?;
     // PCSS is scored against the area light: every light it runs under needs a size.
     if plan.techniques.iter().any(|t| t.reference_kind() == ReferenceKind::AreaLight) {
         for sel in &selected {
@@ -127,17 +200,16 @@ pub fn execute(
                     LightKind::Spot { .. } if light.radius.is_none() => "radius",
                     _ => continue,
                 };
-                return Err(PlanError::Invalid(format!(
-                    "{}: light '{}' has no {missing}: pcss is scored against an area light; give the light a \
-                     size or leave pcss out of the plan",
-                    sel.scene.source.display(),
-                    light.name
-                )));
+                let message = format!(
+                    "has no {missing}: pcss is scored against an area light; give the light a size or leave \
+                     pcss out of the plan"
+                );
+                let path = format!("lights[{li}]");
+                return Err(PlanInputError::one(&sel.scene.source, &path, message).into());
             }
         }
     }
-    let per_pair = plan.techniques.len() * plan.resolutions.len() * plan.depth_formats.len();
-    let runs: usize = selected.iter().map(|s| s.pairs.len() * per_pair).sum();
+    let runs = check_run_count(plan, selected.iter().map(|s| s.pairs.len()).sum())?;
     on_event(Event::Planned { runs });
     let io = |path: &std::path::Path| {
         let path = path.to_path_buf();

@@ -5,9 +5,13 @@ mod execute;
 mod file;
 mod layers;
 mod references;
+mod size;
 mod spec;
 
 pub use execute::{Event, PlanError, execute};
-pub use file::{PLAN_FORMAT, expand_technique, parse_plan, read_plan};
+pub use file::{
+    DEFAULT_MAX_RUNS, PLAN_FORMAT, PlanInputError, expand_technique, parse_plan, parse_plan_limited,
+    read_plan,
+};
 pub use layers::{BuiltLayers, build_layers};
 pub use spec::{DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_PLAN_JSON, Plan};

@@ -7,6 +7,8 @@ use std::path::PathBuf;
 
 #[derive(Clone, Debug)]
 pub struct Plan {
+    /// The plan file, named in errors about what it selects (None for a plan built in code).
+    pub source: Option<PathBuf>,
     pub scenes: Vec<PathBuf>,
     /// Camera names to run (None: every camera of each scene).
     pub cameras: Option<Vec<String>>,
@@ -25,6 +27,8 @@ pub struct Plan {
     pub coverage_grid: u32,
     /// The area-light reference traces this many × this many light samples per pixel.
     pub area_light_grid: u32,
+    /// A plan expanding to more runs than this is refused before anything is built.
+    pub max_runs: u64,
 }
 
 /// Sub-pixel grid of the coverage reference (4×4).
@@ -40,6 +44,7 @@ impl Plan {
     pub fn default_for(scenes: Vec<PathBuf>) -> Self {
         let mut plan = super::parse_plan(DEFAULT_PLAN_JSON, std::path::Path::new("plans/default.json"))
             .expect("plans/default.json is valid");
+        plan.source = None;
         plan.scenes = scenes;
         plan
     }

@@ -9,6 +9,9 @@ mod projection;
 mod rasterize;
 
 pub use depth_format::DepthFormat;
+
+/// Largest shadow-map side accepted, in texels.
+pub const MAX_SHADOW_MAP_RESOLUTION: u32 = 16384;
 pub use layer::{DepthLayer, DepthPairLayer};
 pub use multi_depth::{DepthSelection, MultiDepthLayer};
 pub use projection::{LightSize, LightView, Projection};

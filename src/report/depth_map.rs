@@ -7,6 +7,11 @@ use crate::raster::{DepthLayer, LightView};
 use exr::prelude::*;
 use std::path::Path;
 
+/// Run-length-encoded 64×64 tiles written in increasing order, so that the same layer gives the
+/// same bytes (with `Encoding::FAST_LOSSLESS`'s unspecified order the exr crate writes tiles as
+/// its parallel compressor finishes them).
+const EXR_ENCODING: Encoding = Encoding { line_order: LineOrder::Increasing, ..Encoding::FAST_LOSSLESS };
+
 /// Writes `path` (EXR, channel `Z`) and `path` with extension `.json` (the sidecar).
 pub fn write_depth_map(
     path: &Path,
@@ -19,7 +24,7 @@ pub fn write_depth_map(
     let image = Image::from_layer(Layer::new(
         (n, n),
         LayerAttributes::named("depth"),
-        Encoding::FAST_LOSSLESS,
+        EXR_ENCODING,
         AnyChannels::sort(SmallVec::from_vec(vec![channel])),
     ));
     let mut bytes = std::io::Cursor::new(Vec::new());

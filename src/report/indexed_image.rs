@@ -112,20 +112,11 @@ impl IndexedImage {
     }
 
     /// Writes the PNG through a temporary file renamed over `path`, so that a killed run never
-    /// leaves a half-written figure. Unlike `atomic_file::write_atomic` it does not fsync: figures
-    /// are derived data that a rerun regenerates, and an fsync per figure costs more than drawing
-    /// and encoding it.
+    /// leaves a half-written figure. It does not fsync (`write_atomic_unsynced`): figures are
+    /// derived data that a rerun regenerates, and an fsync per figure costs more than drawing and
+    /// encoding it.
     pub fn write_png(&self, path: &Path) -> std::io::Result<()> {
-        let bytes = self.encode_png()?;
-        let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-        std::fs::create_dir_all(dir)?;
-        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
-        let result = std::fs::write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, path));
-        if result.is_err() {
-            let _ = std::fs::remove_file(&tmp);
-        }
-        result
+        crate::atomic_file::write_atomic_unsynced(path, &self.encode_png()?)
     }
 }
 

@@ -25,8 +25,9 @@ pub use figures::{
     view_stem, visibility_image, write_reference_figure, write_run_figures, zoom,
 };
 pub use gate::{
-    BaselineStatus, Check, GateError, GateOutcome, Measured, Metric, Regression, Rule, RuleSpec, Rules,
-    RunKey, Violation, evaluate, fmt_value, glob_match, load_report, load_rules, measure, parse_rules,
+    BaselineComparison, BaselineStatus, Check, CheckedReport, GateError, GateOptions, GateOutcome, Measured,
+    Metric, Pairing, Regression, Rule, RuleSpec, Rules, RunIdentity, RunName, TechniqueIdentity, Violation,
+    evaluate, fmt_value, glob_match, load_report, load_rules, measure, parse_rules,
 };
 pub use html::{PageAssets, escape, index_html};
 pub use indexed_image::IndexedImage;
@@ -35,4 +36,4 @@ pub use outputs::write_report_outputs;
 pub use plots::{Chart, charts, pareto_front, write_chart};
 pub use record::{Machine, REPORT_SCHEMA, ReferenceUsed, Report, RunRecord, SceneRecord, Timings, Tool};
 pub use soft_exr::{read_soft_exr, write_soft_exr};
-pub use writer::ReportWriter;
+pub use writer::{ReportWriter, remove_stray_report_temp_files};

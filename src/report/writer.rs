@@ -1,19 +1,47 @@
 //! Writes `report.json` as runs finish: the whole report is rewritten atomically after each
 //! run, so a killed run leaves the last complete report, never a half-written one.
+//!
+//! `ReportWriter::create` opens a report folder for `run` and `papers`: the outputs of an earlier
+//! run there (`EARLIER_RUN_FILES`, and the figures and plots in `EARLIER_RUN_FOLDERS`) are removed
+//! just before the new report.json is first written, so that no figure, plot or CSV row of an
+//! earlier run stays beside the new report, while a plan rejected before its first run leaves the
+//! earlier report whole. They are removed only from a folder whose report.json is a shadowtruth
+//! report, and only the kinds of files this tool writes: whatever else a user keeps there stays.
 
 use super::{Report, RunRecord, SceneRecord};
-use crate::atomic_file::write_atomic;
+use crate::atomic_file::{remove_stray_temp_files, write_atomic};
 use std::path::{Path, PathBuf};
+
+/// Files of an earlier run removed from a report folder (report.json is replaced instead).
+const EARLIER_RUN_FILES: [&str; 4] = ["report.csv", "index.html", "claims.json", "claims.html"];
+
+/// Subfolders of a report folder and the extensions of the files this tool writes into them.
+const EARLIER_RUN_FOLDERS: [(&str, &[&str]); 2] = [("figures", &["png"]), ("plots", &["svg", "png"])];
+
+/// The start of the `schema` of every shadowtruth report.
+const REPORT_SCHEMA_PREFIX: &str = "shadowtruth/report/";
 
 pub struct ReportWriter {
     path: PathBuf,
     report: Report,
+    /// Whether the outputs of an earlier run are still to be removed (before the first write).
+    earlier_run_pending: bool,
 }
 
 impl ReportWriter {
-    /// A writer of `dir/report.json`; the file appears with the first write.
+    /// A writer of `dir/report.json` that leaves everything else in `dir` as it is; the file
+    /// appears with the first write. `create` is what opens a report folder for a run.
     pub fn new(dir: &Path) -> Self {
-        ReportWriter { path: dir.join("report.json"), report: Report::new() }
+        ReportWriter { path: dir.join("report.json"), report: Report::new(), earlier_run_pending: false }
+    }
+
+    /// Opens `dir` as the report folder of a new run: creates it, removes the temporary files of
+    /// killed runs, and returns a writer that removes the outputs of an earlier run just before it
+    /// first writes report.json (see the module comment).
+    pub fn create(dir: &Path) -> std::io::Result<Self> {
+        std::fs::create_dir_all(dir)?;
+        remove_stray_report_temp_files(dir)?;
+        Ok(ReportWriter { earlier_run_pending: true, ..Self::new(dir) })
     }
 
     pub fn path(&self) -> &Path {
@@ -39,7 +67,11 @@ impl ReportWriter {
         self.flush()
     }
 
-    pub fn flush(&self) -> std::io::Result<()> {
+    pub fn flush(&mut self) -> std::io::Result<()> {
+        if self.earlier_run_pending {
+            remove_earlier_run_outputs(self.dir())?;
+            self.earlier_run_pending = false;
+        }
         let mut text = serde_json::to_string_pretty(&self.report).map_err(std::io::Error::other)?;
         text.push('\n');
         write_atomic(&self.path, text.as_bytes())
@@ -47,5 +79,63 @@ impl ReportWriter {
 
     pub fn into_report(self) -> Report {
         self.report
+    }
+}
+
+/// Removes the temporary files that killed runs left in a report folder, its figures and plots.
+pub fn remove_stray_report_temp_files(dir: &Path) -> std::io::Result<()> {
+    remove_stray_temp_files(dir)?;
+    for (folder, _) in EARLIER_RUN_FOLDERS {
+        remove_stray_temp_files(&dir.join(folder))?;
+    }
+    Ok(())
+}
+
+/// Removes what an earlier run wrote into `dir` besides report.json, when `dir` holds a report.
+fn remove_earlier_run_outputs(dir: &Path) -> std::io::Result<()> {
+    if !holds_a_report(dir) {
+        return Ok(());
+    }
+    for file in EARLIER_RUN_FILES {
+        remove_if_present(&dir.join(file))?;
+    }
+    for (folder, extensions) in EARLIER_RUN_FOLDERS {
+        remove_files_with_extensions(&dir.join(folder), extensions)?;
+    }
+    Ok(())
+}
+
+/// Whether `dir/report.json` is a shadowtruth report (of any schema version).
+fn holds_a_report(dir: &Path) -> bool {
+    #[derive(serde::Deserialize)]
+    struct Schema {
+        schema: String,
+    }
+    std::fs::read(dir.join("report.json"))
+        .ok()
+        .and_then(|bytes| serde_json::from_slice::<Schema>(&bytes).ok())
+        .is_some_and(|s| s.schema.starts_with(REPORT_SCHEMA_PREFIX))
+}
+
+/// Removes the files of `dir` with one of `extensions`, then `dir` itself if that empties it.
+fn remove_files_with_extensions(dir: &Path, extensions: &[&str]) -> std::io::Result<()> {
+    let entries = match std::fs::read_dir(dir) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        entries => entries?,
+    };
+    for entry in entries {
+        let path = entry?.path();
+        if path.extension().is_some_and(|x| extensions.iter().any(|e| x == *e)) && path.is_file() {
+            remove_if_present(&path)?;
+        }
+    }
+    let _ = std::fs::remove_dir(dir); // fails, as it should, when the user keeps files there
+    Ok(())
+}
+
+fn remove_if_present(path: &Path) -> std::io::Result<()> {
+    match std::fs::remove_file(path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        result => result,
     }
 }

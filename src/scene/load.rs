@@ -1,9 +1,11 @@
 //! Reads a scene file, validates it and builds its world-space triangles.
 
-use super::format::{Geometry, ObjectDesc, Problems, parse_json, read_scene};
+use super::format::{Geometry, ObjectDesc, read_scene};
+use super::format::{MAX_SCENE_TRIANGLES, MAX_SHAPE_TRIANGLES};
 use super::obj::read_obj;
 use super::shapes::IndexedMesh;
 use super::{Object, Problem, Scene, SceneError};
+use crate::json_input::{Problems, parse_json};
 use glam::Vec3;
 use std::path::Path;
 
@@ -22,6 +24,18 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
 /// Loads a scene from text; `source` names it in errors, `base_dir` resolves mesh paths.
 /// Every problem (format, values, meshes) is collected; the scene is returned only without any.
 pub fn load_scene_str(text: &str, source: &Path, base_dir: &Path) -> Result<Scene, SceneError> {
+    let limits = Limits { scene: MAX_SCENE_TRIANGLES, shapes: MAX_SHAPE_TRIANGLES };
+    load_with_limits(text, source, base_dir, limits)
+}
+
+/// Most triangles of a scene, in all and made by its procedural shapes together.
+#[derive(Clone, Copy)]
+struct Limits {
+    scene: u64,
+    shapes: u64,
+}
+
+fn load_with_limits(text: &str, source: &Path, base_dir: &Path, limits: Limits) -> Result<Scene, SceneError> {
     let mut problems = Problems::new(source);
     let Some(root) = parse_json(text, &mut problems) else {
         return Err(SceneError { problems: problems.list });
@@ -37,7 +51,21 @@ pub fn load_scene_str(text: &str, source: &Path, base_dir: &Path) -> Result<Scen
         lights: desc.lights,
         dropped_degenerate: 0,
     };
+    // Triangles asked for so far (before degenerate ones are dropped), in all and by shapes:
+    // checked before each mesh joins the scene and before each shape is built, so that a scene
+    // over the limits fails with a message instead of exhausting memory.
+    let (mut total, mut procedural) = (0u64, 0u64);
     for object in &desc.objects {
+        // Named at the first object over the limit only.
+        let over_scene_limit = |before: u64, total: u64, key: &str, problems: &mut Problems| {
+            if before <= limits.scene {
+                let message = format!(
+                    "the objects up to this one have {total} triangles; a scene may have at most {}",
+                    limits.scene
+                );
+                problems.report(&format!("{}.{key}", object.path), message);
+            }
+        };
         // Meshes are read even when other fields are wrong, so that their problems show too.
         let mesh = match &object.geometry {
             Some(Geometry::Mesh(relative)) => match read_obj(&base_dir.join(relative)) {
@@ -48,11 +76,39 @@ pub fn load_scene_str(text: &str, source: &Path, base_dir: &Path) -> Result<Scen
                     None
                 }
             },
-            Some(Geometry::Shape(shape)) => Some(shape.mesh()),
+            Some(Geometry::Shape(shape)) => {
+                let count = shape.triangle_count();
+                procedural += count;
+                if procedural > limits.shapes {
+                    // Named at the first shape over the limit only, like the scene's limit.
+                    if procedural - count <= limits.shapes {
+                        let message = format!(
+                            "the procedural shapes up to this one have {procedural} triangles; \
+                             a scene's shapes may have at most {} together",
+                            limits.shapes
+                        );
+                        problems.report(&format!("{}.shape", object.path), message);
+                    }
+                    None
+                } else if total + count > limits.scene {
+                    // Reported before it is built.
+                    over_scene_limit(total, total + count, "shape", &mut problems);
+                    total += count;
+                    None
+                } else {
+                    Some(shape.mesh())
+                }
+            }
             None => None,
         };
         if let Some(mesh) = mesh {
-            add_object(&mut scene, object, &mesh, &mut problems);
+            let before = total;
+            total += mesh.triangles.len() as u64;
+            if total > limits.scene {
+                over_scene_limit(before, total, "mesh", &mut problems);
+            } else {
+                add_object(&mut scene, object, &mesh, &mut problems);
+            }
         }
     }
     if problems.list.is_empty() && scene.triangles.is_empty() {
@@ -118,4 +174,45 @@ fn is_degenerate([a, b, c]: &[Vec3; 3]) -> bool {
     }
     let (a, b, c) = (a.as_dvec3(), b.as_dvec3(), c.as_dvec3());
     (b - a).cross(c - a) == glam::DVec3::ZERO
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn problems(text: &str, limits: Limits) -> Vec<Problem> {
+        let dir = std::env::temp_dir();
+        load_with_limits(text, Path::new("s.json"), &dir, limits).expect_err(text).problems
+    }
+
+    /// Objects of 12 triangles each (boxes) against a limit of 30 triangles.
+    fn boxes(n: usize) -> String {
+        let object = |i| format!(r#"{{"name": "b{i}", "shape": {{"type": "box", "size": [1, 1, 1]}}}}"#);
+        let objects = (0..n).map(object).collect::<Vec<_>>().join(", ");
+        format!(
+            r#"{{"format": "shadowtruth/scene/v1", "name": "n", "objects": [{objects}], "cameras": [], "lights": []}}"#
+        )
+    }
+
+    #[test]
+    fn scene_load_limits_name_the_first_object_over_them() {
+        let text = boxes(4);
+        let scene =
+            load_with_limits(&boxes(2), Path::new("s.json"), Path::new(""), Limits { scene: 24, shapes: 24 });
+        assert_eq!(scene.map(|s| s.triangles.len()).ok(), Some(24));
+        let found = problems(&text, Limits { scene: 30, shapes: 1000 });
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert_eq!(found[0].path, "objects[2].shape");
+        assert_eq!(
+            found[0].message,
+            "the objects up to this one have 36 triangles; a scene may have at most 30"
+        );
+        let found = problems(&text, Limits { scene: 1000, shapes: 30 });
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert_eq!(found[0].path, "objects[2].shape");
+        assert_eq!(
+            found[0].message,
+            "the procedural shapes up to this one have 36 triangles; a scene's shapes may have at most 30 together"
+        );
+    }
 }

@@ -11,9 +11,14 @@ const MAX_LISTED: usize = 5;
 
 /// Reads the OBJ file at `path`. Errors are messages that name the file.
 pub(crate) fn read_obj(path: &Path) -> Result<IndexedMesh, Vec<String>> {
-    let shown = path.display();
-    let bytes = std::fs::read(path).map_err(|e| vec![format!("cannot read mesh {shown}: {e}")])?;
-    let text = String::from_utf8_lossy(&bytes);
+    let bytes = std::fs::read(path).map_err(|e| vec![format!("cannot read mesh {}: {e}", path.display())])?;
+    parse_obj(&bytes, &path.display().to_string())
+}
+
+/// Parses OBJ text held in memory; `shown` names the mesh in errors. `read_obj` reads through
+/// here, and so does the fuzzer (src/fuzzing.rs).
+pub(crate) fn parse_obj(bytes: &[u8], shown: &str) -> Result<IndexedMesh, Vec<String>> {
+    let text = String::from_utf8_lossy(bytes);
     let bad = non_finite_vertices(&text);
     if !bad.is_empty() {
         return Err(bad.into_iter().map(|m| format!("mesh {shown}: {m}")).collect());
@@ -29,7 +34,7 @@ pub(crate) fn read_obj(path: &Path) -> Result<IndexedMesh, Vec<String>> {
     };
     // Materials are irrelevant to shadows: never open them.
     let no_materials = |_: &Path| Err(tobj::LoadError::OpenFileFailed);
-    let (models, _) = tobj::load_obj_buf(&mut Cursor::new(&bytes[..]), &options, no_materials)
+    let (models, _) = tobj::load_obj_buf(&mut Cursor::new(bytes), &options, no_materials)
         .map_err(|e| vec![format!("cannot parse mesh {shown}: {e}")])?;
 
     let mut mesh = IndexedMesh::default();

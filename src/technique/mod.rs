@@ -6,6 +6,7 @@
 
 mod adaptive;
 mod bias;
+mod canonical;
 mod depth_layers;
 mod kernel;
 mod normal_offset;
@@ -17,6 +18,7 @@ mod spec;
 
 pub use adaptive::{AdaptiveBias, AdaptiveTest, EpsilonScale};
 pub use bias::{ConstantBias, NoBias, SlopeScaledBias};
+pub use canonical::canonical_json;
 pub use depth_layers::{DualDepth, Midpoint, SecondDepth};
 pub use kernel::{Kernel, POISSON_SIZES, poisson_set};
 pub use normal_offset::{NormalOffset, OffsetFalloff};

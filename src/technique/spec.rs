@@ -310,16 +310,30 @@ fn pcss_filter(taps: u32) -> Kernel {
     }
 }
 
+/// A parameter problem: the parameter at fault (when one is) and what is wrong.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{0}")]
-pub struct TechniqueSpecError(pub String);
-
-fn err(message: &str) -> TechniqueSpecError {
-    TechniqueSpecError(message.into())
+#[error("{}{message}", field.map(|f| format!("{f}: ")).unwrap_or_default())]
+pub struct TechniqueSpecError {
+    pub field: Option<&'static str>,
+    pub message: String,
 }
 
-fn finite(name: &str, x: f64) -> Result<(), TechniqueSpecError> {
-    if x.is_finite() { Ok(()) } else { Err(TechniqueSpecError(format!("{name} must be a finite number"))) }
+fn err(field: &'static str, message: impl Into<String>) -> TechniqueSpecError {
+    TechniqueSpecError { field: Some(field), message: message.into() }
+}
+
+/// Distances, offsets and scales that have no meaning below zero (a negative bias moves the
+/// comparison towards more acne, never less).
+fn non_negative(field: &'static str, x: f64) -> Result<(), TechniqueSpecError> {
+    if x.is_finite() && x >= 0.0 {
+        Ok(())
+    } else {
+        Err(err(field, format!("must be a finite number ≥ 0, found {x}")))
+    }
+}
+
+fn non_negative_opt(field: &'static str, x: Option<f64>) -> Result<(), TechniqueSpecError> {
+    x.map_or(Ok(()), |x| non_negative(field, x))
 }
 
 fn validate_kernel(
@@ -330,26 +344,26 @@ fn validate_kernel(
 ) -> Result<(), TechniqueSpecError> {
     match (kernel, size) {
         (KernelSpec::Box, Some(k)) if !(1..=MAX_KERNEL_SIZE).contains(&k) => {
-            return Err(TechniqueSpecError(format!("size must be from 1 to {MAX_KERNEL_SIZE}")));
+            return Err(err("size", format!("must be from 1 to {MAX_KERNEL_SIZE}, found {k}")));
         }
         (KernelSpec::Box, _) => {}
-        (_, Some(_)) => return Err(err("size belongs to kernel \"box\"")),
+        (_, Some(_)) => return Err(err("size", "belongs to kernel \"box\"")),
         _ => {}
     }
     match (kernel, taps) {
         (KernelSpec::Poisson, Some(t)) if !POISSON_SIZES.contains(&t) => {
-            return Err(err("taps must be 16, 25 or 32 (the Poisson sets)"));
+            return Err(err("taps", format!("must be 16, 25 or 32 (the Poisson sets), found {t}")));
         }
         (KernelSpec::Poisson, _) => {}
-        (_, Some(_)) => return Err(err("taps belongs to kernel \"poisson\"")),
+        (_, Some(_)) => return Err(err("taps", "belongs to kernel \"poisson\"")),
         _ => {}
     }
     match (kernel, radius_texels) {
         (KernelSpec::Poisson | KernelSpec::Jitter4x4, Some(r)) if !(r.is_finite() && r > 0.0) => {
-            Err(err("radius_texels must be a number > 0"))
+            Err(err("radius_texels", format!("must be a number > 0, found {r}")))
         }
         (KernelSpec::Box | KernelSpec::Bilinear, Some(_)) => {
-            Err(err("radius_texels belongs to kernels \"poisson\" and \"jitter4x4\""))
+            Err(err("radius_texels", "belongs to kernels \"poisson\" and \"jitter4x4\""))
         }
         _ => Ok(()),
     }
@@ -362,16 +376,73 @@ fn validate_bias(
     epsilon: Option<EpsilonSpec>,
 ) -> Result<(), TechniqueSpecError> {
     let adaptive = matches!(bias, TapBiasSpec::Adaptive | TapBiasSpec::AdaptiveDelta);
-    if !adaptive && (k.is_some() || epsilon.is_some()) {
-        return Err(err("k and epsilon belong to bias \"adaptive\" and \"adaptive_delta\""));
+    if !adaptive && k.is_some() {
+        return Err(err("k", "belongs to bias \"adaptive\" and \"adaptive_delta\""));
     }
-    if k.is_some_and(|k| !(k.is_finite() && k >= 0.0)) {
-        return Err(err("k must be a finite number ≥ 0"));
+    if !adaptive && epsilon.is_some() {
+        return Err(err("epsilon", "belongs to bias \"adaptive\" and \"adaptive_delta\""));
     }
     if adaptive && bias_depth.is_some() {
-        return Err(err("bias_depth belongs to bias \"constant\" and \"receiver_plane\""));
+        return Err(err("bias_depth", "belongs to bias \"constant\" and \"receiver_plane\""));
     }
-    finite("bias_depth", bias_depth.unwrap_or(0.0))
+    non_negative_opt("k", k)?;
+    non_negative_opt("bias_depth", bias_depth)
+}
+
+/// PCF's `factor`/`units` (with bias slope_scaled only) and `z_offset`/`cull_back_faces` (with
+/// the layers that read two depths).
+fn validate_pcf_layers(
+    bias: TapBiasSpec,
+    factor: Option<f64>,
+    units: Option<f64>,
+    layers: LayerSpec,
+    z_offset: Option<f64>,
+    cull_back_faces: Option<bool>,
+) -> Result<(), TechniqueSpecError> {
+    let slope = bias == TapBiasSpec::SlopeScaled;
+    for (field, value) in [("factor", factor), ("units", units)] {
+        if !slope && value.is_some() {
+            return Err(err(field, "belongs to bias \"slope_scaled\""));
+        }
+        non_negative_opt(field, value)?;
+    }
+    match (layers, z_offset) {
+        (LayerSpec::Dual, Some(z)) => non_negative("z_offset", z)?,
+        (LayerSpec::Dual, None) => return Err(err("z_offset", "layers \"dual\" needs a z_offset ≥ 0")),
+        (_, Some(_)) => return Err(err("z_offset", "belongs to layers \"dual\"")),
+        _ => {}
+    }
+    if cull_back_faces.is_some() && !matches!(layers, LayerSpec::Midpoint | LayerSpec::Dual) {
+        return Err(err("cull_back_faces", "belongs to layers \"midpoint\" and \"dual\""));
+    }
+    Ok(())
+}
+
+fn validate_mdsm(depths: u32, neighbourhood: u32, bias: TapBiasSpec) -> Result<(), TechniqueSpecError> {
+    if !(1..=4).contains(&depths) {
+        return Err(err("depths", format!("must be 1, 2, 3 or 4, found {depths}")));
+    }
+    if neighbourhood % 2 == 0 || !(1..=15).contains(&neighbourhood) {
+        return Err(err("neighbourhood", "must be an odd number of texels from 1 to 15"));
+    }
+    if bias == TapBiasSpec::SlopeScaled {
+        return Err(err("bias", "mdsm takes bias constant, receiver_plane, adaptive or adaptive_delta"));
+    }
+    Ok(())
+}
+
+fn validate_pcss(search_taps: u32, filter_taps: u32, bias: TapBiasSpec) -> Result<(), TechniqueSpecError> {
+    if !POISSON_SIZES.contains(&search_taps) {
+        return Err(err("search_taps", "must be 16, 25 or 32 (the Poisson sets)"));
+    }
+    let root = (filter_taps as f64).sqrt().round() as u32;
+    if !POISSON_SIZES.contains(&filter_taps) && (root * root != filter_taps || !(2..=16).contains(&root)) {
+        return Err(err("filter_taps", "must be 16, 25, 32 (Poisson) or a square from 4 to 256 (grid)"));
+    }
+    if matches!(bias, TapBiasSpec::SlopeScaled | TapBiasSpec::Adaptive) {
+        return Err(err("bias", "pcss takes bias constant, receiver_plane or adaptive_delta"));
+    }
+    Ok(())
 }
 
 impl TechniqueSpec {
@@ -426,30 +497,29 @@ impl TechniqueSpec {
         format!("{}({})", self.name(), inner.join(","))
     }
 
-    /// Checks the parameters: finite numbers, and the constant bias given one way.
+    /// Checks the parameters: numbers finite and, where below zero means nothing, not negative;
+    /// each parameter used only where it belongs.
     pub fn validate(&self) -> Result<(), TechniqueSpecError> {
         match *self {
-            TechniqueSpec::None => Ok(()),
+            TechniqueSpec::None | TechniqueSpec::Midpoint { .. } => Ok(()),
             TechniqueSpec::Constant { bias_depth, bias_world } => match (bias_depth, bias_world) {
-                (Some(b), None) => finite("bias_depth", b),
-                (None, Some(b)) => finite("bias_world", b),
-                _ => {
-                    Err(TechniqueSpecError("constant needs exactly one of bias_depth and bias_world".into()))
-                }
+                (Some(b), None) => non_negative("bias_depth", b),
+                (None, Some(b)) => non_negative("bias_world", b),
+                _ => Err(TechniqueSpecError {
+                    field: None,
+                    message: "constant needs exactly one of bias_depth and bias_world".into(),
+                }),
             },
             TechniqueSpec::SlopeScaled { factor, units, .. } => {
-                finite("factor", factor)?;
-                finite("units", units)
+                non_negative("factor", factor)?;
+                non_negative("units", units)
             }
-            TechniqueSpec::NormalOffset { scale_texels, .. } => finite("scale_texels", scale_texels),
+            TechniqueSpec::NormalOffset { scale_texels, .. } => non_negative("scale_texels", scale_texels),
             TechniqueSpec::ReceiverPlane { bias_depth } | TechniqueSpec::SecondDepth { bias_depth } => {
-                finite("bias_depth", bias_depth)
+                non_negative("bias_depth", bias_depth)
             }
-            TechniqueSpec::Midpoint { .. } => Ok(()),
-            TechniqueSpec::Dual { z_offset, .. } if z_offset >= 0.0 && !z_offset.is_nan() => Ok(()),
-            TechniqueSpec::Dual { .. } => Err(TechniqueSpecError("z_offset must be a number ≥ 0".into())),
-            TechniqueSpec::Adaptive { k, .. } if k.is_finite() && k >= 0.0 => Ok(()),
-            TechniqueSpec::Adaptive { .. } => Err(TechniqueSpecError("k must be a finite number ≥ 0".into())),
+            TechniqueSpec::Dual { z_offset, .. } => non_negative("z_offset", z_offset),
+            TechniqueSpec::Adaptive { k, .. } => non_negative("k", k),
             TechniqueSpec::Pcf {
                 kernel,
                 size,
@@ -467,24 +537,7 @@ impl TechniqueSpec {
             } => {
                 validate_kernel(kernel, size, taps, radius_texels)?;
                 validate_bias(bias, bias_depth, k, epsilon)?;
-                let slope = bias == TapBiasSpec::SlopeScaled;
-                if !slope && (factor.is_some() || units.is_some()) {
-                    return Err(err("factor and units belong to bias \"slope_scaled\""));
-                }
-                if slope {
-                    finite("factor", factor.unwrap_or(0.0))?;
-                    finite("units", units.unwrap_or(0.0))?;
-                }
-                match (layers, z_offset) {
-                    (LayerSpec::Dual, Some(z)) if z >= 0.0 && z.is_finite() => {}
-                    (LayerSpec::Dual, _) => return Err(err("layers \"dual\" needs a z_offset ≥ 0")),
-                    (_, Some(_)) => return Err(err("z_offset belongs to layers \"dual\"")),
-                    _ => {}
-                }
-                if cull_back_faces.is_some() && !matches!(layers, LayerSpec::Midpoint | LayerSpec::Dual) {
-                    return Err(err("cull_back_faces belongs to layers \"midpoint\" and \"dual\""));
-                }
-                Ok(())
+                validate_pcf_layers(bias, factor, units, layers, z_offset, cull_back_faces)
             }
             TechniqueSpec::Mdsm {
                 depths,
@@ -499,33 +552,12 @@ impl TechniqueSpec {
                 epsilon,
                 ..
             } => {
-                if !(1..=4).contains(&depths) {
-                    return Err(err("depths must be 1, 2, 3 or 4"));
-                }
-                if neighbourhood % 2 == 0 || !(1..=15).contains(&neighbourhood) {
-                    return Err(err("neighbourhood must be an odd number of texels from 1 to 15"));
-                }
-                if bias == TapBiasSpec::SlopeScaled {
-                    return Err(err("mdsm takes bias constant, receiver_plane, adaptive or adaptive_delta"));
-                }
+                validate_mdsm(depths, neighbourhood, bias)?;
                 validate_kernel(kernel, size, taps, radius_texels)?;
                 validate_bias(bias, bias_depth, k, epsilon)
             }
             TechniqueSpec::Pcss { search_taps, filter_taps, bias, bias_depth, k, epsilon } => {
-                if !POISSON_SIZES.contains(&search_taps) {
-                    return Err(err("search_taps must be 16, 25 or 32 (the Poisson sets)"));
-                }
-                let root = (filter_taps as f64).sqrt().round() as u32;
-                if !POISSON_SIZES.contains(&filter_taps)
-                    && (root * root != filter_taps || !(2..=16).contains(&root))
-                {
-                    return Err(err(
-                        "filter_taps must be 16, 25, 32 (Poisson) or a square from 4 to 256 (grid)",
-                    ));
-                }
-                if matches!(bias, TapBiasSpec::SlopeScaled | TapBiasSpec::Adaptive) {
-                    return Err(err("pcss takes bias constant, receiver_plane or adaptive_delta"));
-                }
+                validate_pcss(search_taps, filter_taps, bias)?;
                 validate_bias(bias, bias_depth, k, epsilon)
             }
         }

@@ -9,10 +9,17 @@
 //! `area`), so that every kind and grid of one view coexists. An entry records its `kind` and
 //! `samples` per pixel; both are left out for hard masks (kind `hard`, 1 sample), so older
 //! manifests read unchanged and hard entries are written as before.
+//!
+//! Runs may share one cache folder concurrently. Each writes its file (atomically) before its
+//! manifest entry, and records the entry while holding an exclusive lock on `.manifest.lock`:
+//! under the lock it re-reads the manifest, merges its entry in and writes the manifest back
+//! atomically, so no run's entry is lost and readers (which take no lock) see the old manifest
+//! or the new one, never a half-written one. Temporary files that killed runs left in the
+//! folders written are removed on the way (`atomic_file::remove_stray_temp_files`).
 
 use super::soft_reference::{SoftKind, SoftReference};
 use super::{AreaLightError, TRACER_VERSION};
-use crate::atomic_file::{encode_gray_png, write_atomic};
+use crate::atomic_file::{encode_gray_png, remove_stray_temp_files, write_atomic};
 use crate::scene::{Camera, Light, LightKind, Scene};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
@@ -20,6 +27,10 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 pub const MANIFEST_FORMAT: &str = "shadowtruth/references/v1";
+
+/// The file whose exclusive lock guards the manifest's read-modify-write (never removed: removing
+/// a lock file lets two runs lock two different files).
+pub const MANIFEST_LOCK_FILE: &str = ".manifest.lock";
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -205,19 +216,42 @@ impl ReferenceCache {
         codes: &[u8],
     ) -> std::io::Result<()> {
         let rel = Self::mask_path(scene, camera, light);
-        write_atomic(&self.dir.join(&rel), &encode_gray_png(width, height, codes)?)?;
+        self.write_file(&rel, &encode_gray_png(width, height, codes)?)?;
         let entry =
             ManifestEntry { mask: rel, digest: digest.into(), width, height, kind: hard_kind(), samples: 1 };
         self.record(key(scene, camera, light), entry)
     }
 
-    /// Adds or replaces one manifest entry (the manifest is rewritten atomically).
+    /// Writes a cached file (atomically), first removing stray temporary files from its folder.
+    fn write_file(&self, rel: &str, bytes: &[u8]) -> std::io::Result<()> {
+        let path = self.dir.join(rel);
+        remove_stray_temp_files(path.parent().unwrap_or(&self.dir))?;
+        write_atomic(&path, bytes)
+    }
+
+    /// Adds or replaces one manifest entry: under the manifest lock, the manifest as it is now
+    /// (other runs may have added entries since it was last read) with the entry merged in is
+    /// rewritten atomically.
     fn record(&self, key: String, entry: ManifestEntry) -> std::io::Result<()> {
+        let _lock = self.lock_manifest()?;
+        remove_stray_temp_files(&self.dir)?;
         let mut manifest = self.read_manifest();
         manifest.entries.insert(key, entry);
         let mut text = serde_json::to_string_pretty(&manifest).map_err(std::io::Error::other)?;
         text.push('\n');
         write_atomic(&self.manifest_path(), text.as_bytes())
+    }
+
+    /// The manifest lock file, exclusively locked (the lock is released when it drops).
+    fn lock_manifest(&self) -> std::io::Result<std::fs::File> {
+        std::fs::create_dir_all(&self.dir)?;
+        let file = std::fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(self.dir.join(MANIFEST_LOCK_FILE))?;
+        fs4::FileExt::lock(&file)?;
+        Ok(file)
     }
 
     /// The digest recorded for a soft reference, if any.
@@ -276,7 +310,7 @@ impl ReferenceCache {
     ) -> std::io::Result<()> {
         let grid = reference.samples.isqrt();
         let rel = Self::soft_path(scene, camera, light, kind, grid);
-        write_atomic(&self.dir.join(&rel), &reference.to_exr()?)?;
+        self.write_file(&rel, &reference.to_exr()?)?;
         let entry = ManifestEntry {
             mask: rel,
             digest: digest.into(),

@@ -82,6 +82,11 @@ pub(super) fn trace_evaluated(
     SoftReference { width: gbuffer.width, height: gbuffer.height, visibility, std_error, samples }
 }
 
+/// Run-length-encoded 64×64 tiles written in increasing order. The exr crate compresses tiles in
+/// parallel and, with `LineOrder::Unspecified` (`Encoding::FAST_LOSSLESS`), writes each as it
+/// finishes, so that the bytes of one image would differ from run to run.
+const EXR_ENCODING: Encoding = Encoding { line_order: LineOrder::Increasing, ..Encoding::FAST_LOSSLESS };
+
 impl SoftReference {
     /// Whether non-evaluated pixels hold zeros and evaluated ones a visibility in [0, 1] with a
     /// finite, non-negative error: what a stored reference must satisfy to be used for `gbuffer`.
@@ -100,7 +105,8 @@ impl SoftReference {
             })
     }
 
-    /// The reference as an EXR file: channels `V` and `E` (f32), row 0 at the top, lossless.
+    /// The reference as an EXR file: channels `V` and `E` (f32), row 0 at the top, lossless; the
+    /// same reference gives the same bytes, whatever the thread count.
     pub fn to_exr(&self) -> std::io::Result<Vec<u8>> {
         let channels = vec![
             AnyChannel::new("E", FlatSamples::F32(self.std_error.clone())),
@@ -111,7 +117,7 @@ impl SoftReference {
         let image = Image::from_layer(Layer::new(
             (self.width as usize, self.height as usize),
             attributes,
-            Encoding::FAST_LOSSLESS,
+            EXR_ENCODING,
             AnyChannels::sort(SmallVec::from_vec(channels)),
         ));
         let mut bytes = Cursor::new(Vec::new());

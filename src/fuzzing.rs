@@ -1,0 +1,195 @@
+//! Entry points for fuzzing the input readers: scene files, OBJ meshes, plans and gate rules.
+//!
+//! Each function takes arbitrary bytes and must return without panicking, whatever they are:
+//! rejecting them with an error is the expected outcome. They live in the library rather than
+//! in the fuzz targets (fuzz/fuzz_targets/) so that the very same code runs under `cargo fuzz`
+//! and, in the ordinary test suite, over every file of the committed corpus (tests/fuzz_corpus.rs),
+//! which needs no nightly toolchain. Not a stable API.
+
+use crate::scene::{Scene, load_scene_str, parse_obj};
+use std::path::{Component, Path, PathBuf};
+
+/// The folder that fuzzed scenes resolve their mesh paths in: a few small OBJ files under
+/// `meshes/`, named like the bundled scenes' meshes (fuzz/scene_dir/).
+pub fn scene_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz").join("scene_dir")
+}
+
+/// A scene file (`shadowtruth::scene::load_scene_str`), meshes resolved in `scene_dir()`.
+pub fn scene_reader(data: &[u8]) {
+    let text = String::from_utf8_lossy(data);
+    // A mesh path may name any file of the machine (`/dev/zero`, `../../x`); the fuzzer stays
+    // inside `scene_dir()`, whose files are all small.
+    if !strings_stay_inside(&text) {
+        return;
+    }
+    match load_scene_str(&text, Path::new("fuzz.json"), &scene_dir()) {
+        Ok(scene) => check_scene(&scene),
+        Err(error) => {
+            assert!(!error.problems.is_empty(), "an error without problems");
+            let _ = error.to_string();
+        }
+    }
+}
+
+/// An OBJ mesh, parsed from memory by the same code that reads mesh files.
+pub fn obj_reader(data: &[u8]) {
+    if let Ok(mesh) = parse_obj(data, "fuzz.obj") {
+        assert!(mesh.positions.iter().all(|p| p.is_finite()), "a non-finite vertex");
+        let n = mesh.positions.len();
+        assert!(mesh.triangles.iter().flatten().all(|&i| (i as usize) < n), "an index out of range");
+    }
+}
+
+/// A plan file (`shadowtruth::plan::parse_plan`).
+pub fn plan_reader(data: &[u8]) {
+    let text = String::from_utf8_lossy(data);
+    let _ = crate::plan::parse_plan(&text, Path::new("fuzz.json"));
+}
+
+/// A gate rules file (`shadowtruth::report::parse_rules`); rules that parse are evaluated
+/// against a small report, with and without a baseline, and their outcome rendered.
+pub fn gate_rules(data: &[u8]) {
+    use crate::report::{GateOptions, evaluate, junit_xml, parse_rules};
+    let text = String::from_utf8_lossy(data);
+    let Ok(rules) = parse_rules(&text, "fuzz.toml") else {
+        return;
+    };
+    let (report, baseline) = gate_reports();
+    for allow_missing in [false, true] {
+        for baseline in [None, Some(baseline)] {
+            if let Ok(outcome) = evaluate(report, baseline, &rules, GateOptions { allow_missing }) {
+                let _ = (outcome.text(), outcome.markdown(), junit_xml(&outcome));
+            }
+        }
+    }
+}
+
+/// The report and baseline that fuzzed gate rules are evaluated against, built once: a
+/// hard-reference and a soft run that both hold, a run only in the report, one only in the
+/// baseline, and one that regressed.
+fn gate_reports() -> &'static (crate::report::CheckedReport, crate::report::CheckedReport) {
+    use crate::metrics::{Counts, SoftErrors};
+    use crate::report::{CheckedReport, ReferenceUsed, Report, RunRecord, Timings};
+    use crate::technique::ReferenceKind;
+    static REPORTS: std::sync::OnceLock<(CheckedReport, CheckedReport)> = std::sync::OnceLock::new();
+    let run = |scene: &str, spec: serde_json::Value, label: &str, resolution, false_shadow, false_lit| {
+        let counts = Counts {
+            pixels: 1000,
+            background: 100,
+            evaluated: 900,
+            false_shadow,
+            false_lit,
+            ..Counts::default()
+        };
+        let mut parameters = spec.as_object().cloned().unwrap_or_default();
+        let technique = parameters.remove("technique").and_then(|t| t.as_str().map(String::from));
+        RunRecord {
+            scene: scene.into(),
+            camera: "main".into(),
+            light: "sun".into(),
+            technique: technique.unwrap_or_default(),
+            parameters,
+            label: label.into(),
+            resolution,
+            depth_format: "f32".into(),
+            counts,
+            rates: counts.rates(),
+            timings: Timings::default(),
+            layer_memory_bytes: 0,
+            reference: ReferenceUsed::default(),
+            soft: None,
+        }
+    };
+    REPORTS.get_or_init(|| {
+        let slope = serde_json::json!({"technique": "slope_scaled", "factor": 2.0, "units": 4.0});
+        let constant = serde_json::json!({"technique": "constant", "bias_depth": 0.001});
+        let pcf = serde_json::json!({"technique": "pcf", "kernel": "box", "size": 3});
+        let (slope_label, constant_label) =
+            ("slope_scaled(factor=2.0,units=4.0)", "constant(bias_depth=0.001)");
+        let mut soft = run("spot", pcf, "pcf(kernel=box,size=3)", 1024, 3, 4);
+        soft.reference = ReferenceUsed { kind: ReferenceKind::Coverage, samples: 16 };
+        soft.soft = Some(SoftErrors { mae: 0.01, false_shadow_mass: 0.004, false_lit_mass: 0.006 });
+        let mut worse_soft = soft.clone();
+        worse_soft.soft = Some(SoftErrors { mae: 0.02, false_shadow_mass: 0.01, false_lit_mass: 0.01 });
+        let report = Report {
+            runs: vec![
+                run("plane_box", slope.clone(), slope_label, 2048, 1, 2),
+                run("plane_box", slope.clone(), slope_label, 1024, 9, 30),
+                run("plane_box", constant.clone(), constant_label, 2048, 50, 0),
+                worse_soft,
+            ],
+            ..Report::default()
+        };
+        let baseline = Report {
+            runs: vec![
+                run("plane_box", slope.clone(), slope_label, 2048, 1, 2),
+                run("plane_box", slope, slope_label, 1024, 5, 30),
+                run("rocks", constant, constant_label, 2048, 10, 10),
+                soft,
+            ],
+            ..Report::default()
+        };
+        let check = |report, origin| CheckedReport::new(report, origin).expect("a consistent report");
+        (check(report, "report.json"), check(baseline, "baseline.json"))
+    })
+}
+
+/// What a loaded scene promises every later stage.
+fn check_scene(scene: &Scene) {
+    assert!(!scene.triangles.is_empty(), "a scene without triangles");
+    assert_eq!(scene.triangles.len(), scene.triangle_object.len());
+    assert!(scene.triangles.iter().flatten().all(|v| v.is_finite()), "a non-finite vertex");
+    let mut next = 0u32;
+    for (i, object) in scene.objects.iter().enumerate() {
+        assert_eq!(object.first_triangle, next, "objects are not contiguous");
+        next += object.triangle_count;
+        let range = object.first_triangle as usize..next as usize;
+        assert!(scene.triangle_object[range].iter().all(|&o| o as usize == i));
+    }
+    assert_eq!(next as usize, scene.triangles.len());
+    let (lo, hi) = scene.bounds();
+    assert!(lo.cmple(hi).all());
+    let _ = scene.geometry_digest();
+}
+
+/// False when a JSON string literal of `text` is a path that leaves the folder it is joined to
+/// (absolute, or with a `..` component). Every value the scene reader sees, mesh paths included,
+/// is one of these literals: the loader only ever rewrites number tokens.
+fn strings_stay_inside(text: &str) -> bool {
+    let bytes = text.as_bytes();
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'"' {
+            let start = i;
+            i += 1;
+            while i < bytes.len() && bytes[i] != b'"' {
+                i += if bytes[i] == b'\\' { 2 } else { 1 };
+            }
+            // Both ends lie on a quote or at the end of the text: character boundaries.
+            let end = (i + 1).min(bytes.len());
+            if let Ok(s) = serde_json::from_str::<String>(&text[start..end])
+                && !Path::new(&s).components().all(|c| matches!(c, Component::Normal(_) | Component::CurDir))
+            {
+                return false;
+            }
+        }
+        i += 1;
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fuzzing_paths_outside_the_scene_dir_are_skipped() {
+        assert!(strings_stay_inside(r#"{"mesh": "meshes/rocks.obj", "a": "x\"y", "b": 1e999}"#));
+        assert!(!strings_stay_inside(r#"{"mesh": "/dev/zero"}"#));
+        assert!(!strings_stay_inside(r#"{"mesh": "\/dev\/zero"}"#));
+        assert!(!strings_stay_inside(r#"{"mesh": "\u002fdev/zero"}"#));
+        assert!(!strings_stay_inside(r#"{"mesh": "meshes/../../Cargo.toml"}"#));
+        assert!(strings_stay_inside("\"unterminated \\"));
+    }
+}

@@ -1,0 +1,236 @@
+//! Reading reports, and the consistency a report must have before the gate trusts its numbers:
+//! counts within the evaluated pixels, some pixels evaluated, soft errors in [0, 1], each run once.
+//! Every problem names the file and the JSON path.
+
+use super::GateError;
+use super::identity::{RunIdentity, RunName};
+use crate::report::{REPORT_SCHEMA, Report, RunRecord};
+use serde_json::Value;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// Reads a report: a `report.json` file, or a folder holding one. Returns the report and the
+/// file it was read from.
+pub fn load_report(path: &Path) -> Result<(Report, PathBuf), GateError> {
+    let file = if path.is_dir() { path.join("report.json") } else { path.to_path_buf() };
+    let origin = file.display().to_string();
+    let text = std::fs::read_to_string(&file).map_err(|e| {
+        if e.kind() == std::io::ErrorKind::NotFound {
+            GateError::one(format!("{origin}: no such report"))
+        } else {
+            GateError::one(format!("{origin}: cannot read: {e}"))
+        }
+    })?;
+    let report = parse_report(&text).map_err(|e| GateError::one(format!("{origin}: {e}")))?;
+    Ok((report, file))
+}
+
+/// The schema is checked first, so that a report of another schema says so instead of failing
+/// on a field that schema lacks; deserialisation errors name the JSON path.
+fn parse_report(text: &str) -> Result<Report, String> {
+    let value: Value = serde_json::from_str(text).map_err(|e| format!("not valid JSON: {e}"))?;
+    let expected = format!("expected \"{REPORT_SCHEMA}\"");
+    match value.get("schema") {
+        Some(Value::String(s)) if s == REPORT_SCHEMA => {}
+        Some(other) => return Err(format!("schema: {expected}, got {other}")),
+        None if value.is_object() => return Err(format!("schema: missing ({expected})")),
+        None => return Err("expected a JSON object (a report)".into()),
+    }
+    serde_path_to_error::deserialize(value).map_err(|e| format!("{}: {}", e.path(), e.inner()))
+}
+
+/// A report that passed the consistency checks, with the file it came from (named in messages)
+/// and the identity of each run. The gate evaluates only these.
+#[derive(Clone, Debug)]
+pub struct CheckedReport {
+    origin: String,
+    report: Report,
+    identities: Vec<RunIdentity>,
+}
+
+impl CheckedReport {
+    /// Reads a report (see [`load_report`]) and checks it.
+    pub fn load(path: &Path) -> Result<Self, GateError> {
+        let (report, file) = load_report(path)?;
+        Self::new(report, file.display().to_string())
+    }
+
+    /// Checks a report; `origin` names it in messages. Every problem is listed.
+    pub fn new(report: Report, origin: impl Into<String>) -> Result<Self, GateError> {
+        let origin = origin.into();
+        let identities: Vec<RunIdentity> = report.runs.iter().map(RunIdentity::of).collect();
+        let mut problems: Vec<String> = report
+            .runs
+            .iter()
+            .enumerate()
+            .flat_map(|(i, run)| run_problems(run).into_iter().map(move |p| format!("runs[{i}]{p}")))
+            .collect();
+        problems.extend(empty_report_problem(&report));
+        problems.extend(duplicate_problems(&report, &identities));
+        if !problems.is_empty() {
+            let problems = problems.into_iter().map(|p| format!("{origin}: {p}")).collect();
+            return Err(GateError { problems });
+        }
+        Ok(CheckedReport { origin, report, identities })
+    }
+
+    pub fn origin(&self) -> &str {
+        &self.origin
+    }
+
+    pub fn report(&self) -> &Report {
+        &self.report
+    }
+
+    pub fn runs(&self) -> &[RunRecord] {
+        &self.report.runs
+    }
+
+    /// The identity of each run, in report order.
+    pub fn identities(&self) -> &[RunIdentity] {
+        &self.identities
+    }
+}
+
+/// Problems of one run, each starting with its JSON path below the run (`.counts.false_lit: ...`).
+fn run_problems(run: &RunRecord) -> Vec<String> {
+    let c = &run.counts;
+    let mut problems = Vec::new();
+    if c.evaluated > c.pixels {
+        problems.push(format!(".counts.evaluated: {} > pixels {}", c.evaluated, c.pixels));
+    }
+    for (field, count) in [("false_shadow", c.false_shadow), ("false_lit", c.false_lit)] {
+        if count > c.evaluated {
+            problems.push(format!(".counts.{field}: {count} > evaluated {}", c.evaluated));
+        }
+    }
+    let both = c.false_shadow as u128 + c.false_lit as u128;
+    if problems.is_empty() && both > c.evaluated as u128 {
+        problems.push(format!(".counts: false_shadow + false_lit = {both} > evaluated {}", c.evaluated));
+    }
+    if let Some(soft) = &run.soft {
+        for (field, v) in [
+            ("mae", soft.mae),
+            ("false_shadow_mass", soft.false_shadow_mass),
+            ("false_lit_mass", soft.false_lit_mass),
+        ] {
+            if !(0.0..=1.0).contains(&v) {
+                problems.push(format!(".soft.{field}: {v} is not a number in [0, 1]"));
+            }
+        }
+    }
+    problems
+}
+
+/// A report with no run, or none that evaluated a pixel, has nothing to gate.
+fn empty_report_problem(report: &Report) -> Option<String> {
+    if report.runs.is_empty() {
+        Some("runs: no run".into())
+    } else if report.runs.iter().all(|r| r.counts.evaluated == 0) {
+        Some(format!("runs: none of the {} runs evaluated a pixel (counts.evaluated = 0)", report.runs.len()))
+    } else {
+        None
+    }
+}
+
+/// Two runs with one identity could not be told apart when pairing with a baseline.
+fn duplicate_problems(report: &Report, identities: &[RunIdentity]) -> Vec<String> {
+    let mut first: HashMap<&RunIdentity, usize> = HashMap::new();
+    let mut problems = Vec::new();
+    for (i, id) in identities.iter().enumerate() {
+        if let Some(&j) = first.get(id) {
+            problems.push(format!(
+                "runs[{i}]: the same run as runs[{j}] ({}): same view, map, reference and parameters",
+                RunName::of(&report.runs[j])
+            ));
+        } else {
+            first.insert(id, i);
+        }
+    }
+    problems
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::metrics::{Counts, SoftErrors};
+    use crate::report::Timings;
+
+    fn run(scene: &str, evaluated: u64, false_shadow: u64, false_lit: u64) -> RunRecord {
+        let counts =
+            Counts { pixels: evaluated + 10, evaluated, false_shadow, false_lit, ..Counts::default() };
+        RunRecord {
+            scene: scene.into(),
+            camera: "main".into(),
+            light: "sun".into(),
+            technique: "none".into(),
+            parameters: Default::default(),
+            label: "none".into(),
+            resolution: 1024,
+            depth_format: "f32".into(),
+            counts,
+            rates: counts.rates(),
+            timings: Timings::default(),
+            layer_memory_bytes: 0,
+            reference: Default::default(),
+            soft: None,
+        }
+    }
+
+    fn problems(runs: Vec<RunRecord>) -> Vec<String> {
+        CheckedReport::new(Report { runs, ..Report::new() }, "r.json").expect_err("inconsistent").problems
+    }
+
+    #[test]
+    fn a_consistent_report_passes() {
+        let ok = CheckedReport::new(Report { runs: vec![run("a", 100, 60, 40)], ..Report::new() }, "r.json");
+        assert_eq!(ok.unwrap().identities().len(), 1);
+    }
+
+    #[test]
+    fn counts_above_evaluated_are_named_with_their_path() {
+        let p = problems(vec![run("a", 100, 0, 0), run("b", 700, 812, 0)]);
+        assert_eq!(p, vec!["r.json: runs[1].counts.false_shadow: 812 > evaluated 700"]);
+        let p = problems(vec![run("a", 100, 60, 41)]);
+        assert_eq!(p, vec!["r.json: runs[0].counts: false_shadow + false_lit = 101 > evaluated 100"]);
+        let mut over = run("a", 100, 0, 0);
+        over.counts.pixels = 99;
+        assert_eq!(problems(vec![over]), vec!["r.json: runs[0].counts.evaluated: 100 > pixels 99"]);
+    }
+
+    #[test]
+    fn soft_errors_outside_zero_one_are_rejected() {
+        let mut r = run("a", 100, 0, 0);
+        r.soft = Some(SoftErrors { mae: 1.5, false_shadow_mass: 0.5, false_lit_mass: -0.1 });
+        let p = problems(vec![r]);
+        assert_eq!(p.len(), 2, "{p:?}");
+        assert!(p[0].starts_with("r.json: runs[0].soft.mae: 1.5"), "{p:?}");
+        assert!(p[1].starts_with("r.json: runs[0].soft.false_lit_mass"), "{p:?}");
+    }
+
+    #[test]
+    fn empty_reports_and_duplicates_are_rejected() {
+        assert_eq!(problems(vec![]), vec!["r.json: runs: no run"]);
+        let p = problems(vec![run("a", 0, 0, 0), run("b", 0, 0, 0)]);
+        assert!(p[0].contains("runs: none of the 2 runs evaluated a pixel"), "{p:?}");
+        let mut relabelled = run("a", 100, 0, 0);
+        relabelled.label = "none()".into();
+        let p = problems(vec![run("a", 100, 0, 0), run("b", 100, 0, 0), relabelled]);
+        assert_eq!(p.len(), 1, "{p:?}");
+        assert!(p[0].starts_with("r.json: runs[2]: the same run as runs[0] (a/main/sun none @1024"), "{p:?}");
+    }
+
+    #[test]
+    fn the_schema_is_checked_before_the_rest() {
+        let mut v = serde_json::to_value(Report { runs: vec![run("a", 1, 0, 0)], ..Report::new() }).unwrap();
+        v["schema"] = "shadowtruth/report/v2".into();
+        v["runs"] = "changed in v2".into();
+        let e = parse_report(&v.to_string()).unwrap_err();
+        assert_eq!(e, "schema: expected \"shadowtruth/report/v1\", got \"shadowtruth/report/v2\"");
+        v["schema"] = REPORT_SCHEMA.into();
+        v["runs"] = serde_json::json!([serde_json::to_value(run("a", 1, 0, 0)).unwrap()]);
+        v["runs"][0]["counts"]["false_lit"] = (-3).into();
+        let e = parse_report(&v.to_string()).unwrap_err();
+        assert!(e.starts_with("runs[0].counts.false_lit: invalid value: integer `-3`"), "{e}");
+    }
+}

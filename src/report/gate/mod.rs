@@ -1,0 +1,49 @@
+//! The gate: rules (glob patterns on the runs of a report, an absolute bound on a metric and/or a
+//! bound on its regression against a baseline report) → checks and violations. With a baseline,
+//! every baseline run is paired with a run of the report or reported missing, so a removed or
+//! renamed run cannot let the gate pass unchecked.
+//!
+//! - `rules.rs` reads rules files (TOML) and matches rules to runs;
+//! - `input.rs` reads reports and rejects inconsistent ones ([`CheckedReport`]);
+//! - `identity.rs` decides which baseline run is the same run as a run of the report;
+//! - `check.rs` evaluates the rules ([`evaluate`], a pure function);
+//! - `render.rs` prints the outcome as text and Markdown (JUnit XML is in `report/junit.rs`).
+//!
+//! Reading files is the only I/O here; the CLI writes the outputs.
+
+mod check;
+mod identity;
+mod input;
+mod render;
+mod rules;
+
+pub use check::{
+    BaselineComparison, BaselineStatus, Check, GateOptions, GateOutcome, Measured, Violation, evaluate,
+    measure,
+};
+pub use identity::{Pairing, RunIdentity, RunName, TechniqueIdentity};
+pub use input::{CheckedReport, load_report};
+pub use render::fmt_value;
+pub use rules::{Metric, Regression, Rule, RuleSpec, Rules, glob_match, load_rules, parse_rules};
+
+use std::fmt;
+
+/// Bad input: every problem found, each naming its file and field.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GateError {
+    pub problems: Vec<String>,
+}
+
+impl GateError {
+    fn one(message: String) -> Self {
+        GateError { problems: vec![message] }
+    }
+}
+
+impl fmt::Display for GateError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.problems.join("\n"))
+    }
+}
+
+impl std::error::Error for GateError {}
