@@ -132,7 +132,7 @@ fn area_light_standard_error_falls_as_one_over_root_samples() {
 }
 
 /// Image position (pixels from the top-left corner) of world point `p`, inverting the camera's
-/// ray formula (DESIGN.md, Conventions).
+/// ray formula (docs/conventions.md, "Camera").
 fn project(camera: &Camera, p: glam::DVec3) -> (f64, f64) {
     let (r, u, f) = camera.basis();
     let v = p - camera.position.as_dvec3();

@@ -1,5 +1,5 @@
-//! Error attribution: why a pixel is wrong. Every false pixel of a run (DESIGN.md, Metrics) is
-//! put in exactly one class:
+//! Error attribution: why a pixel is wrong (docs/conventions.md, "Attribution"). Every false
+//! pixel of a run is put in exactly one class:
 //!
 //! - **aliasing**: the pixel lies within one shadow-map texel footprint of a reference shadow
 //!   boundary, so no shadow map of this resolution can be expected to get it right;

@@ -1,6 +1,7 @@
 //! Classification of every pixel: the classes of the G-buffer, and on evaluated pixels the false
 //! shadow (reference lit, technique shadowed: acne, self-shadowing) and false lit (reference
-//! shadowed, technique lit: leaks, peter-panning) with the ½ threshold of DESIGN.md.
+//! shadowed, technique lit: leaks, peter-panning) with the ½ threshold of docs/conventions.md,
+//! "False shadow and false lit".
 
 use crate::trace::{GBuffer, HardReference, PixelClass};
 use serde::{Deserialize, Serialize};

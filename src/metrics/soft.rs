@@ -1,7 +1,7 @@
-//! Errors of fractional visibility against a fractional reference (DESIGN.md, Metrics): the mean
-//! absolute error, the false-shadow mass Σ max(0, r − v) and the false-lit mass Σ max(0, v − r),
-//! each per evaluated pixel. The hard counts of such a run threshold both at ½
-//! ([`thresholded`] then `score_hard`).
+//! Errors of fractional visibility against a fractional reference (docs/conventions.md, "Soft
+//! errors"): the mean absolute error, the false-shadow mass Σ max(0, r − v) and the false-lit
+//! mass Σ max(0, v − r), each per evaluated pixel. The hard counts of such a run threshold both
+//! at ½ ([`thresholded`] then `score_hard`).
 
 use crate::trace::{GBuffer, HardReference};
 use serde::{Deserialize, Serialize};

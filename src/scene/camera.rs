@@ -1,4 +1,4 @@
-//! The pinhole camera of DESIGN.md: pixel centres, row 0 at the top.
+//! The pinhole camera (docs/conventions.md, "Camera"): pixel centres, row 0 at the top.
 
 use glam::{DVec3, Vec3};
 

@@ -1,4 +1,5 @@
-//! Techniques that compare against more than the nearest surface (formulas.md §4).
+//! Techniques that compare against more than the nearest surface (docs/formulas.md, "Second
+//! depth", "Midpoint" and "Dual depth layers").
 //!
 //! - `second_depth` (Wang & Molnar, UNC TR94-019, 1994): the map holds the back faces of closed
 //!   objects (front faces culled) and both sides of open ones; lit when `z_ref ≤ z_map`.

@@ -1,7 +1,7 @@
-//! Where a filter's taps fall (formulas.md §6): box k×k point taps, the bilinear 2×2 of hardware
-//! PCF, Poisson disks of 16, 25 and 32 taps, a stratified 4×4 jitter, and the regular grids of
-//! PCSS. Positions are in texel space (x = u·N, y = (1 − v)·N, y down the map's rows), so a tap
-//! at (x, y) reads texel (⌊x⌋, ⌊y⌋).
+//! Where a filter's taps fall (docs/formulas.md, "PCF kernels"): box k×k point taps, the
+//! bilinear 2×2 of hardware PCF, Poisson disks of 16, 25 and 32 taps, a stratified 4×4 jitter,
+//! and the regular grids of PCSS. Positions are in texel space (x = u·N, y = (1 − v)·N, y down
+//! the map's rows), so a tap at (x, y) reads texel (⌊x⌋, ⌊y⌋).
 
 /// A filter kernel. Poisson, jitter and grid kernels are scaled by a radius in texels given per
 /// receiver (fixed for PCF, the penumbra estimate for PCSS).

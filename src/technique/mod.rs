@@ -2,7 +2,7 @@
 //!
 //! `TechniqueSpec` names every technique with its parameters (the form plans and reports use);
 //! `Technique` is the trait the shading loop calls. Each family lives in its own file and cites
-//! its source; the exact formulas and our choices are in formulas.md.
+//! its source; the exact formulas and our choices are in docs/formulas.md.
 
 mod adaptive;
 mod bias;

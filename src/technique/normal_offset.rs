@@ -1,7 +1,8 @@
 //! Normal-offset shadows (Holbert, "Normal Offset Shadows", GDC 2011 poster; RTR4 §7.4): the
 //! receiver moves along its geometric normal by `scale · texel_world · g(θ)` before it is
 //! projected, so both its map position and its depth change. g = sin θ follows RTR4's account of
-//! Holbert; `1 − N·L` is the variant of MJP's sample and Unity (formulas.md §2).
+//! Holbert; `1 − N·L` is the variant of MJP's sample and Unity (docs/formulas.md, "Normal
+//! offset").
 
 use super::{LayerNeeds, Sample, ShadeContext, Technique, depth_test};
 

@@ -1,14 +1,14 @@
-//! Percentage-closer soft shadows (Fernando 2005; formulas.md §7, following the 2014 NVIDIA
-//! SoftShadows sample): a blocker search over the region of the map that can hide the light from
-//! the receiver, the average blocker depth (averaged in map depth, converted to view distance),
-//! a penumbra estimate from similar triangles, then PCF over a kernel scaled to it.
+//! Percentage-closer soft shadows (Fernando 2005; docs/formulas.md, "PCSS", following the 2014
+//! NVIDIA SoftShadows sample): a blocker search over the region of the map that can hide the
+//! light from the receiver, the average blocker depth (averaged in map depth, converted to view
+//! distance), a penumbra estimate from similar triangles, then PCF over a kernel scaled to it.
 //!
 //! - Spot light of radius R (perspective map): with W the frustum width at the near plane z_n and
 //!   λ = R/W, the search radius is `λ·(z_r − z_n)/z_r` and the filter radius
 //!   `λ·(z_r − z_b)/z_b·z_n/z_r` in map units (×N for texels).
 //! - Directional light of angular diameter α (orthographic map): the search radius is
 //!   `(z_r − z_n)·tan(α/2)` and the filter radius `(z_r − z_b)·tan(α/2)` in world units, over the
-//!   texel size for texels [derived, formulas.md §7].
+//!   texel size for texels (our derivation: docs/formulas.md, "PCSS").
 //!
 //! No blocker: lit. Every search tap a blocker: shadowed (the sample's early-outs). The blocker
 //! test and the filter taps use the same per-tap bias (`receiver_plane` as in the sample, or

@@ -1,9 +1,10 @@
 //! Receiver-plane depth bias (Isidoro, "Shadow Mapping: GPU-based Tips and Techniques", GDC 2006;
-//! formulas.md §3). The receiver's depth is tilted along its own plane to the point where the
-//! map was sampled: `z_c = z + z_u·(u_c − u) + z_v·(v_c − v)` at the centre (u_c, v_c) of the
-//! texel that holds the receiver. A GPU takes (z_u, z_v) from screen-space derivatives; we take
-//! them exactly from the hit triangle's plane in (u, v, d) space (planes stay planes under the
-//! light's projection). No clamp; `bias_depth` adds a constant bias only when asked.
+//! docs/formulas.md, "Receiver-plane bias"). The receiver's depth is tilted along its own plane to
+//! the point where the map was sampled: `z_c = z + z_u·(u_c − u) + z_v·(v_c − v)` at the centre
+//! (u_c, v_c) of the texel that holds the receiver. A GPU takes (z_u, z_v) from screen-space
+//! derivatives; we take them exactly from the hit triangle's plane in (u, v, d) space (planes stay
+//! planes under the light's projection). No clamp; `bias_depth` adds a constant bias only when
+//! asked.
 
 use super::{LayerNeeds, Sample, ShadeContext, Technique, texel_at, texel_centre};
 use crate::raster::LightView;

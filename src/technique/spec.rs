@@ -50,7 +50,7 @@ fn default_k() -> f64 {
     1e-4
 }
 
-/// PCF kernels (formulas.md §6).
+/// PCF kernels (docs/formulas.md, "PCF kernels").
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum KernelSpec {

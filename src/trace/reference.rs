@@ -8,7 +8,7 @@ use super::shadow_ray::{ShadowRay, SurfacePoint};
 use crate::scene::{Light, LightKind};
 use rayon::prelude::*;
 
-/// The grey levels of a reference mask PNG (DESIGN.md, `shadowtruth reference`).
+/// The grey levels of a reference mask PNG (docs/conventions.md, "Reference mask PNG").
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u8)]
 pub enum MaskCode {
