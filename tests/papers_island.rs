@@ -1,6 +1,7 @@
 //! The island of Ehm et al. (WSCG 2015, Figure 12): the generator is deterministic, the
 //! committed scene is exactly its output for `ISLAND_SEED`, and the scene shows what the paper's
-//! figure needs (the featured trunk in the front view, grazing light in the back view).
+//! figure needs (the featured trunk in the front view, a well-lit front, grazing light in the
+//! back view, a bounding box that is the island's own).
 
 mod common;
 
@@ -158,7 +159,20 @@ fn view_stats(scene: &Scene, camera: &str) -> ViewStats {
     }
 }
 
-/// The front view is mostly scored terrain with shadows; the back view is lit at grazing angles.
+/// Ehm et al.'s sceneScale is the scene's bounding-box diagonal: the sea adds nothing to the
+/// bounds of the terrain grid and its trees (an 80 m sea made it 113 m).
+#[test]
+fn papers_island_bounds_are_the_islands_own() {
+    let scene = load_scene(&common::repo().join("scenes/papers/island.json")).unwrap();
+    let (lo, hi) = scene.bounds();
+    let diagonal = (hi - lo).length();
+    eprintln!("bounds {lo} .. {hi}, diagonal {diagonal} m");
+    assert!((lo.x, lo.z, hi.x, hi.z) == (-6.0, -6.0, 6.0, 6.0), "the sea is as wide as the terrain grid");
+    assert!(diagonal < 18.0, "sceneScale {diagonal} m");
+}
+
+/// The front view is mostly scored terrain with shadows, lit well; the back view is lit at
+/// grazing angles. Both see sky beyond the sea's edge.
 #[test]
 fn papers_island_views_show_lit_slopes_and_grazing_light() {
     let scene = load_scene(&common::repo().join("scenes/papers/island.json")).unwrap();
@@ -169,10 +183,12 @@ fn papers_island_views_show_lit_slopes_and_grazing_light() {
              (N·L < 0.2: {:.3}, shadowed {:.3})",
             s.background, s.facing_away, s.outside_light, s.evaluated, s.grazing, s.shadowed
         );
-        assert!(s.background < 0.05, "{camera}: {:.3} background", s.background);
+        assert!(s.background < 0.3, "{camera}: {:.3} background", s.background);
         assert!(s.evaluated > 300_000, "{camera}: only {} evaluated pixels", s.evaluated);
         assert!(s.shadowed > 0.02, "{camera}: only {:.3} of the evaluated pixels in shadow", s.shadowed);
-        if camera == "back" {
+        if camera == "front" {
+            assert!(s.grazing < 0.1, "front: {:.3} of the evaluated pixels have N·L < 0.2", s.grazing);
+        } else {
             assert!(s.grazing > 0.25, "back: only {:.3} of the evaluated pixels have N·L < 0.2", s.grazing);
         }
     }

@@ -1,10 +1,12 @@
 //! The island of Ehm et al., "Adaptive depth bias for soft shadows" (WSCG 2015), Figure 12, as a
 //! seeded procedural scene: noisy terrain rising from a sea plane, a few dozen thin-trunked trees,
-//! one low spot light shining across it, a `front` camera on the lit side and a `back` camera
-//! where the light grazes the slopes. The paper's scene is not published; this is an analogue
-//! with the properties its figure relies on: a perspective (spot) shadow map, a low light, thin
-//! occluders (trunks) whose shadows detach under a large bias, and receivers lit at grazing
-//! angles where acne appears.
+//! one spot light shining across it, a `front` camera on the lit side and a `back` camera where
+//! the light grazes the slopes. The paper's scene is not published; this is an analogue with the
+//! properties its figure relies on: a perspective (spot) shadow map, a front that is well lit and
+//! a back that the light grazes (Figure 12: few errors on the front, projective aliasing on the
+//! back), thin occluders (trunks) whose shadows detach under a large bias, and a scene whose
+//! bounding box is the island's own, since Ehm et al.'s enhanced epsilon scales with sceneScale,
+//! the bounding-box diagonal (Dou et al. 2014).
 //!
 //! # Algorithm
 //!
@@ -28,8 +30,10 @@
 //!    they are what the OBJ holds and what trees are placed on. Each grid quad is split along
 //!    its (i, j)–(i+1, j+1) diagonal into two counter-clockwise (upward-facing) triangles.
 //! 2. **Sea.** An open `plane` of `SEA_SIZE_M` at y = 0, `SEA_FLOOR_DEPTH_M` above the flat sea
-//!    floor, large enough that the cameras see water rather than background.
-//! 3. **Light.** The spot `sun_spot` sits low over the sea at `LIGHT_POSITION` and aims at
+//!    floor, exactly as wide as the terrain grid: the scene's bounding box (and so sceneScale,
+//!    about 17 m) is that of the island and its surroundings, not of an open sea. The cameras see
+//!    sky beyond the sea's edge (background, not scored).
+//! 3. **Light.** The spot `sun_spot` sits over the sea at `LIGHT_POSITION` and aims at
 //!    `LIGHT_TARGET`, across the island; `LIGHT_CONE_DEG` covers the whole island, `LIGHT_NEAR_M`
 //!    and `LIGHT_FAR_M` bracket it, and `LIGHT_RADIUS_M` gives it an area for soft shadows.
 //! 4. **Featured tree (tree00).** The land grid vertex on the light's side of the island whose
@@ -91,12 +95,15 @@ const OCTAVES: usize = 4;
 const SEA_FLOOR_DEPTH_M: f64 = 0.3;
 /// Decimals of the written heights (10 µm): far below any shadow feature.
 const HEIGHT_DECIMALS: usize = 5;
-/// Side of the sea plane: the cameras see water up to their horizon.
-const SEA_SIZE_M: f64 = 80.0;
+/// Side of the sea plane: the terrain grid's, so that the sea adds nothing to the scene's bounds
+/// (an 80 m sea made sceneScale 113 m instead of 17 m, and the enhanced epsilon's cap a metre).
+const SEA_SIZE_M: f64 = 2.0 * TERRAIN_HALF_SIZE_M;
 
-/// A low light over the sea on the island's −x side, 3.2 m up: the rays meet flat ground at
-/// about 11–16°, so slopes turned slightly away are lit at grazing angles.
-const LIGHT_POSITION: [f64; 3] = [-11.0, 3.2, -2.0];
+/// The light over the sea on the island's −x side, 6 m up: the rays meet flat ground at about
+/// 45° on the near shore, 27° in the middle and 20° on the far shore, so the slopes facing the
+/// light (the front) are well lit and those turned away from it (the back) are grazed, as in
+/// Figure 12. (3.2 m grazed the whole island: a third of the front had N·L < 0.2.)
+const LIGHT_POSITION: [f64; 3] = [-11.0, 6.0, -2.0];
 /// Aimed across the island's middle.
 const LIGHT_TARGET: [f64; 3] = [0.5, 0.0, 0.5];
 /// Full cone angle that covers the island from the light's distance (checked by the tests).

@@ -1,14 +1,24 @@
 //! Reproducing the papers' results: the island of Ehm et al.'s Figure 12 (a seeded generator, so
-//! that the scene can be rebuilt bit for bit), the claims of Figure 12, Weiskopf & Ertl's Fig. 5,
-//! Pagot et al.'s Table 1 and Fig. 6 and Ehm et al.'s Fig. 4 and Table 1, each as measured
-//! numbers with a verdict.
+//! that the scene can be rebuilt bit for bit), and each paper's experiments as measured numbers
+//! with a verdict and its sensitivity: Ehm et al.'s Figure 12 (`ehm_fig12.rs`, drawn by
+//! `figure12.rs`), Fig. 4 and Table 1 (`ehm_pcf.rs`), Pagot et al.'s Table 1 and Fig. 6
+//! (`pagot.rs`), Weiskopf & Ertl's Fig. 5 (`weiskopf.rs`). `suite.rs` runs them in turn,
+//! `measure.rs` holds what they share, `claims.rs` the rules.
 
 pub mod claims;
+mod ehm_fig12;
+mod ehm_pcf;
+mod figure12;
 pub mod island;
+mod measure;
 mod page;
+mod pagot;
 mod suite;
+mod weiskopf;
 
-pub use claims::{Claim, Verdict};
+pub use claims::{Claim, SetupResult, Verdict};
+pub use ehm_fig12::ISLAND_RESOLUTION;
 pub use island::*;
 pub use page::claims_html;
-pub use suite::{ISLAND_RESOLUTION, L_SHAPE_RESOLUTIONS, run_papers};
+pub use suite::{PapersOptions, run_papers};
+pub use weiskopf::L_RESOLUTIONS;
