@@ -28,6 +28,19 @@ pub fn load_scene_str(text: &str, source: &Path, base_dir: &Path) -> Result<Scen
     load_with_limits(text, source, base_dir, limits)
 }
 
+/// As [`load_scene_str`], with at most `max_triangles` in the scene and in its shapes: the same
+/// checks at a smaller size, so that the fuzzer spends its time on the reader, not on building
+/// millions of triangles (src/fuzzing.rs).
+pub(crate) fn load_scene_str_within(
+    text: &str,
+    source: &Path,
+    base_dir: &Path,
+    max_triangles: u64,
+) -> Result<Scene, SceneError> {
+    let limits = Limits { scene: max_triangles, shapes: max_triangles.min(MAX_SHAPE_TRIANGLES) };
+    load_with_limits(text, source, base_dir, limits)
+}
+
 /// Most triangles of a scene, in all and made by its procedural shapes together.
 #[derive(Clone, Copy)]
 struct Limits {

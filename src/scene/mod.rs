@@ -14,6 +14,7 @@ pub use camera::Camera;
 pub use error::{Problem, SceneError};
 pub use light::{Light, LightKind};
 pub use load::{load_scene, load_scene_str};
+pub(crate) use load::load_scene_str_within;
 pub(crate) use obj::parse_obj;
 pub use shapes::{IndexedMesh, Shape};
 pub use transform::Transform;

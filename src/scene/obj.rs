@@ -23,6 +23,7 @@ pub(crate) fn parse_obj(bytes: &[u8], shown: &str) -> Result<IndexedMesh, Vec<St
     if !bad.is_empty() {
         return Err(bad.into_iter().map(|m| format!("mesh {shown}: {m}")).collect());
     }
+    let positions = positions_only(&text);
     // The update keeps compiling when tobj features add option fields.
     #[allow(clippy::needless_update)]
     let options = tobj::LoadOptions {
@@ -34,7 +35,7 @@ pub(crate) fn parse_obj(bytes: &[u8], shown: &str) -> Result<IndexedMesh, Vec<St
     };
     // Materials are irrelevant to shadows: never open them.
     let no_materials = |_: &Path| Err(tobj::LoadError::OpenFileFailed);
-    let (models, _) = tobj::load_obj_buf(&mut Cursor::new(bytes), &options, no_materials)
+    let (models, _) = tobj::load_obj_buf(&mut Cursor::new(positions.as_bytes()), &options, no_materials)
         .map_err(|e| vec![format!("cannot parse mesh {shown}: {e}")])?;
 
     let mut mesh = IndexedMesh::default();
@@ -58,6 +59,29 @@ pub(crate) fn parse_obj(bytes: &[u8], shown: &str) -> Result<IndexedMesh, Vec<St
         }
     }
     Ok(mesh)
+}
+
+/// The OBJ text with texture coordinates and normals left out (`vt` and `vn` records, and the
+/// `/vt/vn` parts of face vertices): only positions matter to shadows, and tobj's handling of
+/// texture-coordinate indices overflows on hostile input.
+fn positions_only(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for line in text.lines() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("vt" | "vn") => continue,
+            Some("f") => {
+                out.push('f');
+                for vertex in words {
+                    out.push(' ');
+                    out.push_str(vertex.split('/').next().unwrap_or(vertex));
+                }
+            }
+            _ => out.push_str(line),
+        }
+        out.push('\n');
+    }
+    out
 }
 
 /// Finds `v` records with NaN or infinite coordinates (Rust's float parser, like tobj's,
@@ -90,6 +114,14 @@ fn non_finite_vertices(text: &str) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn texture_and_normal_indices_are_left_out() {
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/-11 2/2/1 3//1\n";
+        assert_eq!(positions_only(text), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+        let mesh = parse_obj(text.as_bytes(), "t.obj").expect("positions are enough");
+        assert_eq!(mesh.triangles, vec![[0, 1, 2]]);
+    }
 
     #[test]
     fn scene_obj_non_finite_vertices_are_named() {
