@@ -16,13 +16,13 @@ mod receiver_plane;
 mod shade;
 mod spec;
 
-pub use adaptive::{AdaptiveBias, AdaptiveTest, EpsilonScale};
+pub use adaptive::{AdaptiveBias, AdaptiveTest, Epsilon, EpsilonScale, TangentPlane};
 pub use bias::{ConstantBias, NoBias, SlopeScaledBias};
 pub use canonical::canonical_json;
 pub use depth_layers::{DualDepth, Midpoint, SecondDepth};
 pub use kernel::{Kernel, POISSON_SIZES, poisson_set};
 pub use normal_offset::{NormalOffset, OffsetFalloff};
-pub use pcf::{Pcf, TapBias, TapThreshold};
+pub use pcf::{AffineDepth, Pcf, TapBias, TapDepth, TapThreshold};
 pub use pcss::Pcss;
 pub use receiver_plane::{ReceiverPlane, receiver_plane_slope};
 pub use shade::{ShadeContext, ShadeOrder, shade_evaluated};

@@ -1,5 +1,6 @@
-//! Percentage-closer filtering (Reeves, Salesin & Cook 1987; formulas.md §6) with a bias per tap,
-//! on top of any depth-layer test, and the n-shadow test of multiple-depth shadow maps.
+//! Percentage-closer filtering (Reeves, Salesin & Cook 1987; docs/formulas.md, "PCF per-tap
+//! biases and layer tests") with a bias per tap, on top of any depth-layer test, and the n-shadow
+//! test of multiple-depth shadow maps.
 //!
 //! Every tap reads one texel and compares a receiver depth *for that texel* against the texel's
 //! thresholds: the nearest depth, the depth-layer threshold (second depth, midpoint, dual), or the
@@ -11,13 +12,18 @@
 //! - `receiver_plane` (Isidoro 2006): the receiver's plane (exact, from its triangle) at the tap
 //!   texel's centre, minus an optional `bias_depth`.
 //! - `adaptive` (Dou et al. 2014, per tap as Ehm et al. 2015 do): the potential occluder of the
-//!   tap texel (the light ray through its centre meets the receiver's tangent plane) minus the
+//!   tap texel (the light's line through its centre meets the receiver's tangent plane) minus the
 //!   adaptive epsilon at that depth.
 //! - `adaptive_delta` (Ehm et al. 2015, Algorithm 1): three potential occluders per receiver, at
 //!   its texel and one texel over in x and in y; every tap extrapolates
-//!   `d_o + Δx·(x − x₀) + Δy·(row − row₀)` minus the epsilon of the receiver's texel.
+//!   `d_o = d_o0 + Δx·(x − x₀) + Δy·(row − row₀)` and subtracts the epsilon at its own `d_o`
+//!   (the algorithm's per-tap `calculateAdaptiveEpsilon`).
+//!
+//! Both adaptive biases take the potential occluders from `TangentPlane` (`adaptive.rs`) with one
+//! miss rule (`adaptive_taps`); they agree up to the rounding of the extrapolation (see
+//! `TapDepth::Delta`).
 
-use super::adaptive::potential_occluder_depth;
+use super::adaptive::{Epsilon, TangentPlane};
 use super::kernel::{Kernel, hash};
 use super::{AdaptiveBias, LayerNeeds, Layers, Sample, ShadeContext, Technique, receiver_plane_slope};
 
@@ -50,16 +56,65 @@ pub enum TapThreshold {
 #[derive(Clone, Copy, Debug)]
 pub enum TapDepth {
     Flat(f32),
-    /// `d(x, row) = d0 + du·(x − x0) + dv·(row − row0)` over texel indices.
-    Affine {
-        d0: f32,
-        x0: i64,
-        row0: i64,
-        du: f32,
-        dv: f32,
+    Affine(AffineDepth),
+    /// `adaptive`: the potential occluder of each tap texel on the tangent plane, minus the
+    /// epsilon at its depth.
+    PerTapAdaptive {
+        plane: TangentPlane,
+        epsilon: Epsilon,
     },
-    /// The potential occluder of every tap texel, minus the epsilon there.
-    PerTapAdaptive,
+    /// `adaptive_delta`: the potential occluders extrapolated linearly from three (Algorithm 1),
+    /// each minus the epsilon at its own depth. The map holds d = z/w, affine in (u, v) over a
+    /// plane under both projections, so this is the same plane's depth as `PerTapAdaptive`'s:
+    /// the two differ by the f32 rounding of the extrapolation only (a few ulps of d), which
+    /// decides a tap only where its texel holds a surface that close to the extrapolated plane.
+    Delta {
+        occluders: AffineDepth,
+        epsilon: Epsilon,
+    },
+}
+
+/// `d(x, row) = d0 + du·(x − x0) + dv·(row − row0)` over texel indices.
+#[derive(Clone, Copy, Debug)]
+pub struct AffineDepth {
+    pub d0: f32,
+    pub x0: i64,
+    pub row0: i64,
+    pub du: f32,
+    pub dv: f32,
+}
+
+impl AffineDepth {
+    #[inline]
+    pub fn at(&self, x: i64, row: i64) -> f32 {
+        self.d0 + self.du * (x - self.x0) as f32 + self.dv * (row - self.row0) as f32
+    }
+}
+
+/// The adaptive tap depths of receiver `s` at depth `d` in texel (x0, row0): per tap, or as Ehm
+/// et al.'s Algorithm 1 takes them (the potential occluders of the receiver's texel and of one
+/// texel over in x and in y, extrapolated). The one miss rule of both: only a tangent plane the
+/// light sees edge-on has no potential occluders, and then every tap compares `d` (minus the
+/// epsilon there).
+fn adaptive_taps(
+    a: &AdaptiveBias,
+    s: &Sample,
+    ctx: &ShadeContext,
+    d: f32,
+    (x0, row0): (i64, i64),
+    delta: bool,
+) -> TapDepth {
+    let epsilon = a.epsilon_of(s, ctx).unwrap_or(Epsilon::ZERO);
+    let Some(plane) = TangentPlane::of(s, ctx) else { return TapDepth::Flat(epsilon.below(d)) };
+    if !delta {
+        return TapDepth::PerTapAdaptive { plane, epsilon };
+    }
+    let res = ctx.layers.resolution();
+    let at = |x, row| plane.depth_at(ctx, texel_centre_of(res, x, row));
+    let d0 = at(x0, row0);
+    let (du, dv) = (at(x0 + 1, row0) - d0, at(x0, row0 + 1) - d0);
+    let occluders = AffineDepth { d0: d0 as f32, x0, row0, du: du as f32, dv: dv as f32 };
+    TapDepth::Delta { occluders, epsilon }
 }
 
 /// Light-map coordinates (u, v) of the centre of texel (x, row), for any (even off-map) texel.
@@ -72,65 +127,58 @@ pub fn texel_centre_of(resolution: u32, x: i64, row: i64) -> (f32, f32) {
 impl TapBias {
     /// The tap depths of receiver `s` at projected (u, v, d), texel (x0, row0).
     pub fn prepare(&self, s: &Sample, ctx: &ShadeContext, uvd: glam::Vec3, x0: i64, row0: i64) -> TapDepth {
-        let res = ctx.layers.resolution();
         match self {
             TapBias::Constant { bias_depth } => TapDepth::Flat(uvd.z - bias_depth),
             TapBias::SlopeScaled => TapDepth::Flat(uvd.z),
             TapBias::ReceiverPlane { bias_depth } => {
-                match receiver_plane_slope(ctx.view, &ctx.scene.triangles[s.triangle as usize]) {
-                    Some((z_u, z_v)) => {
-                        let (u_c, v_c) = texel_centre_of(res, x0, row0);
-                        let d0 = uvd.z as f64 + z_u * (u_c - uvd.x) as f64 + z_v * (v_c - uvd.y) as f64;
-                        // One texel right is +1/N in u; one row down is −1/N in v.
-                        let n = res as f64;
-                        TapDepth::Affine {
-                            d0: (d0 - *bias_depth as f64) as f32,
-                            x0,
-                            row0,
-                            du: (z_u / n) as f32,
-                            dv: (-z_v / n) as f32,
-                        }
-                    }
-                    None => TapDepth::Flat(uvd.z - bias_depth),
-                }
+                receiver_plane_taps(s, ctx, uvd, (x0, row0), *bias_depth)
             }
-            TapBias::Adaptive(_) => TapDepth::PerTapAdaptive,
-            TapBias::AdaptiveDelta(a) => {
-                let at = |x, row| potential_occluder_depth(s, ctx, texel_centre_of(res, x, row));
-                let d_o = at(x0, row0);
-                let epsilon = a.epsilon(s, ctx, d_o.unwrap_or(uvd.z)).unwrap_or(0.0);
-                match (d_o, at(x0 + 1, row0), at(x0, row0 + 1)) {
-                    (Some(d0), Some(dx), Some(dy)) => {
-                        TapDepth::Affine { d0: d0 - epsilon, x0, row0, du: dx - d0, dv: dy - d0 }
-                    }
-                    _ => TapDepth::Flat(d_o.unwrap_or(uvd.z) - epsilon),
-                }
-            }
+            TapBias::Adaptive(a) => adaptive_taps(a, s, ctx, uvd.z, (x0, row0), false),
+            TapBias::AdaptiveDelta(a) => adaptive_taps(a, s, ctx, uvd.z, (x0, row0), true),
         }
     }
+}
 
+impl TapDepth {
     /// The depth tap (x, row) compares.
     #[inline]
-    pub fn depth_at(
-        &self,
-        prepared: &TapDepth,
-        s: &Sample,
-        ctx: &ShadeContext,
-        x: i64,
-        row: i64,
-        d: f32,
-    ) -> f32 {
-        match *prepared {
-            TapDepth::Flat(z) => z,
-            TapDepth::Affine { d0, x0, row0, du, dv } => d0 + du * (x - x0) as f32 + dv * (row - row0) as f32,
-            TapDepth::PerTapAdaptive => {
-                let TapBias::Adaptive(a) = self else { return d };
-                let res = ctx.layers.resolution();
-                let d_o = potential_occluder_depth(s, ctx, texel_centre_of(res, x, row)).unwrap_or(d);
-                d_o - a.epsilon(s, ctx, d_o).unwrap_or(0.0)
+    pub fn at(&self, ctx: &ShadeContext, x: i64, row: i64) -> f32 {
+        match self {
+            TapDepth::Flat(z) => *z,
+            TapDepth::Affine(affine) => affine.at(x, row),
+            TapDepth::PerTapAdaptive { plane, epsilon } => {
+                let centre = texel_centre_of(ctx.layers.resolution(), x, row);
+                epsilon.below(plane.depth_at(ctx, centre) as f32)
             }
+            TapDepth::Delta { occluders, epsilon } => epsilon.below(occluders.at(x, row)),
         }
     }
+}
+
+/// The receiver's plane at every tap texel's centre, minus `bias_depth` (the flat `d − bias_depth`
+/// when its triangle has no slope).
+fn receiver_plane_taps(
+    s: &Sample,
+    ctx: &ShadeContext,
+    uvd: glam::Vec3,
+    (x0, row0): (i64, i64),
+    bias_depth: f32,
+) -> TapDepth {
+    let Some((z_u, z_v)) = receiver_plane_slope(ctx.view, &ctx.scene.triangles[s.triangle as usize]) else {
+        return TapDepth::Flat(uvd.z - bias_depth);
+    };
+    let res = ctx.layers.resolution();
+    let (u_c, v_c) = texel_centre_of(res, x0, row0);
+    let d0 = uvd.z as f64 + z_u * (u_c - uvd.x) as f64 + z_v * (v_c - uvd.y) as f64;
+    // One texel right is +1/N in u; one row down is −1/N in v.
+    let n = res as f64;
+    TapDepth::Affine(AffineDepth {
+        d0: (d0 - bias_depth as f64) as f32,
+        x0,
+        row0,
+        du: (z_u / n) as f32,
+        dv: (-z_v / n) as f32,
+    })
 }
 
 /// The fraction of texel (x, row)'s thresholds that depth `d` passes (`d ≤ z`).
@@ -169,11 +217,9 @@ pub struct Pcf {
 }
 
 /// Σ weight · pass over the taps of `kernel` around projected receiver `uvd`.
-#[allow(clippy::too_many_arguments)]
 pub fn filtered_visibility(
     kernel: &Kernel,
     radius_texels: f32,
-    bias: &TapBias,
     threshold: TapThreshold,
     s: &Sample,
     ctx: &ShadeContext,
@@ -186,7 +232,7 @@ pub fn filtered_visibility(
     let last = res as i64 - 1;
     let mut visibility = 0.0;
     kernel.for_each_tap(xs, ys, radius_texels, receiver_seed(s), |x, row, w| {
-        let d = bias.depth_at(prepared, s, ctx, x, row, uvd.z);
+        let d = prepared.at(ctx, x, row);
         let (cx, crow) = (x.clamp(0, last) as u32, row.clamp(0, last) as u32);
         visibility += w * tap_pass(&ctx.layers, threshold, cx, crow, d);
     });
@@ -209,15 +255,50 @@ impl Technique for Pcf {
         let Some(uvd) = ctx.view.project(s.position) else { return 1.0 };
         let (x0, row0) = receiver_texel(ctx.layers.resolution(), uvd);
         let prepared = self.bias.prepare(s, ctx, uvd, x0, row0);
-        filtered_visibility(
-            &self.kernel,
-            self.radius_texels,
-            &self.bias,
-            self.threshold,
-            s,
-            ctx,
-            uvd,
-            &prepared,
-        )
+        filtered_visibility(&self.kernel, self.radius_texels, self.threshold, s, ctx, uvd, &prepared)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::raster::{DepthLayer, LightView};
+    use crate::scene::load_scene_str;
+    use crate::technique::EpsilonScale;
+    use glam::Vec3;
+    use std::path::Path;
+
+    #[test]
+    fn delta_extrapolates_the_per_tap_potential_occluders_past_the_near_plane() {
+        // A steep receiver at the top of the scene under a directional light: its taps reach in
+        // front of the near plane, where both keep the plane's depth (no fallback).
+        let text = r#"{ "format": "shadowtruth/scene/v1", "name": "t",
+            "objects": [{ "name": "p", "shape": { "type": "plane", "size": [4, 4] } }],
+            "cameras": [{ "name": "c", "position": [0, 5, 5], "look_at": [0, 0, 0], "fov_y_deg": 45, "width": 8, "height": 8 }],
+            "lights": [{ "name": "sun", "type": "directional", "direction": [0.3, -1, 0.2] }] }"#;
+        let scene = load_scene_str(text, Path::new("t.json"), Path::new(".")).unwrap();
+        let view = LightView::new(&scene.lights[0], scene.bounds(), 32);
+        let map = DepthLayer::new_empty(32);
+        let ctx = ShadeContext::new(&scene, &view, Layers::Nearest(&map));
+        let s = Sample {
+            position: Vec3::new(-1.0, 0.0, -1.0),
+            normal: Vec3::new(-3.0, 1.0, -2.0).normalize(),
+            triangle: 0,
+        };
+        let uvd = view.project(s.position).unwrap();
+        let (x0, row0) = receiver_texel(32, uvd);
+        let bias = || AdaptiveBias { k: 1e-4, epsilon: EpsilonScale::Ehm };
+        let (per_tap, delta) = (TapBias::Adaptive(bias()), TapBias::AdaptiveDelta(bias()));
+        let (pa, pd) = (per_tap.prepare(&s, &ctx, uvd, x0, row0), delta.prepare(&s, &ctx, uvd, x0, row0));
+        assert!(matches!(pa, TapDepth::PerTapAdaptive { .. }) && matches!(pd, TapDepth::Delta { .. }));
+        let mut before_near = 0;
+        for row in row0 - 5..=row0 + 5 {
+            for x in x0 - 5..=x0 + 5 {
+                let (a, d) = (pa.at(&ctx, x, row), pd.at(&ctx, x, row));
+                assert!((a - d).abs() <= 4.0 * f32::EPSILON * a.abs().max(1.0), "({x}, {row}): {a} vs {d}");
+                before_near += (a < 0.0) as u32;
+            }
+        }
+        assert!(before_near > 0);
     }
 }

@@ -89,7 +89,7 @@ impl Technique for Pcss {
         let (xs, ys) = (uvd.x * n, (1.0 - uvd.y) * n);
         let (mut blockers, mut sum_depth) = (0u32, 0.0f32);
         self.search.for_each_tap(xs, ys, search_radius, receiver_seed(s), |x, row, _| {
-            let d = self.bias.depth_at(&prepared, s, ctx, x, row, uvd.z);
+            let d = prepared.at(ctx, x, row);
             let z = map.at(x.clamp(0, last) as u32, row.clamp(0, last) as u32);
             if z < d {
                 blockers += 1;
@@ -104,6 +104,6 @@ impl Technique for Pcss {
         }
         let z_b = view_distance(ctx, sum_depth / blockers as f32);
         let Some(radius) = Self::filter_radius_texels(ctx, z_r, z_b) else { return 1.0 };
-        filtered_visibility(&self.filter, radius, &self.bias, TapThreshold::Nearest, s, ctx, uvd, &prepared)
+        filtered_visibility(&self.filter, radius, TapThreshold::Nearest, s, ctx, uvd, &prepared)
     }
 }

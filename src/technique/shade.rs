@@ -4,7 +4,7 @@ use super::{Layers, Sample, Technique};
 use crate::raster::LightView;
 use crate::scene::Scene;
 use crate::trace::GBuffer;
-use glam::Mat4;
+use glam::{DMat4, Mat4};
 use rayon::prelude::*;
 
 /// What a technique reads besides the sample, prepared once per shading pass.
@@ -14,6 +14,8 @@ pub struct ShadeContext<'a> {
     pub layers: Layers<'a>,
     /// The inverse of `view.clip_from_world`: light rays through texel centres.
     pub world_from_clip: Mat4,
+    /// The same inverse in f64, for the PCF taps' potential occluders.
+    pub world_from_clip_f64: DMat4,
     /// The length of the scene's bounding-box diagonal (Dou et al.'s sceneScale).
     pub scene_scale: f32,
 }
@@ -26,6 +28,7 @@ impl<'a> ShadeContext<'a> {
             view,
             layers,
             world_from_clip: view.clip_from_world.inverse(),
+            world_from_clip_f64: view.clip_from_world.as_dmat4().inverse(),
             scene_scale: (hi - lo).length(),
         }
     }
