@@ -17,6 +17,17 @@ pub struct Problem {
     pub message: String,
 }
 
+/// `invalid WHAT (N problems):` and one indented line per problem: how the errors of an input
+/// file are printed.
+pub(crate) fn write_problems(f: &mut fmt::Formatter<'_>, what: &str, problems: &[Problem]) -> fmt::Result {
+    let n = problems.len();
+    writeln!(f, "invalid {what} ({n} problem{}):", if n == 1 { "" } else { "s" })?;
+    for p in problems {
+        writeln!(f, "  {p}")?;
+    }
+    Ok(())
+}
+
 impl fmt::Display for Problem {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if self.path.is_empty() {

@@ -20,6 +20,8 @@ fn plan(techniques: &str, extra: &str) -> String {
 
 /// Runs `shadowtruth run --plan plan.json` in a folder holding `s.json` (`scene`) and the plan;
 /// returns (exit code, stderr, wall time, peak resident memory in bytes).
+// The child is reaped by `wait4`, which clippy does not know.
+#[allow(clippy::zombie_processes)]
 fn run_plan(plan: &str, scene: &str, args: &[&str]) -> (i32, String, Duration, u64) {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("s.json"), scene).unwrap();

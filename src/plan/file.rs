@@ -35,12 +35,7 @@ pub struct PlanInputError {
 
 impl fmt::Display for PlanInputError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let n = self.problems.len();
-        writeln!(f, "invalid plan ({n} problem{}):", if n == 1 { "" } else { "s" })?;
-        for p in &self.problems {
-            writeln!(f, "  {p}")?;
-        }
-        Ok(())
+        crate::json_input::write_problems(f, "plan", &self.problems)
     }
 }
 

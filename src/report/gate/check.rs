@@ -370,27 +370,18 @@ mod tests {
     use super::*;
     use crate::metrics::Counts;
     use crate::report::gate::rules::parse_rules;
-    use crate::report::{Report, Timings};
+    use crate::report::Report;
 
     fn run(scene: &str, evaluated: u64, fs: u64, fl: u64) -> RunRecord {
         let counts =
             Counts { pixels: evaluated, evaluated, false_shadow: fs, false_lit: fl, ..Counts::default() };
-        RunRecord {
-            scene: scene.into(),
-            camera: "main".into(),
-            light: "sun".into(),
-            technique: "constant".into(),
-            parameters: serde_json::json!({"bias_depth": 0.001}).as_object().cloned().unwrap(),
-            label: "constant(bias_depth=0.001)".into(),
-            resolution: 1024,
-            depth_format: "f32".into(),
+        crate::report::gate::test_run(
+            scene,
+            "constant",
+            serde_json::json!({"bias_depth": 0.001}),
+            "constant(bias_depth=0.001)",
             counts,
-            rates: counts.rates(),
-            timings: Timings::default(),
-            layer_memory_bytes: 0,
-            reference: Default::default(),
-            soft: None,
-        }
+        )
     }
 
     fn report(runs: Vec<RunRecord>) -> CheckedReport {

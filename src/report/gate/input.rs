@@ -154,27 +154,11 @@ fn duplicate_problems(report: &Report, identities: &[RunIdentity]) -> Vec<String
 mod tests {
     use super::*;
     use crate::metrics::{Counts, SoftErrors};
-    use crate::report::Timings;
 
     fn run(scene: &str, evaluated: u64, false_shadow: u64, false_lit: u64) -> RunRecord {
         let counts =
             Counts { pixels: evaluated + 10, evaluated, false_shadow, false_lit, ..Counts::default() };
-        RunRecord {
-            scene: scene.into(),
-            camera: "main".into(),
-            light: "sun".into(),
-            technique: "none".into(),
-            parameters: Default::default(),
-            label: "none".into(),
-            resolution: 1024,
-            depth_format: "f32".into(),
-            counts,
-            rates: counts.rates(),
-            timings: Timings::default(),
-            layer_memory_bytes: 0,
-            reference: Default::default(),
-            soft: None,
-        }
+        crate::report::gate::test_run(scene, "none", serde_json::json!({}), "none", counts)
     }
 
     fn problems(runs: Vec<RunRecord>) -> Vec<String> {

@@ -47,3 +47,31 @@ impl fmt::Display for GateError {
 }
 
 impl std::error::Error for GateError {}
+
+/// A run of `scene` (camera `main`, light `sun`, 1024² f32, hard reference) with these counts,
+/// for the gate's unit tests.
+#[cfg(test)]
+pub(crate) fn test_run(
+    scene: &str,
+    technique: &str,
+    parameters: serde_json::Value,
+    label: &str,
+    counts: crate::metrics::Counts,
+) -> crate::report::RunRecord {
+    crate::report::RunRecord {
+        scene: scene.into(),
+        camera: "main".into(),
+        light: "sun".into(),
+        technique: technique.into(),
+        parameters: parameters.as_object().cloned().unwrap_or_default(),
+        label: label.into(),
+        resolution: 1024,
+        depth_format: "f32".into(),
+        counts,
+        rates: counts.rates(),
+        timings: crate::report::Timings::default(),
+        layer_memory_bytes: 0,
+        reference: Default::default(),
+        soft: None,
+    }
+}

@@ -192,26 +192,11 @@ mod tests {
     use super::*;
     use crate::metrics::Counts;
     use crate::report::gate::{CheckedReport, GateOptions, evaluate, parse_rules};
-    use crate::report::{Report, RunRecord, Timings};
+    use crate::report::{Report, RunRecord};
 
     fn run(scene: &str, false_shadow: u64) -> RunRecord {
         let counts = Counts { pixels: 100, evaluated: 100, false_shadow, ..Counts::default() };
-        RunRecord {
-            scene: scene.into(),
-            camera: "main".into(),
-            light: "sun".into(),
-            technique: "none".into(),
-            parameters: Default::default(),
-            label: "none".into(),
-            resolution: 1024,
-            depth_format: "f32".into(),
-            counts,
-            rates: counts.rates(),
-            timings: Timings::default(),
-            layer_memory_bytes: 0,
-            reference: Default::default(),
-            soft: None,
-        }
+        crate::report::gate::test_run(scene, "none", serde_json::json!({}), "none", counts)
     }
 
     fn outcome(now: Vec<RunRecord>, base: Option<Vec<RunRecord>>, allow_missing: bool) -> GateOutcome {
