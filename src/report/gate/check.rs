@@ -369,8 +369,8 @@ fn regression_check(value: &Measured, base: &Measured, reg: &Regression) -> (f64
 mod tests {
     use super::*;
     use crate::metrics::Counts;
-    use crate::report::gate::rules::parse_rules;
     use crate::report::Report;
+    use crate::report::gate::rules::parse_rules;
 
     fn run(scene: &str, evaluated: u64, fs: u64, fl: u64) -> RunRecord {
         let counts =
