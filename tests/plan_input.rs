@@ -137,6 +137,11 @@ fn technique_errors_name_the_entry_the_parameter_and_the_swept_value() {
     assert!(message_at(&e, "techniques[0].factor").contains("invalid type"), "{e}");
     let e = problems(&plan(r#"{ "technique": "slope_scaled", "factor": 1 }"#, ""));
     assert!(message_at(&e, "techniques[0].units").contains("missing field"), "{e}");
+    let e = problems(&plan(
+        r#"{ "technique": "slope_scaled", "factor": 1, "units": 1, "cull": "sideways" }"#,
+        "",
+    ));
+    assert!(message_at(&e, "techniques[0].cull").contains("sideways"), "{e}");
     let e = problems(&plan(r#"{ "technique": "pcf", "kernel": "gaussian" }"#, ""));
     assert!(message_at(&e, "techniques[0].kernel").contains("gaussian"), "{e}");
     let e = problems(&plan(r#"{ "technique": "pcf", "kernel": "box", "colour": 1 }"#, ""));

@@ -222,7 +222,10 @@ fn culprit(map: &Map<String, Value>, message: &str) -> Option<String> {
             return rest.split('`').next().map(str::to_string);
         }
     }
-    if message.contains("unknown variant") && message.contains("`none`") {
+    // The technique's name alone tells whether the tag itself is unknown.
+    let tag = Map::from_iter(map.get("technique").map(|t| ("technique".to_string(), t.clone())));
+    let tag_error = serde_json::from_value::<TechniqueSpec>(Value::Object(tag)).err();
+    if tag_error.is_some_and(|e| e.to_string().contains("unknown variant")) {
         return Some("technique".into());
     }
     map.keys().filter(|k| k.as_str() != "technique").find_map(|key| {
@@ -234,22 +237,4 @@ fn culprit(map: &Map<String, Value>, message: &str) -> Option<String> {
             Err(_) => None,
         }
     })
-}
-
-/// The techniques of one plan entry (a JSON object), as [`parse_plan`] expands them; `Err`
-/// holds the first problem.
-pub fn expand_technique(entry: &Map<String, Value>) -> Result<Vec<TechniqueSpec>, String> {
-    let entry = TechniqueEntry { path: "technique".into(), map: entry.clone() };
-    if let Some((key, _)) = entry.map.iter().find(|(_, v)| v.as_array().is_some_and(Vec::is_empty)) {
-        return Err(format!("{key}: an empty list of values"));
-    }
-    entry
-        .variants()
-        .map(|variant| {
-            technique_of(&variant.map).map_err(|(key, message)| match key {
-                Some(key) => format!("{key}: {message}"),
-                None => message,
-            })
-        })
-        .collect()
 }
