@@ -5,11 +5,11 @@ use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use shadowtruth::atomic_file::write_atomic;
 use shadowtruth::metrics::{Stopwatch, median_ms};
-use shadowtruth::plan::{DEFAULT_MAX_RUNS, Event, Plan, execute, read_plan};
+use shadowtruth::plan::{DEFAULT_MAX_RUNS, Event, Plan, PlanError, Sink, execute, read_plan};
 use shadowtruth::raster::MAX_SHADOW_MAP_RESOLUTION;
 use shadowtruth::report::{
-    PageAssets, Report, ReportWriter, load_report, run_stem, write_mask_png, write_report_outputs,
-    write_soft_exr, write_world_obj,
+    FigureSink, Report, ReportWriter, load_report, write_mask_png, write_report_outputs, write_soft_exr,
+    write_world_obj,
 };
 use shadowtruth::scene::{Scene, load_scene};
 use shadowtruth::trace::{
@@ -309,8 +309,7 @@ pub fn run(cli: Cli) -> Result<u8> {
             let dir = file.parent().unwrap_or(Path::new(".")).to_path_buf();
             shadowtruth::report::remove_stray_report_temp_files(&dir)
                 .with_context(|| format!("cleaning {}", dir.display()))?;
-            write_report_outputs(&dir, &report, page_assets(&dir, &report))
-                .with_context(|| format!("writing into {}", dir.display()))?;
+            write_report_outputs(&dir, &report).with_context(|| format!("writing into {}", dir.display()))?;
             println!("{}", dir.join("index.html").display());
             Ok(0)
         }
@@ -387,15 +386,46 @@ fn expand_scenes(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
     Ok(out)
 }
 
-/// The runs progress bar (hidden when `quiet`).
-fn progress_bar(quiet: bool) -> ProgressBar {
-    let bar = if quiet { ProgressBar::hidden() } else { ProgressBar::new(0) };
-    bar.set_style(
-        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} runs  {msg}")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
-    bar
+/// The runs progress bar (hidden when `quiet`), as a sink of the plan's events: its length grows
+/// with every plan (the papers suite runs several).
+struct Progress(ProgressBar);
+
+impl Progress {
+    fn new(quiet: bool) -> Self {
+        let bar = if quiet { ProgressBar::hidden() } else { ProgressBar::new(0) };
+        bar.set_style(
+            ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} runs  {msg}")
+                .expect("valid template")
+                .progress_chars("=> "),
+        );
+        Progress(bar)
+    }
+}
+
+impl Sink for Progress {
+    fn on_event(&mut self, event: &Event) -> Result<(), PlanError> {
+        match event {
+            Event::Planned { runs } => self.0.inc_length(*runs as u64),
+            Event::Stage(s) => self.0.set_message(s.to_string()),
+            Event::RunDone { .. } => self.0.inc(1),
+            _ => {}
+        }
+        Ok(())
+    }
+}
+
+/// The sinks of `run` and `papers`: report.json, figures unless `figures` is off, progress.
+fn sinks<'a>(
+    writer: &'a mut ReportWriter,
+    figures: Option<&'a mut FigureSink>,
+    progress: &'a mut Progress,
+) -> Vec<&'a mut dyn Sink> {
+    let mut sinks: Vec<&mut dyn Sink> = vec![writer];
+    if let Some(f) = figures {
+        sinks.push(f);
+    }
+    sinks.push(progress);
+    sinks
 }
 
 fn papers(a: PapersArgs) -> Result<u8> {
@@ -403,22 +433,19 @@ fn papers(a: PapersArgs) -> Result<u8> {
     let cache = (!a.no_cache).then(|| shadowtruth::trace::ReferenceCache::new(&a.references));
     let mut writer = ReportWriter::create(&a.out).with_context(|| format!("opening {}", a.out.display()))?;
     let started = Instant::now();
-    let bar = progress_bar(a.quiet);
-    let mut planned = 0;
-    let mut on_event = |event: Event| match event {
-        Event::Planned { runs } => {
-            planned += runs as u64;
-            bar.set_length(planned)
-        }
-        Event::Stage(s) => bar.set_message(s),
-        Event::RunDone { .. } => bar.inc(1),
-        Event::FiguresDone { .. } => {}
-    };
+    let mut progress = Progress::new(a.quiet);
+    let mut figures = FigureSink::new(&a.out.join("figures"), None);
     let options = shadowtruth::papers::PapersOptions { quick: a.quick };
-    let claims =
-        shadowtruth::papers::run_papers(&a.scenes, &mut writer, cache.as_ref(), &mut on_event, options)?;
+    let claims = shadowtruth::papers::run_papers(
+        &a.scenes,
+        &a.out,
+        cache.as_ref(),
+        &mut sinks(&mut writer, Some(&mut figures), &mut progress),
+        options,
+    )?;
+    let bar = progress.0;
     bar.set_message("figures, plots and pages");
-    write_report_outputs(&a.out, writer.report(), page_assets(&a.out, writer.report()))
+    write_report_outputs(&a.out, writer.report())
         .with_context(|| format!("writing into {}", a.out.display()))?;
     let document = serde_json::json!({ "format": "shadowtruth/claims/v1", "claims": claims });
     let mut text = serde_json::to_string_pretty(&document)?;
@@ -478,17 +505,14 @@ fn run_plan(a: RunArgs) -> Result<u8> {
     let cache = (!a.no_cache).then(|| shadowtruth::trace::ReferenceCache::new(&a.references));
     let mut writer = ReportWriter::create(&a.out).with_context(|| format!("opening {}", a.out.display()))?;
     let started = Instant::now();
-    let bar = progress_bar(a.quiet);
-    let mut figures_ms = 0.0;
-    execute(&plan, &mut writer, cache.as_ref(), &mut |event| match event {
-        Event::Planned { runs } => bar.set_length(runs as u64),
-        Event::Stage(s) => bar.set_message(s),
-        Event::RunDone { .. } => bar.inc(1),
-        Event::FiguresDone { ms } => figures_ms += ms,
-    })?;
+    let mut progress = Progress::new(a.quiet);
+    let mut figures = plan.figures.then(|| FigureSink::new(&a.out.join("figures"), plan.zoom));
+    execute(&plan, cache.as_ref(), &mut sinks(&mut writer, figures.as_mut(), &mut progress))?;
+    let figures_ms = figures.as_ref().map_or(0.0, FigureSink::spent_ms);
+    let bar = progress.0;
     let outputs_started = Instant::now();
     bar.set_message("figures, plots and index.html");
-    write_report_outputs(&a.out, writer.report(), page_assets(&a.out, writer.report()))
+    write_report_outputs(&a.out, writer.report())
         .with_context(|| format!("writing into {}", a.out.display()))?;
     bar.finish_and_clear();
     // What the figures, plots, CSV and page cost beside the runs themselves.
@@ -743,30 +767,6 @@ fn print_trace_timing(
 
 /// The figures already written under `dir/figures/`: scene grids and references (in name
 /// order), and each run's visibility and error figures.
-fn page_assets(dir: &Path, report: &Report) -> PageAssets {
-    let mut figures: Vec<(String, String)> = std::fs::read_dir(dir.join("figures"))
-        .map(|entries| {
-            entries
-                .filter_map(|e| e.ok())
-                .filter_map(|e| e.file_name().into_string().ok())
-                .filter(|n| n.ends_with(".grid.png") || n.ends_with(".reference.png"))
-                .map(|n| (format!("figures/{n}"), n.trim_end_matches(".png").replace('.', " ")))
-                .collect()
-        })
-        .unwrap_or_default();
-    figures.sort();
-    let run_figures = report
-        .runs
-        .iter()
-        .map(|r| {
-            let stem = run_stem(r);
-            let (t, e) = (format!("figures/{stem}.technique.png"), format!("figures/{stem}.error.png"));
-            (dir.join(&t).is_file() && dir.join(&e).is_file()).then_some((t, e))
-        })
-        .collect();
-    PageAssets { figures, run_figures, ..PageAssets::default() }
-}
-
 fn depth_map(a: DepthMapArgs) -> Result<u8> {
     use shadowtruth::raster::{
         Culling, DepthFormat, LightView, RasterSettings, rasterize_nearest, rasterize_two_nearest,

@@ -13,6 +13,7 @@ pub mod metrics;
 pub mod papers;
 pub mod plan;
 pub mod raster;
+pub mod record;
 pub mod report;
 pub mod scene;
 pub mod technique;

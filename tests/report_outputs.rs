@@ -24,9 +24,9 @@ fn small_report(dir: &Path) -> Report {
     let mut plan: Plan = parse_plan(&text, Path::new("plan.json")).unwrap();
     plan.scenes = vec![common::repo().join("scenes/plane_box.json")];
     let mut writer = ReportWriter::new(dir);
-    execute(&plan, &mut writer, None, &mut |_| {}).unwrap();
+    execute(&plan, None, &mut [&mut writer]).unwrap();
     let report = writer.into_report();
-    write_report_outputs(dir, &report, Default::default()).unwrap();
+    write_report_outputs(dir, &report).unwrap();
     report
 }
 
@@ -56,7 +56,7 @@ fn csv_has_the_rows_of_the_json() {
     let before = std::fs::read_to_string(dir.path().join("report.csv")).unwrap();
     std::fs::remove_file(dir.path().join("report.csv")).unwrap();
     let (again, _) = load_report(dir.path()).unwrap();
-    write_report_outputs(dir.path(), &again, Default::default()).unwrap();
+    write_report_outputs(dir.path(), &again).unwrap();
     assert!(std::fs::read_to_string(dir.path().join("report.csv")).unwrap() == before, "report.csv changed");
 }
 

@@ -33,12 +33,12 @@ fn a_plan_writes_one_record_per_run_with_consistent_counts() {
     };
     let mut writer = ReportWriter::new(dir.path());
     let mut done = 0;
-    execute(&plan, &mut writer, None, &mut |e| {
+    let mut count = shadowtruth::plan::Watch(|e: &shadowtruth::plan::Event| {
         if let shadowtruth::plan::Event::RunDone { .. } = e {
             done += 1
         }
-    })
-    .unwrap();
+    });
+    execute(&plan, None, &mut [&mut writer, &mut count]).unwrap();
     let text = std::fs::read_to_string(dir.path().join("report.json")).unwrap();
     let report: Report = serde_json::from_str(&text).unwrap();
     assert_eq!(report.schema, REPORT_SCHEMA);

@@ -208,7 +208,7 @@ fn a_sweep_of_20_biases_equals_20_separate_runs() {
         plan.figures = false;
         let dir = tempfile::tempdir().unwrap();
         let mut writer = ReportWriter::new(dir.path());
-        execute(&plan, &mut writer, None, &mut |_| {}).unwrap();
+        execute(&plan, None, &mut [&mut writer]).unwrap();
         writer.into_report().runs
     };
     let swept = run(&sweep_text);

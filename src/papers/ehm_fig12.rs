@@ -181,7 +181,7 @@ pub(super) fn claims(suite: &mut Suite) -> Result<Vec<Claim>, PlanError> {
     let path = suite.scene("island.json");
     let techniques = SETTINGS.iter().map(|j| spec(j)).collect();
     suite.report(&plan_of(&path, &["front", "back"], "sun_spot", techniques, &[ISLAND_RESOLUTION]))?;
-    suite.stage("Ehm et al. Figure 12 set-ups");
+    suite.stage("Ehm et al. Figure 12 set-ups")?;
     let scene = load_scene(&path)?;
     let bvh = SceneBvh::build(&scene);
     let setups = suite.grid(setups());
@@ -218,7 +218,7 @@ fn measure_under_light(
     for (k, setup) in setups.iter().enumerate().filter(|(_, s)| s.light_height == height) {
         let m = measure(&front, &back, &regions, setup);
         if k == 0 {
-            let dir = suite.writer.dir();
+            let dir = &suite.dir;
             write_figure12(dir, FIGURE12, &front, &back, &m.visibilities, trunk_box)
                 .map_err(|source| PlanError::Io { path: dir.join(FIGURE12), source })?;
         }

@@ -99,7 +99,7 @@ pub(super) fn claims(suite: &mut Suite) -> Result<Vec<Claim>, PlanError> {
     let path = suite.scene("casters.json");
     let techniques = ["receiver_plane", "adaptive", "adaptive_delta"].map(|b| spec(&pcf(b, K))).to_vec();
     suite.report(&plan_of(&path, &["main"], "spot", techniques, &[RESOLUTION]))?;
-    suite.stage("Ehm et al. Fig. 4 and Table 1 set-ups");
+    suite.stage("Ehm et al. Fig. 4 and Table 1 set-ups")?;
     let scene = load_scene(&path)?;
     let bvh = SceneBvh::build(&scene);
     let (mut fig4, mut table1) = (Vec::new(), Vec::new());

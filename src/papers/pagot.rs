@@ -121,7 +121,7 @@ pub(super) fn claims(suite: &mut Suite) -> Result<Vec<Claim>, PlanError> {
     let sun = View::trace(&scene, &bvh, "main", light_of(&scene, "sun")?)?;
     let techniques = filters(&scene, &LightMap::new(&sun, RESOLUTION)).to_vec();
     suite.report(&plan_of(&path, &["main"], "sun", techniques, &[RESOLUTION]))?;
-    suite.stage("Pagot et al. set-ups");
+    suite.stage("Pagot et al. set-ups")?;
     let (mut table1, mut fig6) = (Vec::new(), Vec::new());
     for setup in suite.grid(setups()) {
         let [t, f] = measure(suite, &scene, &bvh, &setup)?;

@@ -6,10 +6,10 @@
 use super::claims::Claim;
 use super::{ehm_fig12, ehm_pcf, pagot, weiskopf};
 use crate::plan::{
-    DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_MAX_RUNS, Event, Plan, PlanError, execute,
+    DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_MAX_RUNS, Event, Plan, PlanError, Sink, emit,
+    execute,
 };
 use crate::raster::DepthFormat;
-use crate::report::ReportWriter;
 use crate::technique::TechniqueSpec;
 use crate::trace::ReferenceCache;
 use std::path::{Path, PathBuf};
@@ -23,25 +23,27 @@ pub struct PapersOptions {
 }
 
 /// What every paper's experiments write into and read from.
-pub(super) struct Suite<'a> {
+pub(super) struct Suite<'a, 's> {
     /// Holds `papers/*.json`.
     pub scenes_dir: PathBuf,
-    pub writer: &'a mut ReportWriter,
+    /// The report folder.
+    pub dir: PathBuf,
     /// The reference cache, or one for this run only: references are traced once per run and
     /// shared by the report's runs and the claims.
     pub cache: &'a ReferenceCache,
-    pub on_event: &'a mut dyn FnMut(Event),
+    /// Where the set-ups' runs go: the report, its figures, progress.
+    pub sinks: &'a mut [&'s mut dyn Sink],
     pub options: PapersOptions,
 }
 
-impl Suite<'_> {
+impl Suite<'_, '_> {
     /// Runs the paper's set-up into the report: its records and figures.
     pub fn report(&mut self, plan: &Plan) -> Result<(), PlanError> {
-        execute(plan, self.writer, Some(self.cache), self.on_event)
+        execute(plan, Some(self.cache), self.sinks)
     }
 
-    pub fn stage(&mut self, what: &str) {
-        (self.on_event)(Event::Stage(format!("papers: {what}")))
+    pub fn stage(&mut self, what: &str) -> Result<(), PlanError> {
+        emit(self.sinks, &Event::Stage(&format!("papers: {what}")))
     }
 
     /// `all` in full runs; in quick runs the first (the paper's set-up) and the second only.
@@ -83,14 +85,14 @@ pub(super) fn plan_of(
     }
 }
 
-/// Runs the whole suite into `writer`'s folder and returns the claims (written by the caller as
-/// `claims.json`). `scenes_dir` holds `papers/island.json`, `papers/casters.json` and
-/// `papers/l_above.json`.
+/// Runs the whole suite into the report folder `dir` through `sinks` (report.json, figures,
+/// progress) and returns the claims (written by the caller as `claims.json`). `scenes_dir`
+/// holds `papers/island.json`, `papers/casters.json` and `papers/l_above.json`.
 pub fn run_papers(
     scenes_dir: &Path,
-    writer: &mut ReportWriter,
+    dir: &Path,
     cache: Option<&ReferenceCache>,
-    on_event: &mut dyn FnMut(Event),
+    sinks: &mut [&mut dyn Sink],
     options: PapersOptions,
 ) -> Result<Vec<Claim>, PlanError> {
     // Without a cache (--no-cache), one for this run only: nothing is read from or written to
@@ -99,7 +101,8 @@ pub fn run_papers(
         tempfile::tempdir().map_err(|source| PlanError::Io { path: std::env::temp_dir(), source })?;
     let run_cache = ReferenceCache::new(run_dir.path());
     let cache = cache.unwrap_or(&run_cache);
-    let mut suite = Suite { scenes_dir: scenes_dir.to_path_buf(), writer, cache, on_event, options };
+    let mut suite =
+        Suite { scenes_dir: scenes_dir.to_path_buf(), dir: dir.to_path_buf(), cache, sinks, options };
     let mut claims = ehm_fig12::claims(&mut suite)?;
     claims.extend(ehm_pcf::claims(&mut suite)?);
     claims.extend(pagot::claims(&mut suite)?);

@@ -89,7 +89,7 @@ pub(super) fn claims(suite: &mut Suite) -> Result<Vec<Claim>, PlanError> {
     let paper = &setups()[0];
     let view = LightView::new(&light_of(&scene, paper.light)?, scene.bounds(), L_RESOLUTIONS[0]);
     suite.report(&plan_of(&path, &["main"], paper.light, six(paper, &view).to_vec(), &L_RESOLUTIONS))?;
-    suite.stage("Weiskopf & Ertl Fig. 5 set-ups");
+    suite.stage("Weiskopf & Ertl Fig. 5 set-ups")?;
     let bvh = SceneBvh::build(&scene);
     let setups = suite.grid(setups());
     let mut per_resolution = vec![Vec::new(); L_RESOLUTIONS.len()];

@@ -1,37 +1,19 @@
 //! Runs a plan. The schedule follows the data: a scene's BVH once; per (camera, light) the
-//! G-buffer and reference once; per (resolution, depth format) each distinct depth layer once,
-//! shared by every technique that reads it.
+//! G-buffer and references once; per (resolution, depth format) each distinct depth layer once,
+//! shared by every technique that reads it. What it produces goes to the sinks as events
+//! (`events.rs`); the schedule itself writes nothing.
 
-use super::Plan;
-use super::PlanInputError;
-use super::build_layers;
+use super::events::{Event, Sink, TracedView, emit};
 use super::references::ViewReferences;
+use super::select::{Selected, check_area_light_sizes, check_plan, check_run_count, load_selected};
+use super::{Plan, PlanInputError, build_layers};
 use crate::metrics::{LightUv, Stopwatch, attribute, median_ms, score_hard, score_soft};
-use crate::raster::LightView;
-use crate::raster::MAX_SHADOW_MAP_RESOLUTION;
-use crate::report::{
-    GridCell, IndexedImage, ReportWriter, RunRecord, SceneRecord, Timings, ViewCanvas, downscale, grid,
-    run_stem, view_stem, write_reference_figure, write_run_figures, zoom,
-};
-use crate::scene::{LightKind, Problem, Scene, SceneError, load_scene};
-use crate::technique::{LayerNeeds, ReferenceKind, ShadeContext, ShadeOrder, shade_evaluated};
+use crate::raster::{DepthFormat, LightView};
+use crate::record::{RunRecord, SceneRecord, Timings};
+use crate::scene::{Camera, Light, Scene, SceneError};
+use crate::technique::{LayerNeeds, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated};
 use crate::trace::{GBuffer, ReferenceCache, SceneBvh};
-use rayon::prelude::*;
 use std::path::PathBuf;
-
-/// Progress of a plan, for progress bars and logs.
-pub enum Event<'a> {
-    /// The number of runs the plan expands to.
-    Planned { runs: usize },
-    /// A stage began (a short description).
-    Stage(String),
-    /// A run finished: its record, and its visibility per evaluated pixel (in the order of the
-    /// G-buffer's `evaluated`), for callers that measure more than the report holds.
-    RunDone { record: &'a RunRecord, visibility: &'a [f32] },
-    /// Figures were drawn and written, taking this many milliseconds of wall time (the runs wait
-    /// for them, so a batch's figure cost is the sum of these).
-    FiguresDone { ms: f64 },
-}
 
 #[derive(Debug, thiserror::Error)]
 pub enum PlanError {
@@ -46,325 +28,173 @@ pub enum PlanError {
     Io { path: PathBuf, source: std::io::Error },
 }
 
-/// Widest cell of the per-(view, resolution, depth format) grid figures, in pixels.
-const GRID_CELL_WIDTH: u32 = 512;
+/// Techniques grouped by the depth layers they read (in plan order): each group's layers are
+/// rasterized once per (view, resolution, depth format).
+type LayerGroups = Vec<(LayerNeeds, Vec<usize>)>;
 
-/// A loaded scene and the (camera, light) index pairs the plan runs on it.
-struct Selected {
-    scene: Scene,
-    pairs: Vec<(usize, usize)>,
+/// What every step of one plan's schedule reads.
+struct Schedule<'p, 's, 'k> {
+    plan: &'p Plan,
+    cache: Option<&'p ReferenceCache>,
+    groups: LayerGroups,
+    sinks: &'s mut [&'k mut dyn Sink],
 }
 
-/// Where the plan's problems are reported: its file, or `plan` for a plan built in code.
-fn plan_file(plan: &Plan) -> PathBuf {
-    plan.source.clone().unwrap_or_else(|| PathBuf::from("plan"))
+/// One shadow map's set-up within a view: the light view and what is built from it once.
+struct MapSetting<'a> {
+    view: &'a LightView,
+    light_uv: &'a LightUv,
+    order: &'a ShadeOrder,
+    resolution: u32,
+    format: DepthFormat,
 }
 
-/// Indices of the items named in `wanted` (all items when None); each name the scene lacks is a
-/// problem at the plan's `field[i]`.
-fn indices_of(
-    plan: &Plan,
-    scene: &Scene,
-    (field, kind): (&str, &str),
-    wanted: &Option<Vec<String>>,
-    names: &[&str],
-    problems: &mut Vec<Problem>,
-) -> Vec<usize> {
-    let Some(wanted) = wanted else { return (0..names.len()).collect() };
-    let mut found = Vec::new();
-    for (i, w) in wanted.iter().enumerate() {
-        match names.iter().position(|n| n == w) {
-            Some(index) => found.push(index),
-            None => problems.push(Problem {
-                file: plan_file(plan),
-                path: format!("{field}[{i}]"),
-                message: format!(
-                    "no {kind} named '{w}' in {} (it has: {})",
-                    scene.source.display(),
-                    if names.is_empty() { "none".to_string() } else { names.join(", ") }
-                ),
-            }),
-        }
-    }
-    found
-}
-
-/// The (camera, light) pairs the plan runs on `scene`; a scene without a camera or a light has
-/// nothing to score and is a problem of its own.
-fn select(plan: &Plan, scene: Scene, problems: &mut Vec<Problem>) -> Selected {
-    let camera_names: Vec<&str> = scene.cameras.iter().map(|c| c.name.as_str()).collect();
-    let light_names: Vec<&str> = scene.lights.iter().map(|l| l.name.as_str()).collect();
-    for (field, names) in [("cameras", &camera_names), ("lights", &light_names)] {
-        if names.is_empty() {
-            let message =
-                format!("the scene has no {}: there is nothing to score", &field[..field.len() - 1]);
-            problems.push(Problem { file: scene.source.clone(), path: field.into(), message });
-        }
-    }
-    let cams = indices_of(plan, &scene, ("cameras", "camera"), &plan.cameras, &camera_names, problems);
-    let lights = indices_of(plan, &scene, ("lights", "light"), &plan.lights, &light_names, problems);
-    let pairs = cams.iter().flat_map(|&c| lights.iter().map(move |&l| (c, l))).collect();
-    Selected { scene, pairs }
-}
-
-/// Checks what `parse_plan` checks for a plan built in code or changed after reading
-/// (`--resolutions`), before any scene is loaded.
-fn check_plan(plan: &Plan) -> Result<(), PlanError> {
-    let file = plan_file(plan);
-    let mut problems = Vec::new();
-    let mut problem =
-        |path: String, message: String| problems.push(Problem { file: file.clone(), path, message });
-    for (field, empty) in [
-        ("techniques", plan.techniques.is_empty()),
-        ("resolutions", plan.resolutions.is_empty()),
-        ("depth_formats", plan.depth_formats.is_empty()),
-        ("scenes", plan.scenes.is_empty()),
-    ] {
-        if empty {
-            problem(field.into(), "an empty list: the plan selects no run".into());
-        }
-    }
-    for (i, t) in plan.techniques.iter().enumerate() {
-        if let Err(e) = t.validate() {
-            problem(format!("techniques[{i}]"), format!("{}: {e}", t.label()));
-        }
-    }
-    for (i, &r) in plan.resolutions.iter().enumerate() {
-        if !(1..=MAX_SHADOW_MAP_RESOLUTION).contains(&r) {
-            problem(
-                format!("resolutions[{i}]"),
-                format!("must be between 1 and {MAX_SHADOW_MAP_RESOLUTION}, found {r}"),
-            );
-        }
-    }
-    if problems.is_empty() { Ok(()) } else { Err(PlanInputError { problems }.into()) }
-}
-
-/// Refuses a plan of more than `plan.max_runs` runs, now that every view is known.
-fn check_run_count(plan: &Plan, views: usize) -> Result<usize, PlanError> {
-    let per_view =
-        plan.techniques.len() as u128 * plan.resolutions.len() as u128 * plan.depth_formats.len() as u128;
-    let runs = per_view.saturating_mul(views as u128);
-    if runs > plan.max_runs as u128 {
-        let message = format!(
-            "the plan expands to {runs} runs, more than the limit of {} (raise it with --max-runs): {} techniques × \
-             {} resolutions × {} depth formats × {views} (scene, camera, light) views",
-            plan.max_runs,
-            plan.techniques.len(),
-            plan.resolutions.len(),
-            plan.depth_formats.len()
-        );
-        return Err(PlanInputError::one(&plan_file(plan), "", message).into());
-    }
-    Ok(runs as usize)
-}
-
-/// Loads every scene and selects its views, reporting every problem at once.
-fn load_selected(plan: &Plan) -> Result<Vec<Selected>, PlanError> {
-    let mut selected = Vec::new();
-    let (mut scene_problems, mut problems) = (Vec::new(), Vec::new());
-    for path in &plan.scenes {
-        match load_scene(path) {
-            Ok(scene) => selected.push(select(plan, scene, &mut problems)),
-            Err(e) => scene_problems.extend(e.problems),
-        }
-    }
-    if !scene_problems.is_empty() {
-        return Err(SceneError { problems: scene_problems }.into());
-    }
-    if !problems.is_empty() {
-        return Err(PlanInputError { problems }.into());
-    }
-    Ok(selected)
-}
-
-/// Runs `plan`, adding each finished run to `writer` (which rewrites report.json). References
-/// come from `cache` when given (and are stored there), else they are traced.
+/// Runs `plan`, sending what it produces to `sinks` in order. References come from `cache`
+/// when given (and are stored there), else they are traced.
 pub fn execute(
     plan: &Plan,
-    writer: &mut ReportWriter,
     cache: Option<&ReferenceCache>,
-    on_event: &mut dyn FnMut(Event),
+    sinks: &mut [&mut dyn Sink],
 ) -> Result<(), PlanError> {
     check_plan(plan)?;
     let selected = load_selected(plan)?;
-    // PCSS is scored against the area light: every light it runs under needs a size.
-    if plan.techniques.iter().any(|t| t.reference_kind() == ReferenceKind::AreaLight) {
-        for sel in &selected {
-            for &(_, li) in &sel.pairs {
-                let light = &sel.scene.lights[li];
-                let missing = match light.kind {
-                    LightKind::Directional { .. } if light.angular_diameter_deg.is_none() => {
-                        "angular_diameter_deg"
-                    }
-                    LightKind::Spot { .. } if light.radius.is_none() => "radius",
-                    _ => continue,
-                };
-                let message = format!(
-                    "has no {missing}: pcss is scored against an area light; give the light a size or leave \
-                     pcss out of the plan"
-                );
-                let path = format!("lights[{li}]");
-                return Err(PlanInputError::one(&sel.scene.source, &path, message).into());
-            }
+    check_area_light_sizes(plan, &selected)?;
+    let runs = check_run_count(plan, selected.iter().map(|s| s.pairs.len()).sum())?;
+    emit(sinks, &Event::Planned { runs })?;
+    let mut schedule = Schedule { plan, cache, groups: layer_groups(&plan.techniques), sinks };
+    selected.iter().try_for_each(|sel| schedule.scene(sel))
+}
+
+fn layer_groups(techniques: &[TechniqueSpec]) -> LayerGroups {
+    let mut groups: LayerGroups = Vec::new();
+    for (ti, t) in techniques.iter().enumerate() {
+        let needs = t.build().layer_needs();
+        match groups.iter_mut().find(|(n, _)| *n == needs) {
+            Some((_, members)) => members.push(ti),
+            None => groups.push((needs, vec![ti])),
         }
     }
-    let runs = check_run_count(plan, selected.iter().map(|s| s.pairs.len()).sum())?;
-    on_event(Event::Planned { runs });
-    let io = |path: &std::path::Path| {
-        let path = path.to_path_buf();
-        move |source| PlanError::Io { path, source }
-    };
+    groups
+}
 
-    for sel in &selected {
+impl Schedule<'_, '_, '_> {
+    fn stage(&mut self, what: &str) -> Result<(), PlanError> {
+        emit(self.sinks, &Event::Stage(what))
+    }
+
+    fn scene(&mut self, sel: &Selected) -> Result<(), PlanError> {
         let scene = &sel.scene;
-        on_event(Event::Stage(format!("{}: building the BVH", scene.name)));
+        self.stage(&format!("{}: building the BVH", scene.name))?;
         let sw = Stopwatch::start();
         let bvh = SceneBvh::build(scene);
-        writer
-            .add_scene(SceneRecord {
-                name: scene.name.clone(),
-                file: scene.source.display().to_string(),
-                triangles: scene.triangles.len() as u64,
-                dropped_degenerate: scene.dropped_degenerate as u64,
-                bvh_build_ms: sw.ms(),
-            })
-            .map_err(io(writer.path()))?;
-        let bounds = scene.bounds();
+        let record = SceneRecord {
+            name: scene.name.clone(),
+            file: scene.source.display().to_string(),
+            triangles: scene.triangles.len() as u64,
+            dropped_degenerate: scene.dropped_degenerate as u64,
+            bvh_build_ms: sw.ms(),
+        };
+        emit(self.sinks, &Event::SceneBuilt(&record))?;
         for &(ci, li) in &sel.pairs {
-            let (camera, light) = (&scene.cameras[ci], &scene.lights[li]);
-            on_event(Event::Stage(format!("{}/{}/{}: reference", scene.name, camera.name, light.name)));
-            let gbuffer = GBuffer::trace(scene, &bvh, camera, light);
-            let figures_dir = writer.dir().join("figures");
-            let cache_dir = cache.map_or_else(|| writer.dir().to_path_buf(), |c| c.dir().to_path_buf());
-            let references = ViewReferences::new(plan, cache, scene, &bvh, &gbuffer, camera, light)
-                .map_err(io(&cache_dir))?;
-            let reference = &references.hard;
-            let sw = Stopwatch::start();
-            let canvas = plan.figures.then(|| ViewCanvas::new(&gbuffer, reference, light));
-            if let Some(canvas) = &canvas {
-                let stem = view_stem(&scene.name, &camera.name, &light.name);
-                write_reference_figure(&figures_dir, &stem, &gbuffer, reference, canvas)
-                    .map_err(io(&figures_dir))?;
-                on_event(Event::FiguresDone { ms: sw.ms() });
-            }
-            for &resolution in &plan.resolutions {
-                let view = LightView::new(light, bounds, resolution);
-                let light_uv = LightUv::new(&gbuffer, &view);
-                let order = ShadeOrder::new(&gbuffer, &view);
-                for &format in &plan.depth_formats {
-                    // Figures of this (resolution, format): (stem, caption, visibility), drawn
-                    // and encoded together in parallel once its runs are scored.
-                    let mut pending: Vec<(String, String, Vec<f32>, ReferenceKind)> = Vec::new();
-                    // Techniques grouped by the layers they read: each set is rasterized once.
-                    let mut groups: Vec<(LayerNeeds, Vec<usize>)> = Vec::new();
-                    for (ti, t) in plan.techniques.iter().enumerate() {
-                        let needs = t.build().layer_needs();
-                        match groups.iter_mut().find(|(n, _)| *n == needs) {
-                            Some((_, members)) => members.push(ti),
-                            None => groups.push((needs, vec![ti])),
-                        }
-                    }
-                    for (needs, members) in groups {
-                        on_event(Event::Stage(format!(
-                            "{}/{}/{}: {resolution}² {} layers",
-                            scene.name,
-                            camera.name,
-                            light.name,
-                            format.name()
-                        )));
-                        let (layers, prepare_ms) = build_layers(scene, &view, format, &needs, plan.repeats);
-                        let ctx = ShadeContext::new(scene, &view, layers.as_layers());
-                        for ti in members {
-                            let spec = &plan.techniques[ti];
-                            let technique = spec.build();
-                            let mut shade_ms = Vec::with_capacity(plan.repeats);
-                            let mut visibility = Vec::new();
-                            for _ in 0..plan.repeats.max(1) {
-                                let sw = Stopwatch::start();
-                                visibility = shade_evaluated(technique.as_ref(), &order, &ctx);
-                                shade_ms.push(sw.ms());
-                            }
-                            let shade_ms = median_ms(&shade_ms);
-                            let (scored_against, soft_reference, reference_used) =
-                                references.for_kind(spec.reference_kind());
-                            let counts = score_hard(&gbuffer, scored_against, &visibility).with_attribution(
-                                attribute(&gbuffer, scored_against, &visibility, &light_uv),
-                            );
-                            let soft =
-                                soft_reference.map(|r| score_soft(&gbuffer, &r.visibility, &visibility));
-                            let record = RunRecord {
-                                scene: scene.name.clone(),
-                                camera: camera.name.clone(),
-                                light: light.name.clone(),
-                                technique: spec.name().into(),
-                                parameters: spec.parameters(),
-                                label: spec.label(),
-                                resolution,
-                                depth_format: format.name().into(),
-                                rates: counts.rates(),
-                                counts,
-                                timings: Timings {
-                                    prepare: prepare_ms,
-                                    shade: shade_ms,
-                                    ns_per_pixel: shade_ms * 1e6 / counts.evaluated.max(1) as f64,
-                                },
-                                layer_memory_bytes: layers.memory_bytes() as u64,
-                                reference: reference_used,
-                                soft,
-                            };
-                            let figure = canvas.is_some().then(|| {
-                                let caption =
-                                    format!("{}  error {:.3}%", record.label, 100.0 * record.rates.error);
-                                (run_stem(&record), caption)
-                            });
-                            writer.add_run(record).map_err(io(writer.path()))?;
-                            on_event(Event::RunDone {
-                                record: writer.report().runs.last().expect("just added"),
-                                visibility: &visibility,
-                            });
-                            if let Some((stem, caption)) = figure {
-                                pending.push((stem, caption, visibility, spec.reference_kind()));
-                            }
-                        }
-                    }
-                    if let Some(canvas) = &canvas {
-                        let sw = Stopwatch::start();
-                        // Each run's grid cell is shrunk beside its figures, in parallel, so that
-                        // only the small cells are kept for the grid.
-                        let shrink = gbuffer.width.div_ceil(GRID_CELL_WIDTH).max(1);
-                        let cells: Vec<(String, IndexedImage)> = pending
-                            .par_iter()
-                            .map(|(stem, caption, visibility, kind)| {
-                                let figures = write_run_figures(
-                                    &figures_dir,
-                                    stem,
-                                    &gbuffer,
-                                    references.for_kind(*kind).0,
-                                    visibility,
-                                    canvas,
-                                )?;
-                                if let Some([x, y, w, h]) = plan.zoom {
-                                    zoom(&figures.error_image, (x, y, w, h), 4)
-                                        .write_png(&figures_dir.join(format!("{stem}.error.zoom.png")))?;
-                                }
-                                Ok((caption.clone(), downscale(&figures.error_image, shrink)))
-                            })
-                            .collect::<std::io::Result<_>>()
-                            .map_err(io(&figures_dir))?;
-                        let cells: Vec<GridCell> = cells
-                            .iter()
-                            .map(|(caption, image)| GridCell { image, caption: caption.clone() })
-                            .collect();
-                        let stem = view_stem(&scene.name, &camera.name, &light.name);
-                        let path =
-                            figures_dir.join(format!("{stem}.r{resolution}.{}.grid.png", format.name()));
-                        grid(&cells, 4, GRID_CELL_WIDTH).write_png(&path).map_err(io(&figures_dir))?;
-                        on_event(Event::FiguresDone { ms: sw.ms() });
-                    }
-                }
+            self.view(scene, &bvh, &scene.cameras[ci], &scene.lights[li])?;
+        }
+        Ok(())
+    }
+
+    fn view(
+        &mut self,
+        scene: &Scene,
+        bvh: &SceneBvh,
+        camera: &Camera,
+        light: &Light,
+    ) -> Result<(), PlanError> {
+        self.stage(&format!("{}/{}/{}: reference", scene.name, camera.name, light.name))?;
+        let gbuffer = GBuffer::trace(scene, bvh, camera, light);
+        let references = ViewReferences::new(self.plan, self.cache, scene, bvh, &gbuffer, camera, light)?;
+        let traced = TracedView { scene, camera, light, gbuffer: &gbuffer, references: &references };
+        emit(self.sinks, &Event::ViewTraced(&traced))?;
+        let bounds = scene.bounds();
+        for &resolution in &self.plan.resolutions {
+            let view = LightView::new(light, bounds, resolution);
+            let light_uv = LightUv::new(&gbuffer, &view);
+            let order = ShadeOrder::new(&gbuffer, &view);
+            for &format in &self.plan.depth_formats {
+                let map = MapSetting { view: &view, light_uv: &light_uv, order: &order, resolution, format };
+                self.map(&traced, &map)?;
+                emit(self.sinks, &Event::MapsDone { view: &traced, resolution, format })?;
             }
         }
+        Ok(())
     }
-    Ok(())
+
+    /// Every technique at one (resolution, depth format): each group's layers built once.
+    fn map(&mut self, traced: &TracedView, map: &MapSetting) -> Result<(), PlanError> {
+        for gi in 0..self.groups.len() {
+            let (scene, camera, light) = (traced.scene, traced.camera, traced.light);
+            let (resolution, format) = (map.resolution, map.format.name());
+            self.stage(&format!(
+                "{}/{}/{}: {resolution}² {format} layers",
+                scene.name, camera.name, light.name
+            ))?;
+            let (layers, prepare_ms) =
+                build_layers(scene, map.view, map.format, &self.groups[gi].0, self.plan.repeats);
+            let ctx = ShadeContext::new(scene, map.view, layers.as_layers());
+            let layer_memory_bytes = layers.memory_bytes() as u64;
+            for mi in 0..self.groups[gi].1.len() {
+                let spec = &self.plan.techniques[self.groups[gi].1[mi]];
+                let (visibility, shade_ms) = self.shade(spec, map.order, &ctx);
+                let mut record = run_record(traced, map, spec, &visibility);
+                record.timings = timings(prepare_ms, shade_ms, record.counts.evaluated);
+                record.layer_memory_bytes = layer_memory_bytes;
+                emit(self.sinks, &Event::RunDone { view: traced, record: &record, visibility: &visibility })?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The technique's visibility of every evaluated sample, and the median shading time (ms).
+    fn shade(&self, spec: &TechniqueSpec, order: &ShadeOrder, ctx: &ShadeContext) -> (Vec<f32>, f64) {
+        let technique = spec.build();
+        let mut shade_ms = Vec::with_capacity(self.plan.repeats);
+        let mut visibility = Vec::new();
+        for _ in 0..self.plan.repeats.max(1) {
+            let sw = Stopwatch::start();
+            visibility = shade_evaluated(technique.as_ref(), order, ctx);
+            shade_ms.push(sw.ms());
+        }
+        (visibility, median_ms(&shade_ms))
+    }
+}
+
+/// A run's record scored against the reference its technique is judged by (timings and layer
+/// memory are the caller's).
+fn run_record(traced: &TracedView, map: &MapSetting, spec: &TechniqueSpec, visibility: &[f32]) -> RunRecord {
+    let gbuffer = traced.gbuffer;
+    let (scored_against, soft_reference, reference_used) = traced.references.for_kind(spec.reference_kind());
+    let counts = score_hard(gbuffer, scored_against, visibility).with_attribution(attribute(
+        gbuffer,
+        scored_against,
+        visibility,
+        map.light_uv,
+    ));
+    RunRecord {
+        scene: traced.scene.name.clone(),
+        camera: traced.camera.name.clone(),
+        light: traced.light.name.clone(),
+        technique: spec.name().into(),
+        parameters: spec.parameters(),
+        label: spec.label(),
+        resolution: map.resolution,
+        depth_format: map.format.name().into(),
+        rates: counts.rates(),
+        counts,
+        timings: Timings::default(),
+        layer_memory_bytes: 0,
+        reference: reference_used,
+        soft: soft_reference.map(|r| score_soft(gbuffer, &r.visibility, visibility)),
+    }
+}
+
+fn timings(prepare_ms: f64, shade_ms: f64, evaluated: u64) -> Timings {
+    Timings { prepare: prepare_ms, shade: shade_ms, ns_per_pixel: shade_ms * 1e6 / evaluated.max(1) as f64 }
 }

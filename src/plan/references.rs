@@ -2,7 +2,7 @@
 //! against: the hard mask always, pixel coverage when a filtered technique runs, the area light
 //! when PCSS runs; each read from the cache or traced once and shared by every run of the view.
 
-use super::Plan;
+use super::{Plan, PlanError};
 use crate::metrics::thresholded;
 use crate::report::ReferenceUsed;
 use crate::scene::{Camera, Light, Scene};
@@ -36,10 +36,14 @@ impl ViewReferences {
         gbuffer: &GBuffer,
         camera: &Camera,
         light: &Light,
-    ) -> std::io::Result<ViewReferences> {
+    ) -> Result<ViewReferences, PlanError> {
+        let io = |source| PlanError::Io {
+            path: cache.map_or_else(Default::default, |c| c.dir().to_path_buf()),
+            source,
+        };
         let needs = |kind| plan.techniques.iter().any(|t| t.reference_kind() == kind);
         let hard = match cache {
-            Some(c) => c.hard_reference(scene, bvh, gbuffer, camera, light)?.0,
+            Some(c) => c.hard_reference(scene, bvh, gbuffer, camera, light).map_err(io)?.0,
             None => trace_hard_reference(bvh, gbuffer, light),
         };
         let fractional = |soft: SoftReference| Fractional {
@@ -49,7 +53,7 @@ impl ViewReferences {
         let coverage = if needs(ReferenceKind::Coverage) {
             let grid = plan.coverage_grid;
             Some(fractional(match cache {
-                Some(c) => c.coverage_reference(scene, bvh, gbuffer, camera, light, grid)?.0,
+                Some(c) => c.coverage_reference(scene, bvh, gbuffer, camera, light, grid).map_err(io)?.0,
                 None => trace_coverage_reference(scene, bvh, gbuffer, camera, light, grid),
             }))
         } else {
@@ -58,10 +62,9 @@ impl ViewReferences {
         let area_light = if needs(ReferenceKind::AreaLight) {
             let grid = plan.area_light_grid;
             Some(fractional(match cache {
-                Some(c) => c.area_light_reference(scene, bvh, gbuffer, camera, light, grid)?.0,
-                None => {
-                    trace_area_light_reference(bvh, gbuffer, light, grid).map_err(std::io::Error::other)?
-                }
+                Some(c) => c.area_light_reference(scene, bvh, gbuffer, camera, light, grid).map_err(io)?.0,
+                None => trace_area_light_reference(bvh, gbuffer, light, grid)
+                    .map_err(|e| PlanError::Invalid(e.to_string()))?,
             }))
         } else {
             None

@@ -49,3 +49,13 @@ pub fn report_csv(report: &Report) -> Result<String, csv::Error> {
     let bytes = w.into_inner().map_err(|e| e.into_error())?;
     Ok(String::from_utf8_lossy(&bytes).into_owned())
 }
+
+/// `report.csv`.
+pub struct CsvExport;
+
+impl super::outputs::Export for CsvExport {
+    fn write(&self, dir: &std::path::Path, report: &Report) -> std::io::Result<()> {
+        let csv = report_csv(report).map_err(std::io::Error::other)?;
+        crate::atomic_file::write_atomic(&dir.join("report.csv"), csv.as_bytes())
+    }
+}

@@ -16,7 +16,7 @@ pub use super::indexed_image::{
     FALSE_LIT, FALSE_LIT_INDEX, FALSE_SHADOW, FALSE_SHADOW_INDEX, GREY_MAX, IndexedImage, grey, is_grey,
     palette_rgb,
 };
-use super::record::RunRecord;
+use crate::record::RunRecord;
 use crate::scene::{Light, LightKind};
 use crate::trace::{GBuffer, HardReference, PixelClass};
 use glam::Vec3;

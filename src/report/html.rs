@@ -2,7 +2,10 @@
 //! figures, the settings and the tool version. Only relative links; no network.
 
 use super::Report;
+use super::figures::run_stem;
+use super::plots::charts;
 use std::fmt::Write as _;
+use std::path::Path;
 
 /// HTML-escapes text for element content and attribute values.
 pub fn escape(s: &str) -> String {
@@ -59,6 +62,16 @@ window.addEventListener('load', imagesStatus);
 
 pub fn index_html(report: &Report, assets: &PageAssets) -> String {
     let mut h = String::new();
+    page_header(&mut h, report);
+    scenes_table(&mut h, report);
+    runs_table(&mut h, report, assets);
+    figures_section(&mut h, assets);
+    plots_section(&mut h, assets);
+    let _ = write!(h, "<script>{SCRIPT}</script></body></html>\n");
+    h
+}
+
+fn page_header(h: &mut String, report: &Report) {
     let _ = write!(
         h,
         "<!doctype html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>shadowtruth report</title>\
@@ -71,6 +84,9 @@ pub fn index_html(report: &Report, assets: &PageAssets) -> String {
         report.machine.cores,
         escape(&report.schema)
     );
+}
+
+fn scenes_table(h: &mut String, report: &Report) {
     h.push_str("<h2>Scenes</h2><table><thead><tr><th class=\"l\">scene</th><th class=\"l\">file</th><th>triangles</th><th>degenerate dropped</th><th>BVH build ms</th></tr></thead><tbody>");
     for s in &report.scenes {
         let _ = write!(
@@ -84,6 +100,9 @@ pub fn index_html(report: &Report, assets: &PageAssets) -> String {
         );
     }
     h.push_str("</tbody></table>");
+}
+
+fn runs_table(h: &mut String, report: &Report, assets: &PageAssets) {
     h.push_str("<h2>Runs</h2><p>Rates are fractions of the evaluated pixels; click a header to sort. False shadow: lit in truth, shadowed by the technique; false lit: the reverse. Aliasing: within one shadow-map texel of a true shadow boundary.</p>");
     h.push_str("<table id=\"runs\"><thead><tr>");
     for (name, left) in [
@@ -141,6 +160,9 @@ pub fn index_html(report: &Report, assets: &PageAssets) -> String {
         );
     }
     h.push_str("</tbody></table>");
+}
+
+fn figures_section(h: &mut String, assets: &PageAssets) {
     if !assets.figures.is_empty() {
         h.push_str("<h2>Figures</h2><div class=\"figs\">");
         for (path, caption) in &assets.figures {
@@ -153,6 +175,9 @@ pub fn index_html(report: &Report, assets: &PageAssets) -> String {
         }
         h.push_str("</div>");
     }
+}
+
+fn plots_section(h: &mut String, assets: &PageAssets) {
     if !assets.plots.is_empty() {
         h.push_str("<h2>Plots</h2><div class=\"plots\">");
         for stem in &assets.plots {
@@ -164,6 +189,41 @@ pub fn index_html(report: &Report, assets: &PageAssets) -> String {
         }
         h.push_str("</div>");
     }
-    let _ = write!(h, "<script>{SCRIPT}</script></body></html>\n");
-    h
+}
+
+/// `index.html`, linking the figures already written under `figures/` and the report's plots.
+pub struct PageExport;
+
+impl super::outputs::Export for PageExport {
+    fn write(&self, dir: &Path, report: &Report) -> std::io::Result<()> {
+        let assets = page_assets(dir, report);
+        crate::atomic_file::write_atomic(&dir.join("index.html"), index_html(report, &assets).as_bytes())
+    }
+}
+
+/// What the page of the report folder `dir` shows: its grids and reference figures, each run's
+/// figures where both were written, and the report's plots.
+fn page_assets(dir: &Path, report: &Report) -> PageAssets {
+    let mut figures: Vec<(String, String)> = std::fs::read_dir(dir.join("figures"))
+        .map(|entries| {
+            entries
+                .filter_map(|e| e.ok())
+                .filter_map(|e| e.file_name().into_string().ok())
+                .filter(|n| n.ends_with(".grid.png") || n.ends_with(".reference.png"))
+                .map(|n| (format!("figures/{n}"), n.trim_end_matches(".png").replace('.', " ")))
+                .collect()
+        })
+        .unwrap_or_default();
+    figures.sort();
+    let run_figures = report
+        .runs
+        .iter()
+        .map(|r| {
+            let stem = run_stem(r);
+            let (t, e) = (format!("figures/{stem}.technique.png"), format!("figures/{stem}.error.png"));
+            (dir.join(&t).is_file() && dir.join(&e).is_file()).then_some((t, e))
+        })
+        .collect();
+    let plots = charts(report).into_iter().map(|c| c.stem).collect();
+    PageAssets { plots, figures, run_figures }
 }

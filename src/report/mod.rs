@@ -5,6 +5,7 @@
 mod csv_rows;
 mod depth_map;
 mod exports;
+mod figure_sink;
 pub mod figures;
 pub mod font;
 mod gate;
@@ -13,13 +14,16 @@ mod indexed_image;
 mod junit;
 mod outputs;
 mod plots;
-mod record;
 mod soft_exr;
 mod writer;
 
+pub use crate::record::{
+    Machine, REPORT_SCHEMA, ReferenceUsed, Report, RunRecord, SceneRecord, Timings, Tool,
+};
 pub use csv_rows::report_csv;
 pub use depth_map::write_depth_map;
 pub use exports::{world_obj, write_mask_png, write_world_obj};
+pub use figure_sink::FigureSink;
 pub use figures::{
     GridCell, RunFigures, ViewCanvas, downscale, error_map, grid, run_images, run_stem, shaded_base,
     view_stem, visibility_image, write_reference_figure, write_run_figures, zoom,
@@ -34,6 +38,5 @@ pub use indexed_image::IndexedImage;
 pub use junit::junit_xml;
 pub use outputs::write_report_outputs;
 pub use plots::{Chart, charts, pareto_front, write_chart};
-pub use record::{Machine, REPORT_SCHEMA, ReferenceUsed, Report, RunRecord, SceneRecord, Timings, Tool};
 pub use soft_exr::{read_soft_exr, write_soft_exr};
 pub use writer::{ReportWriter, remove_stray_report_temp_files};

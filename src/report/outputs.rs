@@ -1,21 +1,24 @@
-//! Everything a report folder holds besides report.json, rendered from it: `report.csv`,
-//! `plots/` and `index.html`. `shadowtruth report DIR` calls this on an existing report.
+//! Everything a report folder holds besides report.json and the figures, rendered from the
+//! report at the end of a command (`shadowtruth report DIR` renders them again): each output is
+//! an `Export` in its own file — `report.csv` (`csv_rows.rs`), `plots/` (`plots.rs`) and
+//! `index.html` (`html.rs`).
 
-use super::html::{PageAssets, index_html};
-use super::{Report, charts, report_csv, write_chart};
-use crate::atomic_file::write_atomic;
-use rayon::prelude::*;
+use super::Report;
+use super::csv_rows::CsvExport;
+use super::html::PageExport;
+use super::plots::PlotsExport;
 use std::path::Path;
 
-/// Writes report.csv, the plots and index.html into `dir`; `figures` lists figure files already
-/// written under `dir` (see `PageAssets`).
-pub fn write_report_outputs(dir: &Path, report: &Report, mut assets: PageAssets) -> std::io::Result<()> {
-    let csv = report_csv(report).map_err(std::io::Error::other)?;
-    write_atomic(&dir.join("report.csv"), csv.as_bytes())?;
-    let plots_dir = dir.join("plots");
-    std::fs::create_dir_all(&plots_dir)?;
-    let all = charts(report);
-    all.par_iter().map(|c| write_chart(&plots_dir, c)).collect::<std::io::Result<Vec<()>>>()?;
-    assets.plots = all.iter().map(|c| c.stem.clone()).collect();
-    write_atomic(&dir.join("index.html"), index_html(report, &assets).as_bytes())
+/// One output of a report folder, written from the whole report.
+pub trait Export: Sync {
+    /// Writes the output into the report folder `dir`.
+    fn write(&self, dir: &Path, report: &Report) -> std::io::Result<()>;
+}
+
+/// Every output, in the order written (the page links the plots and figures before it).
+const EXPORTS: [&dyn Export; 3] = [&CsvExport, &PlotsExport, &PageExport];
+
+/// Writes report.csv, the plots and index.html into `dir`.
+pub fn write_report_outputs(dir: &Path, report: &Report) -> std::io::Result<()> {
+    EXPORTS.iter().try_for_each(|export| export.write(dir, report))
 }

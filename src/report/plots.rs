@@ -299,3 +299,15 @@ pub fn write_chart(dir: &Path, chart: &Chart) -> std::io::Result<()> {
         .map_err(std::io::Error::other)?;
     write_atomic(&dir.join(format!("{}.png", chart.stem)), &encode_rgb_png(WIDTH, HEIGHT, &rgb)?)
 }
+
+/// `plots/`: every chart of the report, each as SVG and PNG.
+pub struct PlotsExport;
+
+impl super::outputs::Export for PlotsExport {
+    fn write(&self, dir: &Path, report: &Report) -> std::io::Result<()> {
+        use rayon::prelude::*;
+        let plots_dir = dir.join("plots");
+        std::fs::create_dir_all(&plots_dir)?;
+        charts(report).par_iter().try_for_each(|c| write_chart(&plots_dir, c))
+    }
+}

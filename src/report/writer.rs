@@ -10,6 +10,7 @@
 
 use super::{Report, RunRecord, SceneRecord};
 use crate::atomic_file::{remove_stray_temp_files, write_atomic};
+use crate::plan::{Event, PlanError, Sink};
 use std::path::{Path, PathBuf};
 
 /// Files of an earlier run removed from a report folder (report.json is replaced instead).
@@ -79,6 +80,18 @@ impl ReportWriter {
 
     pub fn into_report(self) -> Report {
         self.report
+    }
+}
+
+/// report.json as a sink of a plan's events: each scene and run is added as it finishes.
+impl Sink for ReportWriter {
+    fn on_event(&mut self, event: &Event) -> Result<(), PlanError> {
+        let written = match event {
+            Event::SceneBuilt(record) => self.add_scene((*record).clone()),
+            Event::RunDone { record, .. } => self.add_run((*record).clone()),
+            _ => return Ok(()),
+        };
+        written.map_err(|source| PlanError::Io { path: self.path.clone(), source })
     }
 }
 

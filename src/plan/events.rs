@@ -1,0 +1,58 @@
+//! What the schedule tells its outputs. The executor (`execute.rs`) decides only what to build
+//! and in what order; every output — report.json, figures, a progress bar — is a `Sink` that
+//! receives these events in order and writes its own file.
+
+use super::PlanError;
+use super::references::ViewReferences;
+use crate::raster::DepthFormat;
+use crate::record::{RunRecord, SceneRecord};
+use crate::scene::{Camera, Light, Scene};
+use crate::trace::GBuffer;
+
+/// One (scene, camera, light) view, traced: what every run of the view is scored against.
+pub struct TracedView<'a> {
+    pub scene: &'a Scene,
+    pub camera: &'a Camera,
+    pub light: &'a Light,
+    pub gbuffer: &'a GBuffer,
+    pub references: &'a ViewReferences,
+}
+
+/// Progress of a plan, in schedule order.
+pub enum Event<'a> {
+    /// The number of runs the plan expands to.
+    Planned { runs: usize },
+    /// A stage began (a short description, for progress bars and logs).
+    Stage(&'a str),
+    /// A scene was loaded and its BVH built.
+    SceneBuilt(&'a SceneRecord),
+    /// A view's G-buffer and references are ready; its runs follow.
+    ViewTraced(&'a TracedView<'a>),
+    /// A run finished: its record, and its visibility per evaluated pixel (in the order of the
+    /// G-buffer's `evaluated`), for outputs that need more than the record.
+    RunDone { view: &'a TracedView<'a>, record: &'a RunRecord, visibility: &'a [f32] },
+    /// Every run of the view at this shadow-map resolution and depth format has finished.
+    MapsDone { view: &'a TracedView<'a>, resolution: u32, format: DepthFormat },
+}
+
+/// An output of the schedule (in the style of hyperfine's exporters: one trait, each output
+/// its own type and file).
+pub trait Sink {
+    /// Receives every event in schedule order; an error stops the plan.
+    fn on_event(&mut self, event: &Event) -> Result<(), PlanError>;
+}
+
+/// A sink made of a closure, for callers that only watch (progress, tests).
+pub struct Watch<F: FnMut(&Event)>(pub F);
+
+impl<F: FnMut(&Event)> Sink for Watch<F> {
+    fn on_event(&mut self, event: &Event) -> Result<(), PlanError> {
+        (self.0)(event);
+        Ok(())
+    }
+}
+
+/// Sends `event` to every sink in order.
+pub fn emit(sinks: &mut [&mut dyn Sink], event: &Event) -> Result<(), PlanError> {
+    sinks.iter_mut().try_for_each(|sink| sink.on_event(event))
+}

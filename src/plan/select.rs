@@ -1,0 +1,164 @@
+//! Choosing what a plan runs: the plan's own checks, the scenes loaded and their (camera, light)
+//! views selected, every problem reported at once; and the run count held to its limit before
+//! anything is built.
+
+use super::{Plan, PlanError, PlanInputError};
+use crate::raster::MAX_SHADOW_MAP_RESOLUTION;
+use crate::scene::{LightKind, Problem, Scene, SceneError, load_scene};
+use crate::technique::ReferenceKind;
+use std::path::PathBuf;
+
+/// A loaded scene and the (camera, light) index pairs the plan runs on it.
+pub(super) struct Selected {
+    pub scene: Scene,
+    pub pairs: Vec<(usize, usize)>,
+}
+
+/// Where the plan's problems are reported: its file, or `plan` for a plan built in code.
+fn plan_file(plan: &Plan) -> PathBuf {
+    plan.source.clone().unwrap_or_else(|| PathBuf::from("plan"))
+}
+
+/// Indices of the items named in `wanted` (all items when None); each name the scene lacks is a
+/// problem at the plan's `field[i]`.
+fn indices_of(
+    plan: &Plan,
+    scene: &Scene,
+    (field, kind): (&str, &str),
+    wanted: &Option<Vec<String>>,
+    names: &[&str],
+    problems: &mut Vec<Problem>,
+) -> Vec<usize> {
+    let Some(wanted) = wanted else { return (0..names.len()).collect() };
+    let mut found = Vec::new();
+    for (i, w) in wanted.iter().enumerate() {
+        match names.iter().position(|n| n == w) {
+            Some(index) => found.push(index),
+            None => problems.push(Problem {
+                file: plan_file(plan),
+                path: format!("{field}[{i}]"),
+                message: format!(
+                    "no {kind} named '{w}' in {} (it has: {})",
+                    scene.source.display(),
+                    if names.is_empty() { "none".to_string() } else { names.join(", ") }
+                ),
+            }),
+        }
+    }
+    found
+}
+
+/// The (camera, light) pairs the plan runs on `scene`; a scene without a camera or a light has
+/// nothing to score and is a problem of its own.
+fn select(plan: &Plan, scene: Scene, problems: &mut Vec<Problem>) -> Selected {
+    let camera_names: Vec<&str> = scene.cameras.iter().map(|c| c.name.as_str()).collect();
+    let light_names: Vec<&str> = scene.lights.iter().map(|l| l.name.as_str()).collect();
+    for (field, names) in [("cameras", &camera_names), ("lights", &light_names)] {
+        if names.is_empty() {
+            let message =
+                format!("the scene has no {}: there is nothing to score", &field[..field.len() - 1]);
+            problems.push(Problem { file: scene.source.clone(), path: field.into(), message });
+        }
+    }
+    let cams = indices_of(plan, &scene, ("cameras", "camera"), &plan.cameras, &camera_names, problems);
+    let lights = indices_of(plan, &scene, ("lights", "light"), &plan.lights, &light_names, problems);
+    let pairs = cams.iter().flat_map(|&c| lights.iter().map(move |&l| (c, l))).collect();
+    Selected { scene, pairs }
+}
+
+/// Checks what `parse_plan` checks for a plan built in code or changed after reading
+/// (`--resolutions`), before any scene is loaded.
+pub(super) fn check_plan(plan: &Plan) -> Result<(), PlanError> {
+    let file = plan_file(plan);
+    let mut problems = Vec::new();
+    let mut problem =
+        |path: String, message: String| problems.push(Problem { file: file.clone(), path, message });
+    for (field, empty) in [
+        ("techniques", plan.techniques.is_empty()),
+        ("resolutions", plan.resolutions.is_empty()),
+        ("depth_formats", plan.depth_formats.is_empty()),
+        ("scenes", plan.scenes.is_empty()),
+    ] {
+        if empty {
+            problem(field.into(), "an empty list: the plan selects no run".into());
+        }
+    }
+    for (i, t) in plan.techniques.iter().enumerate() {
+        if let Err(e) = t.validate() {
+            problem(format!("techniques[{i}]"), format!("{}: {e}", t.label()));
+        }
+    }
+    for (i, &r) in plan.resolutions.iter().enumerate() {
+        if !(1..=MAX_SHADOW_MAP_RESOLUTION).contains(&r) {
+            problem(
+                format!("resolutions[{i}]"),
+                format!("must be between 1 and {MAX_SHADOW_MAP_RESOLUTION}, found {r}"),
+            );
+        }
+    }
+    if problems.is_empty() { Ok(()) } else { Err(PlanInputError { problems }.into()) }
+}
+
+/// Refuses a plan of more than `plan.max_runs` runs, now that every view is known.
+pub(super) fn check_run_count(plan: &Plan, views: usize) -> Result<usize, PlanError> {
+    let per_view =
+        plan.techniques.len() as u128 * plan.resolutions.len() as u128 * plan.depth_formats.len() as u128;
+    let runs = per_view.saturating_mul(views as u128);
+    if runs > plan.max_runs as u128 {
+        let message = format!(
+            "the plan expands to {runs} runs, more than the limit of {} (raise it with --max-runs): {} techniques × \
+             {} resolutions × {} depth formats × {views} (scene, camera, light) views",
+            plan.max_runs,
+            plan.techniques.len(),
+            plan.resolutions.len(),
+            plan.depth_formats.len()
+        );
+        return Err(PlanInputError::one(&plan_file(plan), "", message).into());
+    }
+    Ok(runs as usize)
+}
+
+/// Loads every scene and selects its views, reporting every problem at once.
+pub(super) fn load_selected(plan: &Plan) -> Result<Vec<Selected>, PlanError> {
+    let mut selected = Vec::new();
+    let (mut scene_problems, mut problems) = (Vec::new(), Vec::new());
+    for path in &plan.scenes {
+        match load_scene(path) {
+            Ok(scene) => selected.push(select(plan, scene, &mut problems)),
+            Err(e) => scene_problems.extend(e.problems),
+        }
+    }
+    if !scene_problems.is_empty() {
+        return Err(SceneError { problems: scene_problems }.into());
+    }
+    if !problems.is_empty() {
+        return Err(PlanInputError { problems }.into());
+    }
+    Ok(selected)
+}
+
+/// PCSS is scored against the area light: every light it runs under needs a size.
+pub(super) fn check_area_light_sizes(plan: &Plan, selected: &[Selected]) -> Result<(), PlanError> {
+    if !plan.techniques.iter().any(|t| t.reference_kind() == ReferenceKind::AreaLight) {
+        return Ok(());
+    }
+    for sel in selected {
+        for &(_, li) in &sel.pairs {
+            let light = &sel.scene.lights[li];
+            let missing = match light.kind {
+                LightKind::Directional { .. } if light.angular_diameter_deg.is_none() => {
+                    "angular_diameter_deg"
+                }
+                LightKind::Spot { .. } if light.radius.is_none() => "radius",
+                _ => continue,
+            };
+            let message = format!(
+                "has no {missing}: pcss is scored against an area light; give the light a size or leave \
+                 pcss out of the plan"
+            );
+            let path = format!("lights[{li}]");
+            return Err(PlanInputError::one(&sel.scene.source, &path, message).into());
+        }
+    }
+    Ok(())
+}
