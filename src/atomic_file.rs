@@ -135,3 +135,20 @@ pub fn encode_rgb_png(width: u32, height: u32, pixels: &[u8]) -> std::io::Result
 }
 
 use image::ImageEncoder;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_temp_file_is_a_stray_once_its_writer_is_gone() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(format!("{TEMP_PREFIX}0.x.XyZ789"));
+        let file = std::fs::File::create(&path).unwrap();
+        fs4::FileExt::lock(&file).unwrap();
+        assert_eq!(remove_stray_temp_files(dir.path()).unwrap(), 0);
+        drop(file);
+        assert_eq!(remove_stray_temp_files(dir.path()).unwrap(), 1);
+        assert!(!path.exists());
+    }
+}

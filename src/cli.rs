@@ -1,22 +1,23 @@
-//! Command-line interface: clap definitions and the glue from arguments to library calls.
+//! The `shadowtruth` command: clap definitions and the glue from arguments to the crate's
+//! modules; exit codes 0 success, 1 a gate failed, 2 a usage or input error.
 
-use anyhow::{Context, Result, bail};
-use clap::{Args, Parser, Subcommand};
-use indicatif::{ProgressBar, ProgressStyle};
-use shadowtruth::atomic_file::write_atomic;
-use shadowtruth::metrics::{Stopwatch, median_ms};
-use shadowtruth::plan::{DEFAULT_MAX_RUNS, Event, Plan, PlanError, Sink, execute, read_plan};
-use shadowtruth::raster::MAX_SHADOW_MAP_RESOLUTION;
-use shadowtruth::report::{
+use crate::atomic_file::write_atomic;
+use crate::metrics::{Stopwatch, median_ms};
+use crate::plan::{DEFAULT_MAX_RUNS, Event, Plan, PlanError, Sink, execute, read_plan};
+use crate::raster::MAX_SHADOW_MAP_RESOLUTION;
+use crate::report::{
     FigureSink, Report, ReportWriter, load_report, write_mask_png, write_report_outputs, write_soft_exr,
     write_world_obj,
 };
-use shadowtruth::scene::{Scene, load_scene};
-use shadowtruth::trace::{
+use crate::scene::{Scene, load_scene};
+use crate::trace::{
     GBuffer, SceneBvh, SoftReference, trace_area_light_reference, trace_coverage_reference,
     trace_hard_reference, validate_area_light,
 };
-use shadowtruth::verify::{Adjudicator, PixelSelection, ViewVerification, verify_view};
+use crate::verify::{Adjudicator, PixelSelection, ViewVerification, verify_view};
+use anyhow::{Context, Result, bail};
+use clap::{Args, Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -116,7 +117,7 @@ struct PapersArgs {
 #[derive(Args)]
 struct IslandArgs {
     /// Seed of the terrain noise and the tree placement.
-    #[arg(long, default_value_t = shadowtruth::papers::ISLAND_SEED)]
+    #[arg(long, default_value_t = crate::papers::ISLAND_SEED)]
     seed: u64,
     /// Output folder (created if missing).
     #[arg(short, long, default_value = "scenes/papers")]
@@ -298,7 +299,28 @@ struct GateArgs {
     allow_missing: bool,
 }
 
-pub fn run(cli: Cli) -> Result<u8> {
+/// Parses the arguments and runs the command: 0 success, 1 a gate failed, 2 a usage or input
+/// error.
+pub fn main() -> std::process::ExitCode {
+    use std::process::ExitCode;
+    let args = match Cli::try_parse() {
+        Ok(args) => args,
+        Err(e) => {
+            let code = if e.use_stderr() { 2 } else { 0 };
+            let _ = e.print();
+            return ExitCode::from(code);
+        }
+    };
+    match run(args) {
+        Ok(code) => ExitCode::from(code),
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<u8> {
     match cli.command {
         Command::Run(a) => run_plan(a),
         Command::Reference(a) => reference(a),
@@ -307,7 +329,7 @@ pub fn run(cli: Cli) -> Result<u8> {
         Command::Report(a) => {
             let (report, file) = load_report(&a.dir)?;
             let dir = file.parent().unwrap_or(Path::new(".")).to_path_buf();
-            shadowtruth::report::remove_stray_report_temp_files(&dir)
+            crate::report::remove_stray_report_temp_files(&dir)
                 .with_context(|| format!("cleaning {}", dir.display()))?;
             write_report_outputs(&dir, &report).with_context(|| format!("writing into {}", dir.display()))?;
             println!("{}", dir.join("index.html").display());
@@ -321,9 +343,9 @@ pub fn run(cli: Cli) -> Result<u8> {
         Command::Gate(a) => gate(a),
         Command::Papers(a) => papers(a),
         Command::Island(a) => {
-            shadowtruth::papers::write_island(&a.out, a.seed)
+            crate::papers::write_island(&a.out, a.seed)
                 .with_context(|| format!("writing the island into {}", a.out.display()))?;
-            println!("{}", a.out.join(shadowtruth::papers::ISLAND_SCENE_FILE).display());
+            println!("{}", a.out.join(crate::papers::ISLAND_SCENE_FILE).display());
             Ok(0)
         }
     }
@@ -333,14 +355,14 @@ pub fn run(cli: Cli) -> Result<u8> {
 /// evaluates, writes the optional JUnit and Markdown files, prints the violations, the missing and
 /// new runs and the summary line.
 fn gate(a: GateArgs) -> Result<u8> {
-    use shadowtruth::report::{CheckedReport, GateOptions};
-    let rules = shadowtruth::report::load_rules(&a.rules)?;
+    use crate::report::{CheckedReport, GateOptions};
+    let rules = crate::report::load_rules(&a.rules)?;
     let report = CheckedReport::load(&a.report)?;
     let baseline = a.baseline.as_deref().map(CheckedReport::load).transpose()?;
     let options = GateOptions { allow_missing: a.allow_missing };
-    let outcome = shadowtruth::report::evaluate(&report, baseline.as_ref(), &rules, options)?;
+    let outcome = crate::report::evaluate(&report, baseline.as_ref(), &rules, options)?;
     if let Some(path) = &a.junit {
-        write_atomic(path, shadowtruth::report::junit_xml(&outcome).as_bytes())
+        write_atomic(path, crate::report::junit_xml(&outcome).as_bytes())
             .with_context(|| format!("writing {}", path.display()))?;
     }
     if let Some(path) = &a.summary {
@@ -430,13 +452,13 @@ fn sinks<'a>(
 
 fn papers(a: PapersArgs) -> Result<u8> {
     set_threads(a.threads)?;
-    let cache = (!a.no_cache).then(|| shadowtruth::trace::ReferenceCache::new(&a.references));
+    let cache = (!a.no_cache).then(|| crate::trace::ReferenceCache::new(&a.references));
     let mut writer = ReportWriter::create(&a.out).with_context(|| format!("opening {}", a.out.display()))?;
     let started = Instant::now();
     let mut progress = Progress::new(a.quiet);
     let mut figures = FigureSink::new(&a.out.join("figures"), None);
-    let options = shadowtruth::papers::PapersOptions { quick: a.quick };
-    let claims = shadowtruth::papers::run_papers(
+    let options = crate::papers::PapersOptions { quick: a.quick };
+    let claims = crate::papers::run_papers(
         &a.scenes,
         &a.out,
         cache.as_ref(),
@@ -450,11 +472,11 @@ fn papers(a: PapersArgs) -> Result<u8> {
     let document = serde_json::json!({ "format": "shadowtruth/claims/v1", "claims": claims });
     let mut text = serde_json::to_string_pretty(&document)?;
     text.push('\n');
-    shadowtruth::atomic_file::write_atomic(&a.out.join("claims.json"), text.as_bytes())
+    crate::atomic_file::write_atomic(&a.out.join("claims.json"), text.as_bytes())
         .with_context(|| format!("writing {}", a.out.join("claims.json").display()))?;
-    shadowtruth::atomic_file::write_atomic(
+    crate::atomic_file::write_atomic(
         &a.out.join("claims.html"),
-        shadowtruth::papers::claims_html(&claims).as_bytes(),
+        crate::papers::claims_html(&claims).as_bytes(),
     )
     .with_context(|| format!("writing {}", a.out.join("claims.html").display()))?;
     bar.finish_and_clear();
@@ -502,7 +524,7 @@ fn run_plan(a: RunArgs) -> Result<u8> {
         }
         plan.repeats = n;
     }
-    let cache = (!a.no_cache).then(|| shadowtruth::trace::ReferenceCache::new(&a.references));
+    let cache = (!a.no_cache).then(|| crate::trace::ReferenceCache::new(&a.references));
     let mut writer = ReportWriter::create(&a.out).with_context(|| format!("opening {}", a.out.display()))?;
     let started = Instant::now();
     let mut progress = Progress::new(a.quiet);
@@ -738,8 +760,8 @@ fn print_verification(scene: &Path, v: &ViewVerification) {
 fn print_trace_timing(
     scene: &Scene,
     bvh: &SceneBvh,
-    camera: &shadowtruth::scene::Camera,
-    light: &shadowtruth::scene::Light,
+    camera: &crate::scene::Camera,
+    light: &crate::scene::Light,
     repeats: usize,
 ) {
     let (mut primary_ms, mut shadow_ms) = (Vec::new(), Vec::new());
@@ -768,7 +790,7 @@ fn print_trace_timing(
 /// The figures already written under `dir/figures/`: scene grids and references (in name
 /// order), and each run's visibility and error figures.
 fn depth_map(a: DepthMapArgs) -> Result<u8> {
-    use shadowtruth::raster::{
+    use crate::raster::{
         Culling, DepthFormat, LightView, RasterSettings, rasterize_nearest, rasterize_two_nearest,
     };
     let format = DepthFormat::parse(&a.format)
@@ -790,14 +812,14 @@ fn depth_map(a: DepthMapArgs) -> Result<u8> {
         rasterize_nearest(&scene, &view, &settings)
     } else {
         let pairs = rasterize_two_nearest(&scene, &view, &settings);
-        shadowtruth::raster::DepthLayer {
+        crate::raster::DepthLayer {
             resolution: pairs.resolution,
             depth: pairs.depth.iter().map(|p| p[1]).collect(),
         }
     };
     let description =
         serde_json::json!({ "index": a.layer, "format": format.name(), "cull": a.cull, "light": light.name });
-    shadowtruth::report::write_depth_map(&a.out, &layer, &view, description)
+    crate::report::write_depth_map(&a.out, &layer, &view, description)
         .with_context(|| format!("writing {}", a.out.display()))?;
     Ok(0)
 }

@@ -1,21 +1,69 @@
-//! shadowtruth: measures how wrong shadow maps are against an exact ray-traced reference.
+//! shadowtruth measures how wrong shadow maps are: an exact ray-traced reference decides, pixel
+//! by pixel, what a camera sees lit, and every shadow-map technique — or any renderer's shadow
+//! buffer — is scored against it.
 //!
-//! Data flows one way: `scene` → `trace` (BVH, G-buffer, reference) and `raster` (light
-//! projection, depth layers) → `technique` (visibility per G-buffer sample) → `metrics` →
-//! `report`. `verify` checks the reference against exact predicates. `plan` expands a sweep into runs and schedules the shared work; `cli` parses
-//! arguments only.
+//! Data flows one way: [`scene`] → [`trace`] (BVH, G-buffer, references) and [`raster`] (light
+//! views, depth layers) → [`technique`] (visibility of every evaluated pixel) → [`metrics`]
+//! (false shadow and false lit) → [`record`] (the report's records). [`verify`] re-decides the
+//! reference with exact predicates. The `shadowtruth` command's own modules (plans and their
+//! schedule, reports, figures, the gate, the papers suite) are private to the crate.
+//!
+//! # Scoring a shadow buffer
+//!
+//! The common embedding: trace the reference of a view once, then score a visibility buffer
+//! (1 lit, 0 shadowed, one value per camera pixel) against it.
+//!
+//! ```
+//! use shadowtruth::{GBuffer, SceneBvh, load_scene, score_visibility, trace_hard_reference};
+//!
+//! let scene = load_scene(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/plane_box.json"))?;
+//! let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
+//! let bvh = SceneBvh::build(&scene);
+//! let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
+//! let reference = trace_hard_reference(&bvh, &gbuffer, light);
+//!
+//! // A renderer that draws everything lit: every shadowed pixel is false lit.
+//! let all_lit = vec![1.0; gbuffer.pixel_count()];
+//! let counts = score_visibility(&gbuffer, &reference, &all_lit)?;
+//! assert_eq!(counts.false_shadow, 0);
+//! assert!(counts.false_lit > 0);
+//! # Ok::<(), shadowtruth::Error>(())
+//! ```
 
-pub mod atomic_file;
+extern crate self as shadowtruth;
+
+mod api;
+pub(crate) mod atomic_file;
+mod cli;
+mod error;
 #[doc(hidden)]
 pub mod fuzzing;
-mod json_input;
+pub(crate) mod json_input;
 pub mod metrics;
-pub mod papers;
-pub mod plan;
+pub(crate) mod papers;
+pub(crate) mod plan;
 pub mod raster;
 pub mod record;
-pub mod report;
+pub(crate) mod report;
 pub mod scene;
 pub mod technique;
 pub mod trace;
 pub mod verify;
+
+#[cfg(test)]
+mod app_tests;
+
+pub use api::{light_view, load_scene, rasterize_layers, score_visibility, shade_technique};
+pub use error::{Error, Result};
+pub use metrics::Counts;
+pub use raster::{DepthFormat, LightView};
+pub use scene::{Camera, Light, Scene};
+pub use technique::{BuiltLayers, TechniqueSpec};
+pub use trace::{GBuffer, HardReference, SceneBvh, trace_hard_reference};
+
+/// The `shadowtruth` command (`src/main.rs` is only this call): parses the arguments, runs the
+/// command and returns its exit code (0 success, 1 a gate failed, 2 a usage or input error).
+#[doc(hidden)]
+pub fn run_cli() -> std::process::ExitCode {
+    cli::main()
+}

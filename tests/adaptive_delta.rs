@@ -54,8 +54,8 @@ fn pcf11(bias: &str, epsilon: &str) -> TechniqueSpec {
 fn shade(scene: &Scene, g: &GBuffer, spec: &TechniqueSpec, resolution: u32) -> Vec<f32> {
     let technique = spec.build();
     let view = LightView::new(&scene.lights[0], scene.bounds(), resolution);
-    let (layers, _) =
-        shadowtruth::plan::build_layers(scene, &view, DepthFormat::F32, &technique.layer_needs(), 1);
+    let layers =
+        shadowtruth::technique::BuiltLayers::build(scene, &view, DepthFormat::F32, &technique.layer_needs());
     let ctx = ShadeContext::new(scene, &view, layers.as_layers());
     shade_evaluated(technique.as_ref(), &ShadeOrder::new(g, &view), &ctx)
 }

@@ -3,7 +3,7 @@
 
 use serde_json::json;
 use shadowtruth::metrics::Counts;
-use shadowtruth::report::{Report, RunRecord, Timings};
+use shadowtruth::record::{Report, RunRecord, Timings};
 use std::path::Path;
 use std::process::Command;
 

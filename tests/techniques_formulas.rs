@@ -5,7 +5,6 @@ mod common;
 use common::scene_from_json;
 use glam::{Vec3, Vec4};
 use serde_json::json;
-use shadowtruth::plan::build_layers;
 use shadowtruth::raster::{DepthFormat, LightView};
 use shadowtruth::scene::Scene;
 use shadowtruth::technique::{
@@ -42,7 +41,8 @@ fn receiver_plane_slope_of_a_known_triangle() {
 fn adaptive_bias_of_a_tilted_plane_under_an_orthographic_light() {
     let scene = lit_from_above();
     let view = LightView::new(&scene.lights[0], scene.bounds(), 64);
-    let (layers, _) = build_layers(&scene, &view, DepthFormat::F32, &LayerNeeds::default(), 1);
+    let layers =
+        shadowtruth::technique::BuiltLayers::build(&scene, &view, DepthFormat::F32, &LayerNeeds::default());
     let ctx = ShadeContext::new(&scene, &view, layers.as_layers());
     let (n, f) = (view.near as f64, view.far as f64);
     let scene_scale = (Vec3::new(10.0, 2.0, 10.0)).length() as f64;

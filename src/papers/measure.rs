@@ -5,7 +5,7 @@
 
 use super::claims::Artefacts;
 use crate::metrics::{Counts, LightUv, Stopwatch, attribute, median_ms, score_hard};
-use crate::plan::{PlanError, build_layers};
+use crate::plan::PlanError;
 use crate::raster::{DepthFormat, LightView};
 use crate::scene::{Light, Scene};
 use crate::technique::{ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated};
@@ -119,7 +119,8 @@ pub(super) fn shade(
     repeats: usize,
 ) -> Shaded {
     let technique = spec.build();
-    let (layers, _) = build_layers(v.scene, &map.view, DepthFormat::F32, &technique.layer_needs(), 1);
+    let layers =
+        crate::technique::BuiltLayers::build(v.scene, &map.view, DepthFormat::F32, &technique.layer_needs());
     let mut ctx = ShadeContext::new(v.scene, &map.view, layers.as_layers());
     if let Some(s) = scene_scale {
         ctx.scene_scale = s;

@@ -16,9 +16,6 @@ mod pagot;
 mod suite;
 mod weiskopf;
 
-pub use claims::{Claim, SetupResult, Verdict};
-pub use ehm_fig12::ISLAND_RESOLUTION;
 pub use island::*;
 pub use page::claims_html;
 pub use suite::{PapersOptions, run_papers};
-pub use weiskopf::L_RESOLUTIONS;

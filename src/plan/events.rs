@@ -30,7 +30,7 @@ pub enum Event<'a> {
     ViewTraced(&'a TracedView<'a>),
     /// A run finished: its record, and its visibility per evaluated pixel (in the order of the
     /// G-buffer's `evaluated`), for outputs that need more than the record.
-    RunDone { view: &'a TracedView<'a>, record: &'a RunRecord, visibility: &'a [f32] },
+    RunDone { record: &'a RunRecord, visibility: &'a [f32] },
     /// Every run of the view at this shadow-map resolution and depth format has finished.
     MapsDone { view: &'a TracedView<'a>, resolution: u32, format: DepthFormat },
 }
@@ -42,9 +42,11 @@ pub trait Sink {
     fn on_event(&mut self, event: &Event) -> Result<(), PlanError>;
 }
 
+#[cfg(test)]
 /// A sink made of a closure, for callers that only watch (progress, tests).
 pub struct Watch<F: FnMut(&Event)>(pub F);
 
+#[cfg(test)]
 impl<F: FnMut(&Event)> Sink for Watch<F> {
     fn on_event(&mut self, event: &Event) -> Result<(), PlanError> {
         (self.0)(event);

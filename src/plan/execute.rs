@@ -6,7 +6,7 @@
 use super::events::{Event, Sink, TracedView, emit};
 use super::references::ViewReferences;
 use super::select::{Selected, check_area_light_sizes, check_plan, check_run_count, load_selected};
-use super::{Plan, PlanInputError, build_layers};
+use super::{Plan, PlanInputError, build_layers_timed};
 use crate::metrics::{LightUv, Stopwatch, attribute, median_ms, score_hard, score_soft};
 use crate::raster::{DepthFormat, LightView};
 use crate::record::{RunRecord, SceneRecord, Timings};
@@ -137,7 +137,7 @@ impl Schedule<'_, '_, '_> {
                 scene.name, camera.name, light.name
             ))?;
             let (layers, prepare_ms) =
-                build_layers(scene, map.view, map.format, &self.groups[gi].0, self.plan.repeats);
+                build_layers_timed(scene, map.view, map.format, &self.groups[gi].0, self.plan.repeats);
             let ctx = ShadeContext::new(scene, map.view, layers.as_layers());
             let layer_memory_bytes = layers.memory_bytes() as u64;
             for mi in 0..self.groups[gi].1.len() {
@@ -146,7 +146,7 @@ impl Schedule<'_, '_, '_> {
                 let mut record = run_record(traced, map, spec, &visibility);
                 record.timings = timings(prepare_ms, shade_ms, record.counts.evaluated);
                 record.layer_memory_bytes = layer_memory_bytes;
-                emit(self.sinks, &Event::RunDone { view: traced, record: &record, visibility: &visibility })?;
+                emit(self.sinks, &Event::RunDone { record: &record, visibility: &visibility })?;
             }
         }
         Ok(())

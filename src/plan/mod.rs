@@ -11,9 +11,10 @@ mod select;
 mod size;
 mod spec;
 
-pub use events::{Event, Sink, TracedView, Watch, emit};
+#[cfg(test)]
+pub use events::Watch;
+pub use events::{Event, Sink, TracedView, emit};
 pub use execute::{PlanError, execute};
-pub use file::{DEFAULT_MAX_RUNS, PLAN_FORMAT, PlanInputError, parse_plan, parse_plan_limited, read_plan};
-pub use layers::{BuiltLayers, build_layers};
-pub use references::{Fractional, ViewReferences};
-pub use spec::{DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_PLAN_JSON, Plan};
+pub use file::{DEFAULT_MAX_RUNS, PlanInputError, parse_plan, parse_plan_limited, read_plan};
+pub use layers::build_layers_timed;
+pub use spec::{DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, Plan};

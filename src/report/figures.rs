@@ -12,10 +12,7 @@
 //! the camera image, never over it.
 
 use super::font;
-pub use super::indexed_image::{
-    FALSE_LIT, FALSE_LIT_INDEX, FALSE_SHADOW, FALSE_SHADOW_INDEX, GREY_MAX, IndexedImage, grey, is_grey,
-    palette_rgb,
-};
+pub use super::indexed_image::{FALSE_LIT_INDEX, FALSE_SHADOW_INDEX, GREY_MAX, IndexedImage, grey, is_grey};
 use crate::record::RunRecord;
 use crate::scene::{Light, LightKind};
 use crate::trace::{GBuffer, HardReference, PixelClass};
@@ -240,6 +237,7 @@ fn legend_scale(width: u32) -> u32 {
     (width / 512).clamp(1, 4)
 }
 
+#[cfg(test)]
 /// The error map of a run: `base` dimmed (×[`ERROR_DIM`], and ×[`ERROR_REFERENCE_SHADOW`] more
 /// where the reference is shadowed, so the true shadows show), false-shadow pixels exactly
 /// [`FALSE_SHADOW`], false-lit pixels exactly [`FALSE_LIT`] (the thresholds of

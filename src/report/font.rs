@@ -124,11 +124,6 @@ pub fn glyph(c: char) -> &'static [u8; 7] {
     }
 }
 
-/// Whether font pixel (`col`, `row`) of `c` is set.
-pub fn glyph_pixel(c: char, col: u32, row: u32) -> bool {
-    col < GLYPH_WIDTH && row < GLYPH_HEIGHT && glyph(c)[row as usize] >> (GLYPH_WIDTH - 1 - col) & 1 == 1
-}
-
 /// Width in image pixels of one line of `text` (no trailing spacing column).
 pub fn text_width(text: &str, scale: u32) -> u32 {
     let n = text.chars().count() as u32;

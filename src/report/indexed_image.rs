@@ -51,11 +51,13 @@ impl IndexedImage {
         IndexedImage { width, height, pixels: vec![index; width as usize * height as usize] }
     }
 
+    #[cfg(test)]
     /// The index at (`x`, `y`).
     pub fn at(&self, x: u32, y: u32) -> u8 {
         self.pixels[y as usize * self.width as usize + x as usize]
     }
 
+    #[cfg(test)]
     /// RGB8 pixels, as a PNG decoder returns them.
     pub fn to_rgb(&self) -> Vec<u8> {
         self.pixels.iter().flat_map(|&i| palette_rgb(i)).collect()
@@ -74,6 +76,7 @@ impl IndexedImage {
         }
     }
 
+    #[cfg(test)]
     /// Draws the 1-pixel outline of `rect` = (x, y, w, h) (clipped).
     pub fn outline_rect(&mut self, rect: (u32, u32, u32, u32), index: u8) {
         let (x, y, w, h) = (rect.0 as i64, rect.1 as i64, rect.2, rect.3);

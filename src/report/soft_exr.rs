@@ -9,8 +9,3 @@ use std::path::Path;
 pub fn write_soft_exr(path: &Path, reference: &SoftReference) -> std::io::Result<()> {
     write_atomic(path, &reference.to_exr()?)
 }
-
-/// Reads a file written by `write_soft_exr`, bit for bit.
-pub fn read_soft_exr(path: &Path) -> std::io::Result<SoftReference> {
-    SoftReference::from_exr(&std::fs::read(path)?)
-}

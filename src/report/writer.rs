@@ -78,6 +78,7 @@ impl ReportWriter {
         write_atomic(&self.path, text.as_bytes())
     }
 
+    #[cfg(test)]
     pub fn into_report(self) -> Report {
         self.report
     }

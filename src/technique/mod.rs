@@ -6,6 +6,7 @@
 
 mod adaptive;
 mod bias;
+mod built_layers;
 mod canonical;
 mod depth_layers;
 mod kernel;
@@ -18,6 +19,7 @@ mod spec;
 
 pub use adaptive::{AdaptiveBias, AdaptiveTest, Epsilon, EpsilonScale, TangentPlane};
 pub use bias::{ConstantBias, NoBias, SlopeScaledBias};
+pub use built_layers::BuiltLayers;
 pub use canonical::canonical_json;
 pub use depth_layers::{DualDepth, Midpoint, SecondDepth};
 pub use kernel::{Kernel, POISSON_SIZES, poisson_set};

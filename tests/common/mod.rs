@@ -60,7 +60,7 @@ pub fn score_technique(
     use shadowtruth::technique::{ShadeContext, ShadeOrder, shade_evaluated};
     let technique = spec.build();
     let view = shadowtruth::raster::LightView::new(&scene.lights[0], scene.bounds(), resolution);
-    let (layers, _) = shadowtruth::plan::build_layers(scene, &view, format, &technique.layer_needs(), 1);
+    let layers = shadowtruth::technique::BuiltLayers::build(scene, &view, format, &technique.layer_needs());
     let ctx = ShadeContext::new(scene, &view, layers.as_layers());
     let v = shade_evaluated(technique.as_ref(), &ShadeOrder::new(g, &view), &ctx);
     (shadowtruth::metrics::score_hard(g, r, &v), v)

@@ -4,7 +4,7 @@
 
 use super::GateError;
 use super::identity::{RunIdentity, RunName};
-use crate::report::{REPORT_SCHEMA, Report, RunRecord};
+use crate::record::{REPORT_SCHEMA, Report, RunRecord};
 use serde_json::Value;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -76,10 +76,6 @@ impl CheckedReport {
 
     pub fn origin(&self) -> &str {
         &self.origin
-    }
-
-    pub fn report(&self) -> &Report {
-        &self.report
     }
 
     pub fn runs(&self) -> &[RunRecord] {

@@ -17,14 +17,9 @@ mod input;
 mod render;
 mod rules;
 
-pub use check::{
-    BaselineComparison, BaselineStatus, Check, GateOptions, GateOutcome, Measured, Violation, evaluate,
-    measure,
-};
-pub use identity::{Pairing, RunIdentity, RunName, TechniqueIdentity};
+pub use check::{BaselineComparison, Check, GateOptions, GateOutcome, evaluate};
 pub use input::{CheckedReport, load_report};
-pub use render::fmt_value;
-pub use rules::{Metric, Regression, Rule, RuleSpec, Rules, glob_match, load_rules, parse_rules};
+pub use rules::{load_rules, parse_rules};
 
 use std::fmt;
 

@@ -2,20 +2,20 @@
 //! distinct from each other and from the shaded greys, grids and zooms have the promised
 //! geometry, and run stems are unique and file-name safe.
 
-mod common;
+use super::common;
 
 use common::{bundled, trace_first};
 use shadowtruth::metrics::{Counts, Rates};
 use shadowtruth::raster::DepthFormat;
+use shadowtruth::record::{RunRecord, Timings};
 use shadowtruth::report::figures::{
-    FALSE_LIT, FALSE_LIT_INDEX, FALSE_SHADOW, FALSE_SHADOW_INDEX, GRID_BACKGROUND, GRID_GAP, GRID_TEXT,
-    GridLayout, ZOOM_FRAME, caption_block_height, is_grey, legend_strip_height, reference_visibility,
+    FALSE_LIT_INDEX, FALSE_SHADOW_INDEX, GRID_BACKGROUND, GRID_GAP, GRID_TEXT, GridCell, GridLayout,
+    ViewCanvas, ZOOM_FRAME, caption_block_height, error_map, grid, is_grey, legend_strip_height,
+    reference_visibility, run_images, run_stem, view_stem, visibility_image, write_reference_figure,
+    write_run_figures, zoom,
 };
 use shadowtruth::report::font;
-use shadowtruth::report::{
-    GridCell, IndexedImage, RunRecord, Timings, ViewCanvas, error_map, grid, run_stem, view_stem,
-    visibility_image, write_reference_figure, write_run_figures, zoom,
-};
+use shadowtruth::report::indexed_image::{FALSE_LIT, FALSE_SHADOW, IndexedImage};
 use shadowtruth::technique::TechniqueSpec;
 use std::collections::HashSet;
 
@@ -65,7 +65,7 @@ fn error_png_colours_count_exactly_the_false_pixels() {
             // The in-memory map is what was written.
             assert_eq!(error_map(&g, &r, &v, &canvas).to_rgb(), error.as_raw().as_slice());
             // The one-pass drawing of both images is the two drawn apart.
-            let (t, e) = shadowtruth::report::run_images(&g, &r, &v, &canvas);
+            let (t, e) = run_images(&g, &r, &v, &canvas);
             assert_eq!((t, e), (visibility_image(&g, &canvas, &v), error_map(&g, &r, &v, &canvas)));
 
             let technique = image::open(dir.path().join(&files.technique)).unwrap().to_rgb8();
@@ -336,8 +336,8 @@ fn figures_cost_per_run_at_1024x768() {
     // One shading pass of the plain depth test with a 2048² layer (what every run repeats).
     let technique = TechniqueSpec::None.build();
     let view = shadowtruth::raster::LightView::new(&scene.lights[0], scene.bounds(), 2048);
-    let (layers, _) =
-        shadowtruth::plan::build_layers(&scene, &view, DepthFormat::F32, &technique.layer_needs(), 1);
+    let layers =
+        shadowtruth::technique::BuiltLayers::build(&scene, &view, DepthFormat::F32, &technique.layer_needs());
     let ctx = ShadeContext::new(&scene, &view, layers.as_layers());
     let order = ShadeOrder::new(&g, &view);
     let shade_ms =
@@ -355,8 +355,7 @@ fn figures_cost_per_run_at_1024x768() {
         .map(|f| std::fs::metadata(dir.path().join(f)).unwrap().len())
         .sum();
     // Where the time goes (each step alone): the two images, their PNG encoding.
-    let images_ms =
-        median_ms(|| drop(std::hint::black_box(shadowtruth::report::run_images(&g, &r, &v, &canvas))));
+    let images_ms = median_ms(|| drop(std::hint::black_box(run_images(&g, &r, &v, &canvas))));
     let tech = visibility_image(&g, &canvas, &v);
     let err = error_map(&g, &r, &v, &canvas);
     let encode_ms = median_ms(|| {

@@ -3,7 +3,7 @@
 //! image. CI installs Chromium; elsewhere the browser part is skipped with a message when it is
 //! missing (and fails when `CI` is set).
 
-mod common;
+use super::common;
 
 use shadowtruth::plan::{Plan, execute, parse_plan};
 use shadowtruth::report::{Report, ReportWriter, load_report, write_report_outputs};
@@ -147,7 +147,7 @@ fn the_index_page_loads_its_table_and_every_image_in_a_real_browser() {
     let rows = runs_table.matches("<tr><td class=\"l\">plane_box").count();
     assert_eq!(rows, report.runs.len(), "the runs table has one row per run");
     // A screenshot, kept for people to look at.
-    let shot = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("index-screenshot.png");
+    let shot = std::env::temp_dir().join("shadowtruth-index-screenshot.png");
     let _ = std::fs::remove_file(&shot);
     let status = Command::new(&browser)
         .args(args(&[&format!("--screenshot={}", shot.display()), "--window-size=1400,1800"]))

@@ -3,7 +3,7 @@
 //! figure needs (the featured trunk in the front view, a well-lit front, grazing light in the
 //! back view, a bounding box that is the island's own).
 
-mod common;
+use super::common;
 
 use shadowtruth::papers::{FEATURED_TRUNK, ISLAND_SEED, Island, generate_island, write_island};
 use shadowtruth::scene::{LightKind, Scene, load_scene, load_scene_str};

@@ -1,11 +1,12 @@
 //! A plan run end to end through the library: the report's records and their invariants.
 
-mod common;
+use super::common;
 
 use common::repo;
 use shadowtruth::plan::{Plan, execute};
 use shadowtruth::raster::DepthFormat;
-use shadowtruth::report::{REPORT_SCHEMA, Report, ReportWriter};
+use shadowtruth::record::{REPORT_SCHEMA, Report};
+use shadowtruth::report::ReportWriter;
 use shadowtruth::technique::{CullSpec, TechniqueSpec};
 
 #[test]

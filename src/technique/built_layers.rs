@@ -1,0 +1,57 @@
+//! The depth layers a technique reads, rasterized from a light view: what `LayerNeeds` asks
+//! for, built and owned (`Layers` borrows from it for shading).
+
+use super::{LayerNeeds, Layers};
+use crate::raster::{
+    DepthFormat, DepthLayer, DepthPairLayer, LightView, MultiDepthLayer, RasterSettings, rasterize_nearest,
+    rasterize_two_nearest,
+};
+use crate::scene::Scene;
+
+/// The depth layers of one group of techniques.
+pub enum BuiltLayers {
+    Nearest(DepthLayer),
+    TwoNearest(DepthPairLayer),
+    MultiDepth(MultiDepthLayer),
+}
+
+impl BuiltLayers {
+    /// Rasterizes the layers `needs` asks for (see [`Technique::layer_needs`]) from `view` in
+    /// `format`.
+    ///
+    /// [`Technique::layer_needs`]: super::Technique::layer_needs
+    pub fn build(scene: &Scene, view: &LightView, format: DepthFormat, needs: &LayerNeeds) -> BuiltLayers {
+        let settings = RasterSettings {
+            format,
+            culling: needs.culling,
+            slope_factor: needs.slope_factor,
+            slope_units: needs.slope_units,
+        };
+        match (needs.second_layer, needs.multi_depth) {
+            (true, _) => BuiltLayers::TwoNearest(rasterize_two_nearest(scene, view, &settings)),
+            (false, Some(m)) => BuiltLayers::MultiDepth(MultiDepthLayer::from_base(
+                &rasterize_nearest(scene, view, &settings),
+                m.depths,
+                m.neighbourhood,
+                m.selection,
+            )),
+            (false, None) => BuiltLayers::Nearest(rasterize_nearest(scene, view, &settings)),
+        }
+    }
+
+    pub fn as_layers(&self) -> Layers<'_> {
+        match self {
+            BuiltLayers::Nearest(l) => Layers::Nearest(l),
+            BuiltLayers::TwoNearest(l) => Layers::TwoNearest(l),
+            BuiltLayers::MultiDepth(l) => Layers::MultiDepth(l),
+        }
+    }
+
+    pub fn memory_bytes(&self) -> usize {
+        match self {
+            BuiltLayers::Nearest(l) => l.memory_bytes(),
+            BuiltLayers::TwoNearest(l) => l.memory_bytes(),
+            BuiltLayers::MultiDepth(l) => l.memory_bytes(),
+        }
+    }
+}
