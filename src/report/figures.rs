@@ -6,8 +6,8 @@
 //! What depends only on the view (the base image, the error map's background): build a
 //! [`ViewCanvas`] once per (scene, camera, light) and pass it to every run's figures.
 //!
-//! The error map keeps the image area exact: every pixel coloured exactly [`FALSE_SHADOW`] or
-//! [`FALSE_LIT`] is a false-shadow or false-lit pixel of the run, and every such pixel is coloured.
+//! The error map keeps the image area exact: every pixel coloured exactly [`FALSE_SHADOW`](super::indexed_image::FALSE_SHADOW) or
+//! [`FALSE_LIT`](super::indexed_image::FALSE_LIT) is a false-shadow or false-lit pixel of the run, and every such pixel is coloured.
 //! Its legend (swatches in the same two colours, with the counts) is drawn on a strip added *below*
 //! the camera image, never over it.
 
@@ -190,7 +190,7 @@ fn error_index(reference_lit: u8, v: f32) -> Option<u8> {
     }
 }
 
-/// [`visibility_image`] and [`error_map`] of one run, drawn in one pass over the evaluated pixels
+/// [`visibility_image`] and `error_map` of one run, drawn in one pass over the evaluated pixels
 /// (the pass is bound by memory traffic, so sharing it halves the cost).
 pub fn run_images(
     gbuffer: &GBuffer,
