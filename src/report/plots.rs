@@ -197,27 +197,31 @@ fn cost_charts(report: &Report) -> Vec<Chart> {
         .collect()
 }
 
+/// The chart's x range and the top of its y axis; None for a chart without points.
+fn data_range(c: &Chart) -> Option<(f64, f64, f64)> {
+    let (mut x0, mut x1, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
+    for &(x, y) in c.series.iter().flat_map(|s| s.1.iter()) {
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y1 = y1.max(y);
+    }
+    if !x0.is_finite() {
+        return None;
+    }
+    if x1 <= x0 {
+        x1 = x0 + 1.0;
+    }
+    // Errors span orders of magnitude (0.01 % to 50 %): a log axis, with zero drawn at the floor.
+    Some((x0, x1, if y1 <= Y_FLOOR { 1.0 } else { y1 * 1.5 }))
+}
+
 fn draw<DB: DrawingBackend>(root: DrawingArea<DB, plotters::coord::Shift>, c: &Chart) -> Result<(), String>
 where
     DB::ErrorType: 'static,
 {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     root.fill(&WHITE).map_err(err)?;
-    let pts = c.series.iter().flat_map(|s| s.1.iter());
-    let (mut x0, mut x1, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
-    for &(x, y) in pts {
-        x0 = x0.min(x);
-        x1 = x1.max(x);
-        y1 = y1.max(y);
-    }
-    if !x0.is_finite() {
-        return Ok(());
-    }
-    if x1 <= x0 {
-        x1 = x0 + 1.0;
-    }
-    // Errors span orders of magnitude (0.01 % to 50 %): a log axis, with zero drawn at the floor.
-    let y1 = if y1 <= Y_FLOOR { 1.0 } else { y1 * 1.5 };
+    let Some((x0, x1, y1)) = data_range(c) else { return Ok(()) };
     let mut builder = ChartBuilder::on(&root);
     builder.caption(&c.title, ("sans-serif", 18)).margin(12).x_label_area_size(40).y_label_area_size(56);
     let palette = |i: usize| Palette99::pick(i).to_rgba();

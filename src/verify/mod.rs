@@ -208,6 +208,39 @@ impl ViewVerification {
     pub fn passed(&self) -> bool {
         self.disagree_outside_band == 0 && self.inconsistent == 0
     }
+
+    /// Counts a pixel where the traced and exact answers differ (or the exact one is
+    /// inconsistent) and keeps it as a case.
+    fn add_case(&mut self, case: Case) {
+        if case.traced_shadowed != case.exact_shadowed {
+            if case.at_boundary {
+                self.disagree_at_boundary += 1;
+            } else {
+                self.disagree_away_from_boundary += 1;
+            }
+            if case.outside_band() {
+                self.disagree_outside_band += 1;
+            } else {
+                self.disagree_in_band += 1;
+            }
+        }
+        self.cases.push(case);
+    }
+}
+
+/// The evaluated pixels to check: every `stride`-th one for a sample, and every pixel at a
+/// shadow boundary.
+fn chosen_pixels(g: &GBuffer, boundary: &[bool], selection: PixelSelection) -> Vec<usize> {
+    let stride = match selection {
+        PixelSelection::All => 1,
+        PixelSelection::Sample(n) => g.evaluated.len().div_ceil(n.max(1)).max(1),
+    };
+    g.evaluated
+        .iter()
+        .enumerate()
+        .filter(|&(k, &i)| k % stride == 0 || boundary[i as usize])
+        .map(|(_, &i)| i as usize)
+        .collect()
 }
 
 /// Traces the hard reference of (`camera`, `light`) and checks the selected pixels against the
@@ -224,17 +257,7 @@ pub fn verify_view(
     let g = GBuffer::trace(scene, bvh, camera, light);
     let reference = trace_hard_reference(bvh, &g, light);
     let boundary = shadow_boundary(&g, &reference.lit);
-    let stride = match selection {
-        PixelSelection::All => 1,
-        PixelSelection::Sample(n) => g.evaluated.len().div_ceil(n.max(1)).max(1),
-    };
-    let chosen: Vec<usize> = g
-        .evaluated
-        .iter()
-        .enumerate()
-        .filter(|&(k, &i)| k % stride == 0 || boundary[i as usize])
-        .map(|(_, &i)| i as usize)
-        .collect();
+    let chosen = chosen_pixels(&g, &boundary, selection);
     let judged: Vec<(usize, Judgement)> = chosen
         .par_iter()
         .map_init(Vec::new, |stack, &i| (i, adjudicator.judge(&g.surface_point(i), light, stack)))
@@ -283,19 +306,7 @@ pub fn verify_view(
             at_boundary: boundary[i],
             inconsistent: j.inconsistent,
         };
-        if traced_shadowed != j.exact_shadowed {
-            if case.at_boundary {
-                v.disagree_at_boundary += 1;
-            } else {
-                v.disagree_away_from_boundary += 1;
-            }
-            if case.outside_band() {
-                v.disagree_outside_band += 1;
-            } else {
-                v.disagree_in_band += 1;
-            }
-        }
-        v.cases.push(case);
+        v.add_case(case);
     }
     v.cases.sort_by_key(|c| (!c.outside_band() && !c.inconsistent, !c.at_boundary, c.y, c.x));
     v.cases.truncate(MAX_CASES);
