@@ -4,7 +4,7 @@
 
 use super::{Plan, PlanError};
 use crate::metrics::thresholded;
-use crate::report::ReferenceUsed;
+use crate::record::ReferenceUsed;
 use crate::scene::{Camera, Light, Scene};
 use crate::technique::ReferenceKind;
 use crate::trace::{
