@@ -8,7 +8,9 @@ use common::{bundled, contact_scene, tilted_plane, trace_first};
 use shadowtruth::metrics::{Attribution, Counts, LightUv, attribute};
 use shadowtruth::raster::{DepthFormat, LightView};
 use shadowtruth::scene::Scene;
-use shadowtruth::technique::{CullSpec, FalloffSpec, TechniqueSpec};
+use shadowtruth::technique::{
+    ConstantParams, CullSpec, FalloffSpec, NoneParams, NormalOffsetParams, SlopeScaledParams, TechniqueSpec,
+};
 use shadowtruth::trace::{GBuffer, HardReference};
 
 /// Shades `spec` at `resolution` and returns its counts with the attribution filled in.
@@ -36,7 +38,7 @@ fn without_a_shadow_boundary_every_error_is_acne() {
     let scene = tilted_plane();
     let (g, r) = trace_first(&scene);
     assert!(g.evaluated.iter().all(|&i| r.lit[i as usize] != 0), "the lone plane is lit in truth");
-    let (c, a) = run(&scene, &g, &r, &TechniqueSpec::None, 512);
+    let (c, a) = run(&scene, &g, &r, &TechniqueSpec::None(NoneParams {}), 512);
     assert!(c.false_shadow > 0, "a plain depth test at 45° shows acne");
     assert_eq!(a.aliasing, 0, "{a:?}");
     assert_eq!(a.leak, 0, "{a:?}");
@@ -48,7 +50,8 @@ fn without_a_shadow_boundary_every_error_is_acne() {
 fn a_well_biased_map_errs_at_the_shadow_boundary_only() {
     let scene = bundled("plane_box");
     let (g, r) = trace_first(&scene);
-    let slope = TechniqueSpec::SlopeScaled { factor: 2.0, units: 4.0, cull: CullSpec::None };
+    let slope =
+        TechniqueSpec::SlopeScaled(SlopeScaledParams { factor: 2.0, units: 4.0, cull: CullSpec::None });
     let (c, a) = run(&scene, &g, &r, &slope, 512);
     let wrong = c.false_shadow + c.false_lit;
     assert!(sum_holds(&c, &a), "{a:?} vs {c:?}");
@@ -60,7 +63,7 @@ fn a_well_biased_map_errs_at_the_shadow_boundary_only() {
 fn a_huge_constant_bias_is_attributed_to_leaks() {
     let scene = contact_scene();
     let (g, r) = trace_first(&scene);
-    let huge = TechniqueSpec::Constant { bias_depth: None, bias_world: Some(0.5) };
+    let huge = TechniqueSpec::Constant(ConstantParams { bias_depth: None, bias_world: Some(0.5) });
     let (c, a) = run(&scene, &g, &r, &huge, 2048);
     assert!(sum_holds(&c, &a), "{a:?} vs {c:?}");
     assert!(a.leak > 0, "the detached contact shadow leaks: {a:?}");
@@ -71,11 +74,14 @@ fn a_huge_constant_bias_is_attributed_to_leaks() {
 #[test]
 fn the_classes_add_up_to_the_false_pixels() {
     let techniques = [
-        TechniqueSpec::None,
-        TechniqueSpec::Constant { bias_depth: Some(0.002), bias_world: None },
-        TechniqueSpec::Constant { bias_depth: None, bias_world: Some(0.3) },
-        TechniqueSpec::SlopeScaled { factor: 1.5, units: 2.0, cull: CullSpec::None },
-        TechniqueSpec::NormalOffset { scale_texels: 1.0, falloff: FalloffSpec::default() },
+        TechniqueSpec::None(NoneParams {}),
+        TechniqueSpec::Constant(ConstantParams { bias_depth: Some(0.002), bias_world: None }),
+        TechniqueSpec::Constant(ConstantParams { bias_depth: None, bias_world: Some(0.3) }),
+        TechniqueSpec::SlopeScaled(SlopeScaledParams { factor: 1.5, units: 2.0, cull: CullSpec::None }),
+        TechniqueSpec::NormalOffset(NormalOffsetParams {
+            scale_texels: 1.0,
+            falloff: FalloffSpec::default(),
+        }),
     ];
     let mut classes_seen = Attribution::default();
     for name in ["plane_box", "spot"] {
@@ -101,7 +107,10 @@ fn the_classes_add_up_to_the_false_pixels() {
 fn the_attribution_is_the_same_on_one_and_two_threads() {
     let scene = bundled("plane_box");
     let (g, r) = trace_first(&scene);
-    let specs = [TechniqueSpec::None, TechniqueSpec::Constant { bias_depth: None, bias_world: Some(0.3) }];
+    let specs = [
+        TechniqueSpec::None(NoneParams {}),
+        TechniqueSpec::Constant(ConstantParams { bias_depth: None, bias_world: Some(0.3) }),
+    ];
     let on = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| specs.iter().map(|s| run(&scene, &g, &r, s, 256).1).collect::<Vec<_>>())

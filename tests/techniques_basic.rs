@@ -7,7 +7,7 @@ use common::{contact_scene, tilted_plane, trace_first};
 use shadowtruth::metrics::Counts;
 use shadowtruth::raster::DepthFormat;
 use shadowtruth::scene::Scene;
-use shadowtruth::technique::{CullSpec, TechniqueSpec};
+use shadowtruth::technique::{ConstantParams, CullSpec, NoneParams, SlopeScaledParams, TechniqueSpec};
 use shadowtruth::trace::{GBuffer, HardReference};
 
 fn score(
@@ -30,11 +30,12 @@ fn no_bias_has_acne_on_a_plane_at_45_degrees() {
         "the lone plane is lit in truth"
     );
     for resolution in [256, 1024] {
-        let (none, _) = score(&scene, &g, &r, &TechniqueSpec::None, resolution);
+        let (none, _) = score(&scene, &g, &r, &TechniqueSpec::None(NoneParams {}), resolution);
         assert!(none.false_shadow > 0, "{resolution}: a plain depth test at 45° must show acne");
         assert_eq!(none.false_lit, 0, "nothing is shadowed in truth");
         // A slope-scaled bias removes it: the count above is the technique's, not the scene's.
-        let slope = TechniqueSpec::SlopeScaled { factor: 1.5, units: 2.0, cull: CullSpec::None };
+        let slope =
+            TechniqueSpec::SlopeScaled(SlopeScaledParams { factor: 1.5, units: 2.0, cull: CullSpec::None });
         let (biased, _) = score(&scene, &g, &r, &slope, resolution);
         assert!(biased.false_shadow * 100 < none.false_shadow, "{resolution}: {biased:?} vs {none:?}");
     }
@@ -44,8 +45,8 @@ fn no_bias_has_acne_on_a_plane_at_45_degrees() {
 fn a_large_constant_bias_leaks_light_at_the_contact_shadow() {
     let scene = contact_scene();
     let (g, r) = trace_first(&scene);
-    let small = TechniqueSpec::Constant { bias_depth: None, bias_world: Some(0.002) };
-    let large = TechniqueSpec::Constant { bias_depth: None, bias_world: Some(0.4) };
+    let small = TechniqueSpec::Constant(ConstantParams { bias_depth: None, bias_world: Some(0.002) });
+    let large = TechniqueSpec::Constant(ConstantParams { bias_depth: None, bias_world: Some(0.4) });
     let (c_small, _) = score(&scene, &g, &r, &small, 2048);
     let (c_large, v) = score(&scene, &g, &r, &large, 2048);
     assert!(c_large.false_lit > 0, "a 0.4-unit bias must detach the shadow from the box: {c_large:?}");

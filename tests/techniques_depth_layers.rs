@@ -6,7 +6,9 @@ use common::{bundled, scene_from_json, score_technique, trace_first};
 use glam::Vec3;
 use serde_json::json;
 use shadowtruth::raster::{DepthFormat, LightView};
-use shadowtruth::technique::{EpsilonSpec, TechniqueSpec};
+use shadowtruth::technique::{
+    AdaptiveParams, DualParams, EpsilonSpec, MidpointParams, NoneParams, SecondDepthParams, TechniqueSpec,
+};
 use std::collections::HashMap;
 
 fn visibility(name: &str, spec: &TechniqueSpec, resolution: u32) -> Vec<f32> {
@@ -20,14 +22,24 @@ fn dual_with_infinite_offset_is_midpoint_and_with_zero_offset_is_none() {
     for name in ["l_shape", "spot"] {
         for resolution in [128, 1024] {
             for cull_back_faces in [false, true] {
-                let dual_inf =
-                    visibility(name, &TechniqueSpec::Dual { z_offset: 1.0, cull_back_faces }, resolution);
-                let midpoint = visibility(name, &TechniqueSpec::Midpoint { cull_back_faces }, resolution);
+                let dual_inf = visibility(
+                    name,
+                    &TechniqueSpec::Dual(DualParams { z_offset: 1.0, cull_back_faces }),
+                    resolution,
+                );
+                let midpoint = visibility(
+                    name,
+                    &TechniqueSpec::Midpoint(MidpointParams { cull_back_faces }),
+                    resolution,
+                );
                 assert!(dual_inf == midpoint, "{name} {resolution}: dual(∞) differs from midpoint");
             }
-            let dual_zero =
-                visibility(name, &TechniqueSpec::Dual { z_offset: 0.0, cull_back_faces: false }, resolution);
-            let none = visibility(name, &TechniqueSpec::None, resolution);
+            let dual_zero = visibility(
+                name,
+                &TechniqueSpec::Dual(DualParams { z_offset: 0.0, cull_back_faces: false }),
+                resolution,
+            );
+            let none = visibility(name, &TechniqueSpec::None(NoneParams {}), resolution);
             assert!(dual_zero == none, "{name} {resolution}: dual(0) differs from none");
             assert!(none.iter().any(|&v| v < 0.5) && none.iter().any(|&v| v >= 0.5));
         }
@@ -83,7 +95,7 @@ fn second_depth_has_no_false_shadow_on_a_lit_closed_convex_object() {
             let silhouette = silhouette_edges(&scene, to_light);
             let (g, r) = trace_first(&scene);
             for resolution in [64, 512, 2048] {
-                let spec = TechniqueSpec::SecondDepth { bias_depth: 0.0 };
+                let spec = TechniqueSpec::SecondDepth(SecondDepthParams { bias_depth: 0.0 });
                 let (c, v) = score_technique(&scene, &g, &r, &spec, resolution, DepthFormat::F32);
                 assert!(c.evaluated > 1000);
                 let view = LightView::new(&scene.lights[0], scene.bounds(), resolution);
@@ -108,8 +120,14 @@ fn second_depth_has_no_false_shadow_on_a_lit_closed_convex_object() {
                     );
                 }
                 // The plain test on the same pixels has acne: the clean faces are the technique's.
-                let (plain, _) =
-                    score_technique(&scene, &g, &r, &TechniqueSpec::None, resolution, DepthFormat::F32);
+                let (plain, _) = score_technique(
+                    &scene,
+                    &g,
+                    &r,
+                    &TechniqueSpec::None(NoneParams {}),
+                    resolution,
+                    DepthFormat::F32,
+                );
                 assert!(
                     plain.false_shadow > 10 * c.false_shadow.max(1),
                     "{shape} from {dir:?} at {resolution}: {plain:?} vs {c:?}"
@@ -139,7 +157,7 @@ fn adaptive_bias_has_no_acne_on_planes_at_30_60_80_degrees() {
         assert!(g.evaluated.len() > 1000, "θ = {theta}: the plane must be seen lit");
         for &resolution in &resolutions {
             for epsilon in [EpsilonSpec::Original, EpsilonSpec::Ehm] {
-                let spec = TechniqueSpec::Adaptive { k: 1e-4, epsilon };
+                let spec = TechniqueSpec::Adaptive(AdaptiveParams { k: 1e-4, epsilon });
                 let (c, _) = score_technique(&scene, &g, &r, &spec, resolution, DepthFormat::F32);
                 if theta <= 80.0 {
                     assert_eq!(c.false_shadow, 0, "θ = {theta}°, {resolution}², {epsilon:?}: {c:?}");
@@ -161,11 +179,11 @@ fn l_shape_depth_layer_family_as_counts() {
     let scene = bundled("l_shape");
     let (g, r) = trace_first(&scene);
     let family = [
-        ("second_depth", TechniqueSpec::SecondDepth { bias_depth: 0.0 }),
-        ("midpoint", TechniqueSpec::Midpoint { cull_back_faces: false }),
-        ("midpoint+cull", TechniqueSpec::Midpoint { cull_back_faces: true }),
-        ("dual", TechniqueSpec::Dual { z_offset: 0.005, cull_back_faces: false }),
-        ("dual+cull", TechniqueSpec::Dual { z_offset: 0.005, cull_back_faces: true }),
+        ("second_depth", TechniqueSpec::SecondDepth(SecondDepthParams { bias_depth: 0.0 })),
+        ("midpoint", TechniqueSpec::Midpoint(MidpointParams { cull_back_faces: false })),
+        ("midpoint+cull", TechniqueSpec::Midpoint(MidpointParams { cull_back_faces: true })),
+        ("dual", TechniqueSpec::Dual(DualParams { z_offset: 0.005, cull_back_faces: false })),
+        ("dual+cull", TechniqueSpec::Dual(DualParams { z_offset: 0.005, cull_back_faces: true })),
     ];
     for resolution in [64, 128] {
         let counts: Vec<_> = family

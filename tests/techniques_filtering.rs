@@ -8,7 +8,7 @@ mod common;
 use common::{scene_from_json, trace_first};
 use shadowtruth::raster::{DepthFormat, LightView};
 use shadowtruth::scene::Scene;
-use shadowtruth::technique::{ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated};
+use shadowtruth::technique::{ReceiverPlaneParams, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated};
 use shadowtruth::trace::GBuffer;
 use std::collections::BTreeSet;
 
@@ -165,7 +165,12 @@ fn pcf_box_1_with_receiver_plane_is_the_receiver_plane_technique() {
     let scene = common::tilted_plane();
     let (g, _) = trace_first(&scene);
     for resolution in [128, 1024] {
-        let single = shade(&scene, &g, &TechniqueSpec::ReceiverPlane { bias_depth: 1e-5 }, resolution);
+        let single = shade(
+            &scene,
+            &g,
+            &TechniqueSpec::ReceiverPlane(ReceiverPlaneParams { bias_depth: 1e-5 }),
+            resolution,
+        );
         let pcf = shade(
             &scene,
             &g,

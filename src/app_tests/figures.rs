@@ -16,11 +16,14 @@ use shadowtruth::report::figures::{
 };
 use shadowtruth::report::font;
 use shadowtruth::report::indexed_image::{FALSE_LIT, FALSE_SHADOW, IndexedImage};
-use shadowtruth::technique::TechniqueSpec;
+use shadowtruth::technique::{ConstantParams, CullSpec, NoneParams, SlopeScaledParams, TechniqueSpec};
 use std::collections::HashSet;
 
 fn techniques() -> [TechniqueSpec; 2] {
-    [TechniqueSpec::None, TechniqueSpec::Constant { bias_depth: None, bias_world: Some(0.05) }]
+    [
+        TechniqueSpec::None(NoneParams {}),
+        TechniqueSpec::Constant(ConstantParams { bias_depth: None, bias_world: Some(0.05) }),
+    ]
 }
 
 fn count_colour(pixels: &[u8], colour: [u8; 3]) -> u64 {
@@ -257,13 +260,13 @@ fn record(
 #[test]
 fn run_stems_are_unique_and_file_name_safe() {
     let specs = [
-        TechniqueSpec::None,
-        TechniqueSpec::Constant { bias_depth: Some(0.001), bias_world: None },
-        TechniqueSpec::Constant { bias_depth: Some(0.0001), bias_world: None },
-        TechniqueSpec::Constant { bias_depth: Some(-0.001), bias_world: None },
-        TechniqueSpec::Constant { bias_depth: None, bias_world: Some(0.001) },
-        TechniqueSpec::SlopeScaled { factor: 1.5, units: 2.0, cull: shadowtruth::technique::CullSpec::None },
-        TechniqueSpec::SlopeScaled { factor: 1.5, units: 2.0, cull: shadowtruth::technique::CullSpec::Back },
+        TechniqueSpec::None(NoneParams {}),
+        TechniqueSpec::Constant(ConstantParams { bias_depth: Some(0.001), bias_world: None }),
+        TechniqueSpec::Constant(ConstantParams { bias_depth: Some(0.0001), bias_world: None }),
+        TechniqueSpec::Constant(ConstantParams { bias_depth: Some(-0.001), bias_world: None }),
+        TechniqueSpec::Constant(ConstantParams { bias_depth: None, bias_world: Some(0.001) }),
+        TechniqueSpec::SlopeScaled(SlopeScaledParams { factor: 1.5, units: 2.0, cull: CullSpec::None }),
+        TechniqueSpec::SlopeScaled(SlopeScaledParams { factor: 1.5, units: 2.0, cull: CullSpec::Back }),
     ];
     let mut records = Vec::new();
     for scene in ["plane_box", "plane box", "plane/box", "plane(box)", "Ébène", ".hidden"] {
@@ -334,7 +337,7 @@ fn figures_cost_per_run_at_1024x768() {
     let canvas = ViewCanvas::new(&g, &r, &scene.lights[0]);
 
     // One shading pass of the plain depth test with a 2048² layer (what every run repeats).
-    let technique = TechniqueSpec::None.build();
+    let technique = TechniqueSpec::None(NoneParams {}).build();
     let view = shadowtruth::raster::LightView::new(&scene.lights[0], scene.bounds(), 2048);
     let layers =
         shadowtruth::technique::BuiltLayers::build(&scene, &view, DepthFormat::F32, &technique.layer_needs());

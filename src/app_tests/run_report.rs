@@ -7,15 +7,15 @@ use shadowtruth::plan::{Plan, execute};
 use shadowtruth::raster::DepthFormat;
 use shadowtruth::record::{REPORT_SCHEMA, Report};
 use shadowtruth::report::ReportWriter;
-use shadowtruth::technique::{CullSpec, TechniqueSpec};
+use shadowtruth::technique::{ConstantParams, CullSpec, NoneParams, SlopeScaledParams, TechniqueSpec};
 
 #[test]
 fn a_plan_writes_one_record_per_run_with_consistent_counts() {
     let dir = tempfile::tempdir().unwrap();
     let techniques = vec![
-        TechniqueSpec::None,
-        TechniqueSpec::Constant { bias_depth: Some(1e-3), bias_world: None },
-        TechniqueSpec::SlopeScaled { factor: 1.0, units: 1.0, cull: CullSpec::None },
+        TechniqueSpec::None(NoneParams {}),
+        TechniqueSpec::Constant(ConstantParams { bias_depth: Some(1e-3), bias_world: None }),
+        TechniqueSpec::SlopeScaled(SlopeScaledParams { factor: 1.0, units: 1.0, cull: CullSpec::None }),
     ];
     let plan = Plan {
         source: None,

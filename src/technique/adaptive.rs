@@ -15,9 +15,14 @@
 //! the light sees edge-on), and subtract the epsilon at that occluder's depth. The single-tap
 //! test keeps its guard (`potential_occluder_depth`).
 
-use super::{LayerNeeds, Sample, ShadeContext, Technique, texel_at, texel_centre};
+use super::canonical::CanonicalFields;
+use super::params::non_negative;
+use super::{
+    LayerNeeds, Sample, ShadeContext, Technique, TechniqueParams, TechniqueSpecError, texel_at, texel_centre,
+};
 use crate::raster::{LightView, Projection};
 use glam::{DVec4, Vec3, Vec4};
+use serde::{Deserialize, Serialize};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum EpsilonScale {
@@ -145,6 +150,57 @@ impl Technique for AdaptiveBias {
             }
             None => 1.0,
         }
+    }
+}
+
+/// Which adaptive epsilon a spec names: Dou et al.'s, or Ehm et al.'s scaled by
+/// min(1/(N·L)², 100).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EpsilonSpec {
+    #[default]
+    Original,
+    Ehm,
+}
+
+impl From<EpsilonSpec> for EpsilonScale {
+    fn from(e: EpsilonSpec) -> EpsilonScale {
+        match e {
+            EpsilonSpec::Original => EpsilonScale::Original,
+            EpsilonSpec::Ehm => EpsilonScale::Ehm,
+        }
+    }
+}
+
+/// The paper's K when a spec leaves it out (as a fraction of the scene's size).
+pub(super) const DEFAULT_K: f64 = 1e-4;
+
+fn default_k() -> f64 {
+    DEFAULT_K
+}
+
+/// `adaptive`: the tolerance `k` (a fraction of the scene's size) and the epsilon's scale.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AdaptiveParams {
+    #[serde(default = "default_k")]
+    pub k: f64,
+    #[serde(default)]
+    pub epsilon: EpsilonSpec,
+}
+
+impl TechniqueParams for AdaptiveParams {
+    fn validate(&self) -> Result<(), TechniqueSpecError> {
+        non_negative("k", self.k)
+    }
+
+    fn build(&self) -> Box<dyn Technique> {
+        Box::new(AdaptiveBias { k: self.k as f32, epsilon: self.epsilon.into() })
+    }
+
+    fn canonical_fields(&self, f: &mut CanonicalFields) {
+        f.number("k", self.k);
+        f.named("epsilon", self.epsilon);
     }
 }
 

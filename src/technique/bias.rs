@@ -6,8 +6,11 @@
 //! - `slope_scaled`: glPolygonOffset's `factor·m + units·r`, added to the caster depths while the
 //!   map is rasterized (OpenGL 4.6 §14.6.5; Vulkan "Depth Bias"); the test itself is plain.
 
-use super::{LayerNeeds, Sample, ShadeContext, Technique, depth_test};
+use super::canonical::CanonicalFields;
+use super::params::non_negative;
+use super::{LayerNeeds, Sample, ShadeContext, Technique, TechniqueParams, TechniqueSpecError, depth_test};
 use crate::raster::Culling;
+use serde::{Deserialize, Serialize};
 
 pub struct NoBias;
 
@@ -76,5 +79,115 @@ impl Technique for SlopeScaledBias {
             Some(uvd) => depth_test(nearest, uvd, 0.0),
             None => 1.0,
         }
+    }
+}
+
+/// `none` takes no parameters.
+// No deny_unknown_fields: `none` was a unit variant, whose other fields serde lets pass, and
+// plans that give it some still read.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct NoneParams {}
+
+impl TechniqueParams for NoneParams {
+    fn validate(&self) -> Result<(), TechniqueSpecError> {
+        Ok(())
+    }
+
+    fn build(&self) -> Box<dyn Technique> {
+        Box::new(NoBias)
+    }
+
+    fn canonical_fields(&self, _: &mut CanonicalFields) {}
+}
+
+/// `constant`: exactly one of `bias_depth` (light-depth units) and `bias_world` (scene units).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConstantParams {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bias_depth: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bias_world: Option<f64>,
+}
+
+impl TechniqueParams for ConstantParams {
+    fn validate(&self) -> Result<(), TechniqueSpecError> {
+        match (self.bias_depth, self.bias_world) {
+            (Some(b), None) => non_negative("bias_depth", b),
+            (None, Some(b)) => non_negative("bias_world", b),
+            _ => Err(TechniqueSpecError {
+                field: None,
+                message: "constant needs exactly one of bias_depth and bias_world".into(),
+            }),
+        }
+    }
+
+    fn build(&self) -> Box<dyn Technique> {
+        Box::new(match (self.bias_depth, self.bias_world) {
+            (_, Some(w)) => ConstantBias::World(w as f32),
+            (d, None) => ConstantBias::Depth(d.unwrap_or(0.0) as f32),
+        })
+    }
+
+    fn canonical_fields(&self, f: &mut CanonicalFields) {
+        // A world-space bias wins when both are given (`build`).
+        match self.bias_world {
+            None => f.number("bias_depth", self.bias_depth.unwrap_or(0.0)),
+            Some(w) => {
+                f.number("bias_world", w);
+                f.number_if_given("bias_depth", self.bias_depth);
+            }
+        }
+    }
+}
+
+/// Faces of closed objects left out of the map.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CullSpec {
+    #[default]
+    None,
+    Back,
+    Front,
+}
+
+impl From<CullSpec> for Culling {
+    fn from(c: CullSpec) -> Culling {
+        match c {
+            CullSpec::None => Culling::None,
+            CullSpec::Back => Culling::BackFacesOfClosed,
+            CullSpec::Front => Culling::FrontFacesOfClosed,
+        }
+    }
+}
+
+/// `slope_scaled`: glPolygonOffset(`factor`, `units`) while rasterizing, with `cull`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SlopeScaledParams {
+    pub factor: f64,
+    pub units: f64,
+    #[serde(default)]
+    pub cull: CullSpec,
+}
+
+impl TechniqueParams for SlopeScaledParams {
+    fn validate(&self) -> Result<(), TechniqueSpecError> {
+        non_negative("factor", self.factor)?;
+        non_negative("units", self.units)
+    }
+
+    fn build(&self) -> Box<dyn Technique> {
+        Box::new(SlopeScaledBias {
+            factor: self.factor as f32,
+            units: self.units as f32,
+            culling: self.cull.into(),
+        })
+    }
+
+    fn canonical_fields(&self, f: &mut CanonicalFields) {
+        f.number("factor", self.factor);
+        f.number("units", self.units);
+        f.named("cull", self.cull);
     }
 }

@@ -2,35 +2,36 @@
 //! baseline run by it, so key order, `0.001` against `1e-3`, or a default written out against
 //! one left out must not tell two runs apart.
 //!
-//! A spec's canonical form fills in every default its technique is built with (the defaults of
-//! `build` in spec.rs), keeps the fields it was given that its technique does not read, and prints
+//! A spec's canonical form fills in every default its technique is built with (each parameter
+//! struct's `build`), keeps the fields it was given that its technique does not read, and prints
 //! the fields sorted by name with numbers printed from their f64 values:
-//! `pcf(bias=constant,bias_depth=0.0,kernel=box,layers=nearest,size=3)`.
+//! `pcf(bias=constant,bias_depth=0.0,kernel=box,layers=nearest,size=3)`. Each parameter struct
+//! writes its fields ([`super::TechniqueParams::canonical_fields`]); this file prints them.
 
-use super::{EpsilonSpec, KernelSpec, LayerSpec, TapBiasSpec, TechniqueSpec};
+use super::TechniqueSpec;
 use serde::Serialize;
 use serde_json::Value;
 use std::collections::BTreeMap;
 
 /// The field values of one spec, sorted by name.
 #[derive(Default)]
-struct Fields(BTreeMap<&'static str, String>);
+pub struct CanonicalFields(BTreeMap<&'static str, String>);
 
-impl Fields {
-    fn number(&mut self, key: &'static str, value: f64) {
+impl CanonicalFields {
+    pub(super) fn number(&mut self, key: &'static str, value: f64) {
         self.0.insert(key, canonical_number(value));
     }
 
-    fn count(&mut self, key: &'static str, value: u32) {
+    pub(super) fn count(&mut self, key: &'static str, value: u32) {
         self.0.insert(key, value.to_string());
     }
 
-    fn flag(&mut self, key: &'static str, value: bool) {
+    pub(super) fn flag(&mut self, key: &'static str, value: bool) {
         self.0.insert(key, value.to_string());
     }
 
     /// An enum value by its serde name (`jitter4x4`, `receiver_plane`).
-    fn named(&mut self, key: &'static str, value: impl Serialize) {
+    pub(super) fn named(&mut self, key: &'static str, value: impl Serialize) {
         let name = match serde_json::to_value(value) {
             Ok(Value::String(s)) => s,
             other => format!("{other:?}"),
@@ -38,13 +39,13 @@ impl Fields {
         self.0.insert(key, name);
     }
 
-    fn number_if_given(&mut self, key: &'static str, value: Option<f64>) {
+    pub(super) fn number_if_given(&mut self, key: &'static str, value: Option<f64>) {
         if let Some(v) = value {
             self.number(key, v);
         }
     }
 
-    fn count_if_given(&mut self, key: &'static str, value: Option<u32>) {
+    pub(super) fn count_if_given(&mut self, key: &'static str, value: Option<u32>) {
         if let Some(v) = value {
             self.count(key, v);
         }
@@ -66,166 +67,14 @@ fn canonical_number(value: f64) -> String {
     format!("{value:?}")
 }
 
-/// The kernel fields: the size of a box (`default_size` when omitted), the taps of a Poisson
-/// kernel (16) and the radius of Poisson (1.5) and jitter (2.0) kernels.
-fn kernel_fields(
-    f: &mut Fields,
-    kernel: KernelSpec,
-    size: Option<u32>,
-    taps: Option<u32>,
-    radius_texels: Option<f64>,
-    default_size: u32,
-) {
-    f.named("kernel", kernel);
-    match kernel {
-        KernelSpec::Box => f.count("size", size.unwrap_or(default_size)),
-        _ => f.count_if_given("size", size),
-    }
-    match kernel {
-        KernelSpec::Poisson => f.count("taps", taps.unwrap_or(16)),
-        _ => f.count_if_given("taps", taps),
-    }
-    match kernel {
-        KernelSpec::Poisson => f.number("radius_texels", radius_texels.unwrap_or(1.5)),
-        KernelSpec::Jitter4x4 => f.number("radius_texels", radius_texels.unwrap_or(2.0)),
-        _ => f.number_if_given("radius_texels", radius_texels),
-    }
-}
-
-/// The per-tap bias fields: `bias_depth` (0) for the constant and receiver-plane biases, `k`
-/// (1e-4) and `epsilon` (original) for the adaptive ones.
-fn tap_bias_fields(
-    f: &mut Fields,
-    bias: TapBiasSpec,
-    bias_depth: Option<f64>,
-    k: Option<f64>,
-    epsilon: Option<EpsilonSpec>,
-) {
-    f.named("bias", bias);
-    match bias {
-        TapBiasSpec::Constant | TapBiasSpec::ReceiverPlane => {
-            f.number("bias_depth", bias_depth.unwrap_or(0.0))
-        }
-        _ => f.number_if_given("bias_depth", bias_depth),
-    }
-    let adaptive = matches!(bias, TapBiasSpec::Adaptive | TapBiasSpec::AdaptiveDelta);
-    if adaptive {
-        f.number("k", k.unwrap_or(1e-4));
-        f.named("epsilon", epsilon.unwrap_or_default());
-    } else {
-        f.number_if_given("k", k);
-        if let Some(e) = epsilon {
-            f.named("epsilon", e);
-        }
-    }
-}
-
-/// The depth-layer fields of PCF: `z_offset` (0) for dual layers, `cull_back_faces` (false) for
-/// midpoint and dual layers.
-fn layer_fields(f: &mut Fields, layers: LayerSpec, z_offset: Option<f64>, cull_back_faces: Option<bool>) {
-    f.named("layers", layers);
-    match layers {
-        LayerSpec::Dual => f.number("z_offset", z_offset.unwrap_or(0.0)),
-        _ => f.number_if_given("z_offset", z_offset),
-    }
-    match (layers, cull_back_faces) {
-        (LayerSpec::Midpoint | LayerSpec::Dual, c) => f.flag("cull_back_faces", c.unwrap_or(false)),
-        (_, Some(c)) => f.flag("cull_back_faces", c),
-        (_, None) => {}
-    }
-}
-
 impl TechniqueSpec {
     /// The technique and its parameters with every default filled in, sorted, numbers printed
     /// from their f64 values: equal for two specs exactly when they are the same technique with
     /// the same parameters, however each was written.
     pub fn canonical(&self) -> String {
-        let mut f = Fields::default();
-        match *self {
-            TechniqueSpec::None => {}
-            TechniqueSpec::Constant { bias_depth, bias_world } => {
-                // A world-space bias wins when both are given (spec.rs `build`).
-                match bias_world {
-                    None => f.number("bias_depth", bias_depth.unwrap_or(0.0)),
-                    Some(w) => {
-                        f.number("bias_world", w);
-                        f.number_if_given("bias_depth", bias_depth);
-                    }
-                }
-            }
-            TechniqueSpec::SlopeScaled { factor, units, cull } => {
-                f.number("factor", factor);
-                f.number("units", units);
-                f.named("cull", cull);
-            }
-            TechniqueSpec::NormalOffset { scale_texels, falloff } => {
-                f.number("scale_texels", scale_texels);
-                f.named("falloff", falloff);
-            }
-            TechniqueSpec::ReceiverPlane { bias_depth } | TechniqueSpec::SecondDepth { bias_depth } => {
-                f.number("bias_depth", bias_depth)
-            }
-            TechniqueSpec::Midpoint { cull_back_faces } => f.flag("cull_back_faces", cull_back_faces),
-            TechniqueSpec::Dual { z_offset, cull_back_faces } => {
-                f.number("z_offset", z_offset);
-                f.flag("cull_back_faces", cull_back_faces);
-            }
-            TechniqueSpec::Adaptive { k, epsilon } => {
-                f.number("k", k);
-                f.named("epsilon", epsilon);
-            }
-            TechniqueSpec::Pcf {
-                kernel,
-                size,
-                taps,
-                radius_texels,
-                bias,
-                bias_depth,
-                factor,
-                units,
-                k,
-                epsilon,
-                layers,
-                z_offset,
-                cull_back_faces,
-            } => {
-                kernel_fields(&mut f, kernel, size, taps, radius_texels, 3);
-                tap_bias_fields(&mut f, bias, bias_depth, k, epsilon);
-                if bias == TapBiasSpec::SlopeScaled {
-                    f.number("factor", factor.unwrap_or(0.0));
-                    f.number("units", units.unwrap_or(0.0));
-                } else {
-                    f.number_if_given("factor", factor);
-                    f.number_if_given("units", units);
-                }
-                layer_fields(&mut f, layers, z_offset, cull_back_faces);
-            }
-            TechniqueSpec::Mdsm {
-                depths,
-                neighbourhood,
-                select,
-                kernel,
-                size,
-                taps,
-                radius_texels,
-                bias,
-                bias_depth,
-                k,
-                epsilon,
-            } => {
-                f.count("depths", depths);
-                f.count("neighbourhood", neighbourhood);
-                f.named("select", select);
-                kernel_fields(&mut f, kernel, size, taps, radius_texels, 1);
-                tap_bias_fields(&mut f, bias, bias_depth, k, epsilon);
-            }
-            TechniqueSpec::Pcss { search_taps, filter_taps, bias, bias_depth, k, epsilon } => {
-                f.count("search_taps", search_taps);
-                f.count("filter_taps", filter_taps);
-                tap_bias_fields(&mut f, bias, bias_depth, k, epsilon);
-            }
-        }
-        f.render(self.name())
+        let mut fields = CanonicalFields::default();
+        self.params().canonical_fields(&mut fields);
+        fields.render(self.name())
     }
 }
 

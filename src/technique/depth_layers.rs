@@ -13,8 +13,11 @@
 //! computed as `z1 + (z2 − z1)/2`, the same arithmetic as dual, so that dual with an offset of
 //! at least ½ is midpoint bit for bit and dual with offset 0 is the plain test.
 
-use super::{LayerNeeds, Sample, ShadeContext, Technique, texel_at};
+use super::canonical::CanonicalFields;
+use super::params::non_negative;
+use super::{LayerNeeds, Sample, ShadeContext, Technique, TechniqueParams, TechniqueSpecError, texel_at};
 use crate::raster::Culling;
+use serde::{Deserialize, Serialize};
 
 pub struct SecondDepth {
     pub bias_depth: f32,
@@ -74,5 +77,73 @@ impl Technique for DualDepth {
 
     fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
         dual_test(s, ctx, self.z_offset)
+    }
+}
+
+/// `second_depth`: an optional constant `bias_depth` (light-depth units).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SecondDepthParams {
+    #[serde(default)]
+    pub bias_depth: f64,
+}
+
+impl TechniqueParams for SecondDepthParams {
+    fn validate(&self) -> Result<(), TechniqueSpecError> {
+        non_negative("bias_depth", self.bias_depth)
+    }
+
+    fn build(&self) -> Box<dyn Technique> {
+        Box::new(SecondDepth { bias_depth: self.bias_depth as f32 })
+    }
+
+    fn canonical_fields(&self, f: &mut CanonicalFields) {
+        f.number("bias_depth", self.bias_depth)
+    }
+}
+
+/// `midpoint`: whether the back faces of closed objects are left out of both layers.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MidpointParams {
+    #[serde(default)]
+    pub cull_back_faces: bool,
+}
+
+impl TechniqueParams for MidpointParams {
+    fn validate(&self) -> Result<(), TechniqueSpecError> {
+        Ok(())
+    }
+
+    fn build(&self) -> Box<dyn Technique> {
+        Box::new(Midpoint { cull_back_faces: self.cull_back_faces })
+    }
+
+    fn canonical_fields(&self, f: &mut CanonicalFields) {
+        f.flag("cull_back_faces", self.cull_back_faces)
+    }
+}
+
+/// `dual`: the largest offset `z_offset` above z1 (light-depth units), and back-face culling.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DualParams {
+    pub z_offset: f64,
+    #[serde(default)]
+    pub cull_back_faces: bool,
+}
+
+impl TechniqueParams for DualParams {
+    fn validate(&self) -> Result<(), TechniqueSpecError> {
+        non_negative("z_offset", self.z_offset)
+    }
+
+    fn build(&self) -> Box<dyn Technique> {
+        Box::new(DualDepth { z_offset: self.z_offset as f32, cull_back_faces: self.cull_back_faces })
+    }
+
+    fn canonical_fields(&self, f: &mut CanonicalFields) {
+        f.number("z_offset", self.z_offset);
+        f.flag("cull_back_faces", self.cull_back_faces);
     }
 }

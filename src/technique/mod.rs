@@ -1,37 +1,45 @@
 //! Shadow-map techniques: what depth layers each needs, and the visibility of one receiver sample.
 //!
 //! `TechniqueSpec` names every technique with its parameters (the form plans and reports use);
-//! `Technique` is the trait the shading loop calls. Each family lives in its own file and cites
-//! its source; the exact formulas and our choices are in docs/formulas.md.
+//! `Technique` is the trait the shading loop calls. Each family lives in its own file with the
+//! parameter structs of its techniques (`TechniqueParams`) and cites its source; the exact
+//! formulas and our choices are in docs/formulas.md.
 
 mod adaptive;
 mod bias;
 mod built_layers;
 mod canonical;
 mod depth_layers;
+mod filter_params;
 mod kernel;
+mod mdsm;
 mod normal_offset;
+mod params;
 mod pcf;
 mod pcss;
 mod receiver_plane;
 mod shade;
 mod spec;
 
-pub use adaptive::{AdaptiveBias, AdaptiveTest, Epsilon, EpsilonScale, TangentPlane};
-pub use bias::{ConstantBias, NoBias, SlopeScaledBias};
+pub use adaptive::{
+    AdaptiveBias, AdaptiveParams, AdaptiveTest, Epsilon, EpsilonScale, EpsilonSpec, TangentPlane,
+};
+pub use bias::{
+    ConstantBias, ConstantParams, CullSpec, NoBias, NoneParams, SlopeScaledBias, SlopeScaledParams,
+};
 pub use built_layers::BuiltLayers;
 pub use canonical::canonical_json;
-pub use depth_layers::{DualDepth, Midpoint, SecondDepth};
+pub use depth_layers::{DualDepth, DualParams, Midpoint, MidpointParams, SecondDepth, SecondDepthParams};
+pub use filter_params::{KernelSpec, TapBiasSpec};
 pub use kernel::{Kernel, POISSON_SIZES, poisson_set};
-pub use normal_offset::{NormalOffset, OffsetFalloff};
-pub use pcf::{AffineDepth, Pcf, TapBias, TapDepth, TapThreshold};
-pub use pcss::Pcss;
-pub use receiver_plane::{ReceiverPlane, receiver_plane_slope};
+pub use mdsm::{MdsmParams, SelectSpec};
+pub use normal_offset::{FalloffSpec, NormalOffset, NormalOffsetParams, OffsetFalloff};
+pub use params::{ReferenceKind, TechniqueParams, TechniqueSpecError};
+pub use pcf::{AffineDepth, LayerSpec, Pcf, PcfParams, TapBias, TapDepth, TapThreshold};
+pub use pcss::{Pcss, PcssParams};
+pub use receiver_plane::{ReceiverPlane, ReceiverPlaneParams, receiver_plane_slope};
 pub use shade::{ShadeContext, ShadeOrder, shade_evaluated};
-pub use spec::{
-    CullSpec, EpsilonSpec, FalloffSpec, KernelSpec, LayerSpec, ReferenceKind, SelectSpec, TapBiasSpec,
-    TechniqueSpec, TechniqueSpecError,
-};
+pub use spec::TechniqueSpec;
 
 use crate::raster::{Culling, DepthLayer, DepthPairLayer, DepthSelection, MultiDepthLayer};
 use glam::Vec3;

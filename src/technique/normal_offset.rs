@@ -4,7 +4,10 @@
 //! Holbert; `1 − N·L` is the variant of MJP's sample and Unity (docs/formulas.md, "Normal
 //! offset").
 
-use super::{LayerNeeds, Sample, ShadeContext, Technique, depth_test};
+use super::canonical::CanonicalFields;
+use super::params::non_negative;
+use super::{LayerNeeds, Sample, ShadeContext, Technique, TechniqueParams, TechniqueSpecError, depth_test};
+use serde::{Deserialize, Serialize};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum OffsetFalloff {
@@ -42,5 +45,47 @@ impl Technique for NormalOffset {
             Some(uvd) => depth_test(nearest, uvd, 0.0),
             None => 1.0,
         }
+    }
+}
+
+/// The falloff g(θ) a spec names.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FalloffSpec {
+    #[default]
+    SinTheta,
+    OneMinusNDotL,
+}
+
+impl From<FalloffSpec> for OffsetFalloff {
+    fn from(f: FalloffSpec) -> OffsetFalloff {
+        match f {
+            FalloffSpec::SinTheta => OffsetFalloff::SinTheta,
+            FalloffSpec::OneMinusNDotL => OffsetFalloff::OneMinusNDotL,
+        }
+    }
+}
+
+/// `normal_offset`: the receiver moved by `scale_texels` texels times g(θ).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NormalOffsetParams {
+    pub scale_texels: f64,
+    #[serde(default)]
+    pub falloff: FalloffSpec,
+}
+
+impl TechniqueParams for NormalOffsetParams {
+    fn validate(&self) -> Result<(), TechniqueSpecError> {
+        non_negative("scale_texels", self.scale_texels)
+    }
+
+    fn build(&self) -> Box<dyn Technique> {
+        Box::new(NormalOffset { scale_texels: self.scale_texels as f32, falloff: self.falloff.into() })
+    }
+
+    fn canonical_fields(&self, f: &mut CanonicalFields) {
+        f.number("scale_texels", self.scale_texels);
+        f.named("falloff", self.falloff);
     }
 }

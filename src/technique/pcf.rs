@@ -24,8 +24,16 @@
 //! `TapDepth::Delta`).
 
 use super::adaptive::{Epsilon, TangentPlane};
+use super::canonical::CanonicalFields;
+use super::filter_params::{KernelFields, TapBiasFields};
 use super::kernel::{Kernel, hash};
-use super::{AdaptiveBias, LayerNeeds, Layers, Sample, ShadeContext, Technique, receiver_plane_slope};
+use super::params::{err, non_negative, non_negative_opt};
+use super::{
+    AdaptiveBias, DualDepth, EpsilonSpec, KernelSpec, LayerNeeds, Layers, Midpoint, ReferenceKind, Sample,
+    SecondDepth, ShadeContext, TapBiasSpec, Technique, TechniqueParams, TechniqueSpecError,
+    receiver_plane_slope,
+};
+use serde::{Deserialize, Serialize};
 
 /// How each tap's receiver depth is biased.
 pub enum TapBias {
@@ -256,6 +264,173 @@ impl Technique for Pcf {
         let (x0, row0) = receiver_texel(ctx.layers.resolution(), uvd);
         let prepared = self.bias.prepare(s, ctx, uvd, x0, row0);
         filtered_visibility(&self.kernel, self.radius_texels, self.threshold, s, ctx, uvd, &prepared)
+    }
+}
+
+/// The depth-layer test under each PCF tap.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LayerSpec {
+    #[default]
+    Nearest,
+    SecondDepth,
+    Midpoint,
+    Dual,
+}
+
+fn is_nearest(l: &LayerSpec) -> bool {
+    *l == LayerSpec::Nearest
+}
+
+/// A box of this side (in texels) when `pcf` names no size.
+const DEFAULT_BOX_SIZE: u32 = 3;
+
+/// `pcf`: the kernel, the per-tap bias (with `factor` and `units` for `slope_scaled`) and the
+/// depth-layer test under each tap (with `z_offset` and `cull_back_faces` where it reads two
+/// layers).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PcfParams {
+    #[serde(default)]
+    pub kernel: KernelSpec,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub size: Option<u32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub taps: Option<u32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius_texels: Option<f64>,
+    #[serde(default)]
+    pub bias: TapBiasSpec,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bias_depth: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub factor: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub units: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub epsilon: Option<EpsilonSpec>,
+    #[serde(default, skip_serializing_if = "is_nearest")]
+    pub layers: LayerSpec,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub z_offset: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cull_back_faces: Option<bool>,
+}
+
+impl PcfParams {
+    fn kernel_fields(&self) -> KernelFields {
+        KernelFields {
+            kernel: self.kernel,
+            size: self.size,
+            taps: self.taps,
+            radius_texels: self.radius_texels,
+        }
+    }
+
+    fn tap_bias_fields(&self) -> TapBiasFields {
+        TapBiasFields { bias: self.bias, bias_depth: self.bias_depth, k: self.k, epsilon: self.epsilon }
+    }
+
+    /// `factor`/`units` only with bias slope_scaled, `z_offset`/`cull_back_faces` only with the
+    /// layers that read two depths.
+    fn validate_layers(&self) -> Result<(), TechniqueSpecError> {
+        let slope = self.bias == TapBiasSpec::SlopeScaled;
+        for (field, value) in [("factor", self.factor), ("units", self.units)] {
+            if !slope && value.is_some() {
+                return Err(err(field, "belongs to bias \"slope_scaled\""));
+            }
+            non_negative_opt(field, value)?;
+        }
+        match (self.layers, self.z_offset) {
+            (LayerSpec::Dual, Some(z)) => non_negative("z_offset", z)?,
+            (LayerSpec::Dual, None) => return Err(err("z_offset", "layers \"dual\" needs a z_offset ≥ 0")),
+            (_, Some(_)) => return Err(err("z_offset", "belongs to layers \"dual\"")),
+            _ => {}
+        }
+        if self.cull_back_faces.is_some() && !matches!(self.layers, LayerSpec::Midpoint | LayerSpec::Dual) {
+            return Err(err("cull_back_faces", "belongs to layers \"midpoint\" and \"dual\""));
+        }
+        Ok(())
+    }
+
+    /// What each tap compares against and the layers it reads, as the depth-layer technique
+    /// underneath asks for them, with the polygon offset of bias slope_scaled.
+    fn threshold_and_needs(&self) -> (TapThreshold, LayerNeeds) {
+        let cull = self.cull_back_faces.unwrap_or(false);
+        let (threshold, mut needs) = match self.layers {
+            LayerSpec::Nearest => (TapThreshold::Nearest, LayerNeeds::default()),
+            LayerSpec::SecondDepth => (TapThreshold::Nearest, SecondDepth { bias_depth: 0.0 }.layer_needs()),
+            LayerSpec::Midpoint => (
+                TapThreshold::TwoLayers { z_offset: f32::INFINITY },
+                Midpoint { cull_back_faces: cull }.layer_needs(),
+            ),
+            LayerSpec::Dual => {
+                let z_offset = self.z_offset.unwrap_or(0.0) as f32;
+                (
+                    TapThreshold::TwoLayers { z_offset },
+                    DualDepth { z_offset, cull_back_faces: cull }.layer_needs(),
+                )
+            }
+        };
+        if self.bias == TapBiasSpec::SlopeScaled {
+            needs.slope_factor = self.factor.unwrap_or(0.0) as f32;
+            needs.slope_units = self.units.unwrap_or(0.0) as f32;
+        }
+        (threshold, needs)
+    }
+
+    /// `factor` and `units` (0) with bias slope_scaled, `z_offset` (0) with dual layers,
+    /// `cull_back_faces` (false) with midpoint and dual layers.
+    fn canonical_layer_fields(&self, f: &mut CanonicalFields) {
+        if self.bias == TapBiasSpec::SlopeScaled {
+            f.number("factor", self.factor.unwrap_or(0.0));
+            f.number("units", self.units.unwrap_or(0.0));
+        } else {
+            f.number_if_given("factor", self.factor);
+            f.number_if_given("units", self.units);
+        }
+        f.named("layers", self.layers);
+        match self.layers {
+            LayerSpec::Dual => f.number("z_offset", self.z_offset.unwrap_or(0.0)),
+            _ => f.number_if_given("z_offset", self.z_offset),
+        }
+        match (self.layers, self.cull_back_faces) {
+            (LayerSpec::Midpoint | LayerSpec::Dual, c) => f.flag("cull_back_faces", c.unwrap_or(false)),
+            (_, Some(c)) => f.flag("cull_back_faces", c),
+            (_, None) => {}
+        }
+    }
+}
+
+impl TechniqueParams for PcfParams {
+    fn validate(&self) -> Result<(), TechniqueSpecError> {
+        self.kernel_fields().validate()?;
+        self.tap_bias_fields().validate()?;
+        self.validate_layers()
+    }
+
+    fn build(&self) -> Box<dyn Technique> {
+        let (threshold, needs) = self.threshold_and_needs();
+        let kernel = self.kernel_fields();
+        Box::new(Pcf {
+            kernel: kernel.kernel(DEFAULT_BOX_SIZE),
+            radius_texels: kernel.radius_texels(),
+            bias: self.tap_bias_fields().tap_bias(),
+            threshold,
+            needs,
+        })
+    }
+
+    fn reference_kind(&self) -> ReferenceKind {
+        ReferenceKind::Coverage
+    }
+
+    fn canonical_fields(&self, f: &mut CanonicalFields) {
+        self.kernel_fields().canonical_fields(f, DEFAULT_BOX_SIZE);
+        self.tap_bias_fields().canonical_fields(f);
+        self.canonical_layer_fields(f);
     }
 }
 

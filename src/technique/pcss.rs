@@ -14,10 +14,17 @@
 //! test and the filter taps use the same per-tap bias (`receiver_plane` as in the sample, or
 //! `adaptive_delta`).
 
-use super::kernel::Kernel;
+use super::canonical::CanonicalFields;
+use super::filter_params::TapBiasFields;
+use super::kernel::{Kernel, POISSON_SIZES};
+use super::params::err;
 use super::pcf::{TapBias, TapThreshold, filtered_visibility, receiver_seed, receiver_texel};
-use super::{LayerNeeds, Sample, ShadeContext, Technique};
+use super::{
+    EpsilonSpec, LayerNeeds, ReferenceKind, Sample, ShadeContext, TapBiasSpec, Technique, TechniqueParams,
+    TechniqueSpecError,
+};
 use crate::raster::{LightSize, Projection};
+use serde::{Deserialize, Serialize};
 
 pub struct Pcss {
     pub search: Kernel,
@@ -105,5 +112,87 @@ impl Technique for Pcss {
         let z_b = view_distance(ctx, sum_depth / blockers as f32);
         let Some(radius) = Self::filter_radius_texels(ctx, z_r, z_b) else { return 1.0 };
         filtered_visibility(&self.filter, radius, TapThreshold::Nearest, s, ctx, uvd, &prepared)
+    }
+}
+
+fn default_taps() -> u32 {
+    25
+}
+
+fn default_bias() -> TapBiasSpec {
+    TapBiasSpec::ReceiverPlane
+}
+
+/// `pcss`: `search_taps` Poisson taps (16, 25, 32), `filter_taps` (16, 25, 32 Poisson; another
+/// square k² a regular k×k grid) and the per-tap `bias` of both.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PcssParams {
+    #[serde(default = "default_taps")]
+    pub search_taps: u32,
+    #[serde(default = "default_taps")]
+    pub filter_taps: u32,
+    #[serde(default = "default_bias")]
+    pub bias: TapBiasSpec,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bias_depth: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub epsilon: Option<EpsilonSpec>,
+}
+
+impl PcssParams {
+    fn tap_bias_fields(&self) -> TapBiasFields {
+        TapBiasFields { bias: self.bias, bias_depth: self.bias_depth, k: self.k, epsilon: self.epsilon }
+    }
+
+    /// The filter kernel: a Poisson set, or a regular grid for another square.
+    fn filter(&self) -> Kernel {
+        let taps = self.filter_taps;
+        if POISSON_SIZES.contains(&taps) {
+            Kernel::Poisson { taps }
+        } else {
+            Kernel::Grid { size: (taps as f64).sqrt().round() as u32 }
+        }
+    }
+
+    fn validate_taps(&self) -> Result<(), TechniqueSpecError> {
+        if !POISSON_SIZES.contains(&self.search_taps) {
+            return Err(err("search_taps", "must be 16, 25 or 32 (the Poisson sets)"));
+        }
+        let (taps, root) = (self.filter_taps, (self.filter_taps as f64).sqrt().round() as u32);
+        if !POISSON_SIZES.contains(&taps) && (root * root != taps || !(2..=16).contains(&root)) {
+            return Err(err("filter_taps", "must be 16, 25, 32 (Poisson) or a square from 4 to 256 (grid)"));
+        }
+        if matches!(self.bias, TapBiasSpec::SlopeScaled | TapBiasSpec::Adaptive) {
+            return Err(err("bias", "pcss takes bias constant, receiver_plane or adaptive_delta"));
+        }
+        Ok(())
+    }
+}
+
+impl TechniqueParams for PcssParams {
+    fn validate(&self) -> Result<(), TechniqueSpecError> {
+        self.validate_taps()?;
+        self.tap_bias_fields().validate()
+    }
+
+    fn build(&self) -> Box<dyn Technique> {
+        Box::new(Pcss {
+            search: Kernel::Poisson { taps: self.search_taps },
+            filter: self.filter(),
+            bias: self.tap_bias_fields().tap_bias(),
+        })
+    }
+
+    fn reference_kind(&self) -> ReferenceKind {
+        ReferenceKind::AreaLight
+    }
+
+    fn canonical_fields(&self, f: &mut CanonicalFields) {
+        f.count("search_taps", self.search_taps);
+        f.count("filter_taps", self.filter_taps);
+        self.tap_bias_fields().canonical_fields(f);
     }
 }

@@ -6,9 +6,14 @@
 //! planes under the light's projection). No clamp; `bias_depth` adds a constant bias only when
 //! asked.
 
-use super::{LayerNeeds, Sample, ShadeContext, Technique, texel_at, texel_centre};
+use super::canonical::CanonicalFields;
+use super::params::non_negative;
+use super::{
+    LayerNeeds, Sample, ShadeContext, Technique, TechniqueParams, TechniqueSpecError, texel_at, texel_centre,
+};
 use crate::raster::LightView;
 use glam::{DVec2, Vec3};
+use serde::{Deserialize, Serialize};
 
 pub struct ReceiverPlane {
     pub bias_depth: f32,
@@ -46,5 +51,27 @@ impl Technique for ReceiverPlane {
             None => uvd.z,
         };
         (z_c - self.bias_depth <= map.at(x, row)) as u8 as f32
+    }
+}
+
+/// `receiver_plane`: an optional constant `bias_depth` (light-depth units) on top of the tilt.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReceiverPlaneParams {
+    #[serde(default)]
+    pub bias_depth: f64,
+}
+
+impl TechniqueParams for ReceiverPlaneParams {
+    fn validate(&self) -> Result<(), TechniqueSpecError> {
+        non_negative("bias_depth", self.bias_depth)
+    }
+
+    fn build(&self) -> Box<dyn Technique> {
+        Box::new(ReceiverPlane { bias_depth: self.bias_depth as f32 })
+    }
+
+    fn canonical_fields(&self, f: &mut CanonicalFields) {
+        f.number("bias_depth", self.bias_depth)
     }
 }
