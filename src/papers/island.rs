@@ -567,7 +567,6 @@ fn place_trees(seed: u64, terrain: &Heightfield, featured: DVec3, camera: DVec3)
 }
 
 fn scene_json(light: &Spot, cameras: &[CameraSpec], trees: &[Tree]) -> String {
-    let v3 = |v: DVec3| format!("[{}, {}, {}]", short(v.x, 4), short(v.y, 4), short(v.z, 4));
     let mut out = String::new();
     out.push_str("{\n  \"format\": \"shadowtruth/scene/v1\",\n  \"name\": \"island\",\n  \"objects\": [\n");
     let _ = writeln!(
@@ -577,43 +576,58 @@ fn scene_json(light: &Spot, cameras: &[CameraSpec], trees: &[Tree]) -> String {
         s = short(SEA_SIZE_M, 1)
     );
     for (k, t) in trees.iter().enumerate() {
-        let base = DVec3::new(t.ground.x, t.trunk_base_y, t.ground.z);
-        let _ = writeln!(
-            out,
-            "    {{ \"name\": \"tree{k:02}_trunk\", \"shape\": {{ \"type\": \"cylinder\", \"radius\": {}, \"height\": {}, \
-             \"segments\": {TRUNK_SEGMENTS} }}, \"closed\": true, \"transform\": {{ \"translate\": {} }} }},",
-            short(t.trunk_radius, 4),
-            short(round_to(t.ground.y - t.trunk_base_y + t.trunk_height, 4), 4),
-            v3(base)
-        );
-        let crown_y = t.ground.y + CROWN_START * t.trunk_height;
-        let (shape, centre_y) = match t.crown {
-            Crown::Cone { radius, height } => (
-                format!(
-                    "{{ \"type\": \"cone\", \"radius\": {}, \"height\": {}, \"segments\": {CROWN_SEGMENTS} }}",
-                    short(radius, 4),
-                    short(height, 4)
-                ),
-                crown_y,
-            ),
-            // The sphere's lower part wraps the trunk's top.
-            Crown::Sphere { radius } => (
-                format!(
-                    "{{ \"type\": \"sphere\", \"radius\": {}, \"segments\": {CROWN_SEGMENTS}, \"rings\": {SPHERE_RINGS} }}",
-                    short(radius, 4)
-                ),
-                crown_y + 0.7 * radius,
-            ),
-        };
-        let last = k + 1 == trees.len();
-        let _ = writeln!(
-            out,
-            "    {{ \"name\": \"tree{k:02}_crown\", \"shape\": {shape}, \"closed\": true, \"transform\": {{ \"translate\": {} }} }}{}",
-            v3(DVec3::new(t.ground.x, centre_y, t.ground.z)),
-            if last { "" } else { "," }
-        );
+        write_tree(&mut out, k, t, k + 1 == trees.len());
     }
     out.push_str("  ],\n  \"cameras\": [\n");
+    write_cameras(&mut out, cameras);
+    write_light(&mut out, light);
+    out
+}
+
+/// A position in the scene file's precision.
+fn v3(v: DVec3) -> String {
+    format!("[{}, {}, {}]", short(v.x, 4), short(v.y, 4), short(v.z, 4))
+}
+
+/// Tree `k`'s trunk and crown objects (the crown without a trailing comma when `last`).
+fn write_tree(out: &mut String, k: usize, t: &Tree, last: bool) {
+    let base = DVec3::new(t.ground.x, t.trunk_base_y, t.ground.z);
+    let _ = writeln!(
+        out,
+        "    {{ \"name\": \"tree{k:02}_trunk\", \"shape\": {{ \"type\": \"cylinder\", \"radius\": {}, \"height\": {}, \
+         \"segments\": {TRUNK_SEGMENTS} }}, \"closed\": true, \"transform\": {{ \"translate\": {} }} }},",
+        short(t.trunk_radius, 4),
+        short(round_to(t.ground.y - t.trunk_base_y + t.trunk_height, 4), 4),
+        v3(base)
+    );
+    let crown_y = t.ground.y + CROWN_START * t.trunk_height;
+    let (shape, centre_y) = match t.crown {
+        Crown::Cone { radius, height } => (
+            format!(
+                "{{ \"type\": \"cone\", \"radius\": {}, \"height\": {}, \"segments\": {CROWN_SEGMENTS} }}",
+                short(radius, 4),
+                short(height, 4)
+            ),
+            crown_y,
+        ),
+        // The sphere's lower part wraps the trunk's top.
+        Crown::Sphere { radius } => (
+            format!(
+                "{{ \"type\": \"sphere\", \"radius\": {}, \"segments\": {CROWN_SEGMENTS}, \"rings\": {SPHERE_RINGS} }}",
+                short(radius, 4)
+            ),
+            crown_y + 0.7 * radius,
+        ),
+    };
+    let _ = writeln!(
+        out,
+        "    {{ \"name\": \"tree{k:02}_crown\", \"shape\": {shape}, \"closed\": true, \"transform\": {{ \"translate\": {} }} }}{}",
+        v3(DVec3::new(t.ground.x, centre_y, t.ground.z)),
+        if last { "" } else { "," }
+    );
+}
+
+fn write_cameras(out: &mut String, cameras: &[CameraSpec]) {
     for (k, c) in cameras.iter().enumerate() {
         let _ = writeln!(
             out,
@@ -626,6 +640,9 @@ fn scene_json(light: &Spot, cameras: &[CameraSpec], trees: &[Tree]) -> String {
             if k + 1 == cameras.len() { "" } else { "," }
         );
     }
+}
+
+fn write_light(out: &mut String, light: &Spot) {
     let _ = write!(
         out,
         "  ],\n  \"lights\": [\n    {{ \"name\": \"sun_spot\", \"type\": \"spot\", \"position\": {}, \"direction\": {},\n      \
@@ -637,7 +654,6 @@ fn scene_json(light: &Spot, cameras: &[CameraSpec], trees: &[Tree]) -> String {
         short(LIGHT_FAR_M, 2),
         short(LIGHT_RADIUS_M, 3)
     );
-    out
 }
 
 fn round3(v: DVec3) -> DVec3 {
