@@ -48,6 +48,61 @@ struct Limits {
     shapes: u64,
 }
 
+/// Triangles asked for so far (before degenerate ones are dropped), in all and by shapes:
+/// checked before each mesh joins the scene and before each shape is built, so that a scene
+/// over the limits fails with a message instead of exhausting memory. Each limit is named at the
+/// first object over it only.
+struct Budget {
+    limits: Limits,
+    total: u64,
+    procedural: u64,
+}
+
+impl Budget {
+    /// Whether a shape of `count` triangles may be built (reported before it is).
+    fn admit_shape(&mut self, object_path: &str, count: u64, problems: &mut Problems) -> bool {
+        self.procedural += count;
+        if self.procedural > self.limits.shapes {
+            if self.procedural - count <= self.limits.shapes {
+                let message = format!(
+                    "the procedural shapes up to this one have {} triangles; a scene's shapes may have at \
+                     most {} together",
+                    self.procedural, self.limits.shapes
+                );
+                problems.report(&format!("{object_path}.shape"), message);
+            }
+            return false;
+        }
+        if self.total + count > self.limits.scene {
+            self.over_scene_limit(object_path, count, "shape", problems);
+            return false;
+        }
+        true
+    }
+
+    /// Whether a mesh of `count` triangles may join the scene.
+    fn admit_mesh(&mut self, object_path: &str, count: u64, problems: &mut Problems) -> bool {
+        if self.total + count > self.limits.scene {
+            self.over_scene_limit(object_path, count, "mesh", problems);
+            return false;
+        }
+        self.total += count;
+        true
+    }
+
+    fn over_scene_limit(&mut self, object_path: &str, count: u64, key: &str, problems: &mut Problems) {
+        let before = self.total;
+        self.total += count;
+        if before <= self.limits.scene {
+            let message = format!(
+                "the objects up to this one have {} triangles; a scene may have at most {}",
+                self.total, self.limits.scene
+            );
+            problems.report(&format!("{object_path}.{key}"), message);
+        }
+    }
+}
+
 fn load_with_limits(text: &str, source: &Path, base_dir: &Path, limits: Limits) -> Result<Scene, SceneError> {
     let mut problems = Problems::new(source);
     let Some(root) = parse_json(text, &mut problems) else {
@@ -64,21 +119,8 @@ fn load_with_limits(text: &str, source: &Path, base_dir: &Path, limits: Limits) 
         lights: desc.lights,
         dropped_degenerate: 0,
     };
-    // Triangles asked for so far (before degenerate ones are dropped), in all and by shapes:
-    // checked before each mesh joins the scene and before each shape is built, so that a scene
-    // over the limits fails with a message instead of exhausting memory.
-    let (mut total, mut procedural) = (0u64, 0u64);
+    let mut budget = Budget { limits, total: 0, procedural: 0 };
     for object in &desc.objects {
-        // Named at the first object over the limit only.
-        let over_scene_limit = |before: u64, total: u64, key: &str, problems: &mut Problems| {
-            if before <= limits.scene {
-                let message = format!(
-                    "the objects up to this one have {total} triangles; a scene may have at most {}",
-                    limits.scene
-                );
-                problems.report(&format!("{}.{key}", object.path), message);
-            }
-        };
         // Meshes are read even when other fields are wrong, so that their problems show too.
         let mesh = match &object.geometry {
             Some(Geometry::Mesh(relative)) => match read_obj(&base_dir.join(relative)) {
@@ -90,36 +132,12 @@ fn load_with_limits(text: &str, source: &Path, base_dir: &Path, limits: Limits) 
                 }
             },
             Some(Geometry::Shape(shape)) => {
-                let count = shape.triangle_count();
-                procedural += count;
-                if procedural > limits.shapes {
-                    // Named at the first shape over the limit only, like the scene's limit.
-                    if procedural - count <= limits.shapes {
-                        let message = format!(
-                            "the procedural shapes up to this one have {procedural} triangles; \
-                             a scene's shapes may have at most {} together",
-                            limits.shapes
-                        );
-                        problems.report(&format!("{}.shape", object.path), message);
-                    }
-                    None
-                } else if total + count > limits.scene {
-                    // Reported before it is built.
-                    over_scene_limit(total, total + count, "shape", &mut problems);
-                    total += count;
-                    None
-                } else {
-                    Some(shape.mesh())
-                }
+                budget.admit_shape(&object.path, shape.triangle_count(), &mut problems).then(|| shape.mesh())
             }
             None => None,
         };
         if let Some(mesh) = mesh {
-            let before = total;
-            total += mesh.triangles.len() as u64;
-            if total > limits.scene {
-                over_scene_limit(before, total, "mesh", &mut problems);
-            } else {
+            if budget.admit_mesh(&object.path, mesh.triangles.len() as u64, &mut problems) {
                 add_object(&mut scene, object, &mesh, &mut problems);
             }
         }
