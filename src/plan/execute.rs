@@ -13,7 +13,7 @@ use crate::report::{
     GridCell, IndexedImage, ReportWriter, RunRecord, SceneRecord, Timings, ViewCanvas, downscale, grid,
     run_stem, view_stem, write_reference_figure, write_run_figures, zoom,
 };
-use crate::scene::{LightKind, Problem, Scene, SceneError, load_scene};
+use crate::scene::{Problem, Scene, SceneError, load_scene};
 use crate::technique::{LayerNeeds, ReferenceKind, ShadeContext, ShadeOrder, shade_evaluated};
 use crate::trace::{GBuffer, ReferenceCache, SceneBvh};
 use rayon::prelude::*;
@@ -191,22 +191,7 @@ pub fn execute(
     // PCSS is scored against the area light: every light it runs under needs a size.
     if plan.techniques.iter().any(|t| t.reference_kind() == ReferenceKind::AreaLight) {
         for sel in &selected {
-            for &(_, li) in &sel.pairs {
-                let light = &sel.scene.lights[li];
-                let missing = match light.kind {
-                    LightKind::Directional { .. } if light.angular_diameter_deg.is_none() => {
-                        "angular_diameter_deg"
-                    }
-                    LightKind::Spot { .. } if light.radius.is_none() => "radius",
-                    _ => continue,
-                };
-                let message = format!(
-                    "has no {missing}: pcss is scored against an area light; give the light a size or leave \
-                     pcss out of the plan"
-                );
-                let path = format!("lights[{li}]");
-                return Err(PlanInputError::one(&sel.scene.source, &path, message).into());
-            }
+            super::area_light::check_area_light_sizes(&sel.scene, sel.pairs.iter().map(|&(_, li)| li))?;
         }
     }
     let runs = check_run_count(plan, selected.iter().map(|s| s.pairs.len()).sum())?;

@@ -1,6 +1,7 @@
 //! Plans: which scenes, cameras, lights, techniques, resolutions and depth formats to run, and
 //! the schedule that builds every shared intermediate once.
 
+mod area_light;
 mod execute;
 mod file;
 mod layers;

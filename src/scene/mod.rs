@@ -12,7 +12,7 @@ mod transform;
 
 pub use camera::Camera;
 pub use error::{Problem, SceneError};
-pub use light::{Light, LightKind};
+pub use light::{Light, LightKind, LightSize, NoLightSize};
 pub(crate) use load::load_scene_str_within;
 pub use load::{load_scene, load_scene_str};
 pub(crate) use obj::parse_obj;

@@ -20,7 +20,7 @@
 use super::soft_reference::{SoftKind, SoftReference};
 use super::{AreaLightError, TRACER_VERSION};
 use crate::atomic_file::{encode_gray_png, remove_stray_temp_files, write_atomic};
-use crate::scene::{Camera, Light, LightKind, Scene};
+use crate::scene::{Camera, Light, LightKind, LightSize, Scene};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
@@ -109,12 +109,14 @@ pub fn soft_reference_digest(
     hash_view(&mut h, scene, camera, light);
     h.update(b"samples");
     h.update(grid.to_le_bytes());
-    for (name, size) in [("angular_diameter_deg", light.angular_diameter_deg), ("radius", light.radius)] {
-        h.update(name.as_bytes());
-        match size {
-            Some(x) => {
+    // Both fields, each present or absent, as when a light could hold both sizes.
+    let size = light.size().ok();
+    for field in [LightSize::ANGULAR_DIAMETER_FIELD, LightSize::RADIUS_FIELD] {
+        h.update(field.as_bytes());
+        match size.filter(|s| s.field() == field) {
+            Some(s) => {
                 h.update([1]);
-                h.update(x.to_bits().to_le_bytes());
+                h.update(s.value().to_bits().to_le_bytes());
             }
             None => h.update([0]),
         }
@@ -133,11 +135,11 @@ fn hash_view(h: &mut Sha256, scene: &Scene, camera: &Camera, light: &Light) {
     h.update(camera.width.to_le_bytes());
     h.update(camera.height.to_le_bytes());
     match &light.kind {
-        LightKind::Directional { direction } => {
+        LightKind::Directional { direction, .. } => {
             h.update(b"directional");
             floats(h, &direction.to_array());
         }
-        LightKind::Spot { position, direction, cone_deg, near, far } => {
+        LightKind::Spot { position, direction, cone_deg, near, far, .. } => {
             h.update(b"spot");
             floats(h, &position.to_array());
             floats(h, &direction.to_array());
