@@ -9,6 +9,7 @@ mod load;
 mod obj;
 mod shapes;
 mod transform;
+mod view_key;
 
 pub use camera::Camera;
 pub use error::{Problem, SceneError};
@@ -18,6 +19,7 @@ pub use load::{load_scene, load_scene_str};
 pub(crate) use obj::parse_obj;
 pub use shapes::{IndexedMesh, Shape};
 pub use transform::Transform;
+pub use view_key::ViewKey;
 
 use glam::Vec3;
 
