@@ -12,4 +12,4 @@ mod spec;
 pub use execute::{Event, PlanError, execute};
 pub use file::{DEFAULT_MAX_RUNS, PLAN_FORMAT, PlanInputError, parse_plan, parse_plan_limited, read_plan};
 pub use layers::{BuiltLayers, build_layers};
-pub use spec::{DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_PLAN_JSON, Plan};
+pub use spec::{DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_PLAN_JSON, MAX_REFERENCE_GRID, Plan};
