@@ -53,9 +53,10 @@ fn bench_raster(c: &mut Criterion) {
     let scene = sphere_over_plane(72, 72);
     let sun = Light {
         name: "sun".into(),
-        kind: LightKind::Directional { direction: Vec3::new(-0.3, -1.0, -0.2).normalize() },
-        angular_diameter_deg: None,
-        radius: None,
+        kind: LightKind::Directional {
+            direction: Vec3::new(-0.3, -1.0, -0.2).normalize(),
+            angular_diameter_deg: None,
+        },
     };
     let mut group = c.benchmark_group(format!("rasterize_nearest_{}_triangles", scene.triangles.len()));
     group.sample_size(10);

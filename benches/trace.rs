@@ -3,7 +3,7 @@
 //! rays per pixel towards a sun of 2° angular diameter; throughput in shadow rays).
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use shadowtruth::scene::load_scene;
+use shadowtruth::scene::{LightKind, load_scene};
 use shadowtruth::trace::{GBuffer, SceneBvh, trace_area_light_reference, trace_hard_reference};
 use std::path::Path;
 
@@ -22,7 +22,10 @@ fn trace(c: &mut Criterion) {
     g.throughput(Throughput::Elements(gbuffer.evaluated.len() as u64));
     g.bench_function("hard_reference", |b| b.iter(|| trace_hard_reference(&bvh, &gbuffer, light)));
     let mut sun = light.clone();
-    sun.angular_diameter_deg = Some(2.0);
+    let LightKind::Directional { angular_diameter_deg, .. } = &mut sun.kind else {
+        panic!("rocks has a sun")
+    };
+    *angular_diameter_deg = Some(2.0);
     let grid = 4;
     g.throughput(Throughput::Elements(gbuffer.evaluated.len() as u64 * (grid * grid) as u64));
     g.bench_function("area_light_reference_4x4", |b| {

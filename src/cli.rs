@@ -3,7 +3,10 @@
 
 use crate::atomic_file::write_atomic;
 use crate::metrics::{Stopwatch, median_ms};
-use crate::plan::{DEFAULT_MAX_RUNS, Event, Plan, PlanError, Sink, execute, read_plan};
+use crate::plan::{
+    DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_MAX_RUNS, Event, MAX_REFERENCE_GRID, Plan,
+    PlanError, Sink, execute, read_plan,
+};
 use crate::raster::MAX_SHADOW_MAP_RESOLUTION;
 use crate::report::{
     FigureSink, Report, ReportWriter, load_report, write_mask_png, write_report_outputs, write_soft_exr,
@@ -168,8 +171,9 @@ struct RunArgs {
     /// Trace every reference instead of reading or writing the cache.
     #[arg(long)]
     no_cache: bool,
-    /// Override the plan's shadow-map resolutions, e.g. --resolutions 512,1024 (1 to 16384).
-    #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(u32).range(1..=MAX_SHADOW_MAP_RESOLUTION as i64))]
+    #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(u32).range(1..=MAX_SHADOW_MAP_RESOLUTION as i64),
+          help = format!("Override the plan's shadow-map resolutions, e.g. --resolutions 512,1024 \
+                          (1 to {MAX_SHADOW_MAP_RESOLUTION})"))]
     resolutions: Option<Vec<u32>>,
     /// Refuse a plan that expands to more runs than this, before anything is built.
     #[arg(long, default_value_t = DEFAULT_MAX_RUNS, value_parser = clap::value_parser!(u64).range(1..))]
@@ -203,9 +207,6 @@ enum ReferenceKind {
     Area,
 }
 
-/// Largest N of an N×N sample grid accepted on the command line (4096 samples per pixel).
-const MAX_SAMPLE_GRID: u32 = 64;
-
 #[derive(Args)]
 struct ReferenceArgs {
     scene: PathBuf,
@@ -223,8 +224,10 @@ struct ReferenceArgs {
     /// `angular_diameter_deg` or `radius`).
     #[arg(long, value_enum, default_value_t = ReferenceKind::Hard)]
     kind: ReferenceKind,
-    /// N for an N×N grid of samples per pixel (default: 4 for coverage, 8 for area; 1 to 64).
-    #[arg(long)]
+    #[arg(long, help = format!(
+        "N for an N×N grid of samples per pixel (default: {DEFAULT_COVERAGE_GRID} for coverage, \
+         {DEFAULT_AREA_LIGHT_GRID} for area; 1 to {MAX_REFERENCE_GRID})"
+    ))]
     samples: Option<u32>,
     /// Worker threads (default: all cores).
     #[arg(long)]
@@ -617,11 +620,11 @@ fn reference(a: ReferenceArgs) -> Result<u8> {
     let grid = match (a.kind, a.samples) {
         (ReferenceKind::Hard, Some(_)) => bail!("--samples applies to --kind coverage and --kind area only"),
         (ReferenceKind::Hard, None) => 1,
-        (ReferenceKind::Coverage, n) => n.unwrap_or(4),
-        (ReferenceKind::Area, n) => n.unwrap_or(8),
+        (ReferenceKind::Coverage, n) => n.unwrap_or(DEFAULT_COVERAGE_GRID),
+        (ReferenceKind::Area, n) => n.unwrap_or(DEFAULT_AREA_LIGHT_GRID),
     };
-    if !(1..=MAX_SAMPLE_GRID).contains(&grid) {
-        bail!("--samples {grid} is outside 1..={MAX_SAMPLE_GRID} (N for an N×N grid per pixel)");
+    if !(1..=MAX_REFERENCE_GRID).contains(&grid) {
+        bail!("--samples {grid} is outside 1..={MAX_REFERENCE_GRID} (N for an N×N grid per pixel)");
     }
     set_threads(a.threads)?;
     let scene: Scene = load_scene(&a.scene)?;

@@ -5,6 +5,7 @@
 
 mod common;
 
+use shadowtruth::scene::ViewKey;
 use shadowtruth::trace::{ReferenceCache, SoftReference};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -130,7 +131,8 @@ fn threads_storing_into_one_cache_keep_every_manifest_entry() {
             s.spawn(move || {
                 for i in 0..per_thread {
                     let light = format!("l{i}");
-                    cache.store(&format!("s{t}"), "c", &light, "digest", 2, 1, &[0, 255]).unwrap();
+                    let scene = format!("s{t}");
+                    cache.store(ViewKey::new(&scene, "c", &light), "digest", 2, 1, &[0, 255]).unwrap();
                 }
             });
         }
@@ -141,7 +143,8 @@ fn threads_storing_into_one_cache_keep_every_manifest_entry() {
     for t in 0..threads {
         for i in 0..per_thread {
             let light = format!("l{i}");
-            let mask = cache.load(&format!("s{t}"), "c", &light, "digest").expect("stored mask loads");
+            let scene = format!("s{t}");
+            let mask = cache.load(ViewKey::new(&scene, "c", &light), "digest").expect("stored mask loads");
             assert_eq!(mask.codes, [0, 255]);
         }
     }

@@ -185,9 +185,7 @@ fn jittered_grid_mesh_is_watertight() {
 fn sun(direction: Vec3) -> Light {
     Light {
         name: "sun".into(),
-        kind: LightKind::Directional { direction: direction.normalize() },
-        angular_diameter_deg: None,
-        radius: None,
+        kind: LightKind::Directional { direction: direction.normalize(), angular_diameter_deg: None },
     }
 }
 
@@ -295,9 +293,8 @@ fn culling_applies_to_closed_objects_only() {
             cone_deg: 90.0,
             near: 0.5,
             far: 20.0,
+            radius: None,
         },
-        angular_diameter_deg: None,
-        radius: None,
     };
     for light in [sun(Vec3::new(0.0, -1.0, 0.0)), lamp] {
         assert_culling(&s, &LightView::new(&light, s.bounds(), 64));
@@ -333,9 +330,8 @@ fn spot_light_clips_a_triangle_crossing_the_near_plane() {
             cone_deg: 90.0,
             near: 0.5,
             far: 20.0,
+            radius: None,
         },
-        angular_diameter_deg: None,
-        radius: None,
     };
     // Two vertices below the light, one above it (behind the light's plane): unclipped, that
     // vertex would project through w < 0 and wrap onto the wrong side of the map.
@@ -489,9 +485,8 @@ fn hostile_input_does_not_panic() {
             cone_deg: 170.0,
             near: 1e-4,
             far: 1e4,
+            radius: None,
         },
-        angular_diameter_deg: None,
-        radius: None,
     };
     for light in [sun(Vec3::new(0.1, -1.0, 0.2)), lamp] {
         for n in [0, 1, 2, 33] {

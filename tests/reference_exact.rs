@@ -45,7 +45,7 @@ fn signed_distance(poly: &[DVec2], p: DVec2) -> f64 {
 #[test]
 fn box_over_plane_matches_the_shadow_polygon() {
     let scene = bundled("plane_box");
-    let LightKind::Directional { direction } = scene.lights[0].kind else {
+    let LightKind::Directional { direction, .. } = scene.lights[0].kind else {
         panic!("directional light expected")
     };
     let d = direction.as_dvec3();

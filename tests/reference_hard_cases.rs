@@ -340,7 +340,7 @@ fn closed_meshes_with_shared_edges_have_no_cracks() {
             }
             let p = g.position[i].as_dvec3();
             let (dir, length) = match &light.kind {
-                shadowtruth::scene::LightKind::Directional { direction } => {
+                shadowtruth::scene::LightKind::Directional { direction, .. } => {
                     (-direction.as_dvec3().normalize(), f64::INFINITY)
                 }
                 shadowtruth::scene::LightKind::Spot { position, .. } => {

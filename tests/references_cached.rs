@@ -4,6 +4,7 @@
 mod common;
 
 use common::{bundled, repo};
+use shadowtruth::scene::ViewKey;
 use shadowtruth::trace::{GBuffer, ReferenceCache, SceneBvh, reference_digest, trace_hard_reference};
 
 const SUITE: [&str; 5] = ["grazing_wall", "l_shape", "plane_box", "rocks", "spot"];
@@ -18,7 +19,8 @@ fn cached_masks_are_bit_identical_to_fresh_ones() {
         for camera in &scene.cameras {
             for light in &scene.lights {
                 let digest = reference_digest(&scene, camera, light);
-                let recorded = cache.recorded_digest(&scene.name, &camera.name, &light.name);
+                let view = ViewKey::from_view(&scene, camera, light);
+                let recorded = cache.recorded_digest(view);
                 assert_eq!(
                     recorded.as_deref(),
                     Some(digest.as_str()),
@@ -26,8 +28,7 @@ fn cached_masks_are_bit_identical_to_fresh_ones() {
                     camera.name,
                     light.name
                 );
-                let cached =
-                    cache.load(&scene.name, &camera.name, &light.name, &digest).expect("cached mask decodes");
+                let cached = cache.load(view, &digest).expect("cached mask decodes");
                 let g = GBuffer::trace(&scene, &bvh, camera, light);
                 let fresh = trace_hard_reference(&bvh, &g, light).mask_codes(&g);
                 let differ = fresh.iter().zip(&cached.codes).filter(|(a, b)| a != b).count();

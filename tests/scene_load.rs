@@ -344,12 +344,14 @@ fn example_scene_loads_with_lights_normalized() {
     let cam = scene.camera("main").unwrap();
     assert_eq!((cam.width, cam.height, cam.up), (64, 48, Vec3::Y));
     let sun = scene.light("sun").unwrap();
-    assert_eq!(sun.angular_diameter_deg, Some(0.5));
-    let LightKind::Directional { direction } = sun.kind else { panic!("sun is directional") };
+    let LightKind::Directional { direction, angular_diameter_deg } = sun.kind else {
+        panic!("sun is directional")
+    };
+    assert_eq!(angular_diameter_deg, Some(0.5));
     assert!((direction.length() - 1.0).abs() < 1e-6);
     let lamp = scene.light("lamp").unwrap();
-    assert_eq!(lamp.radius, Some(0.25));
-    let LightKind::Spot { direction, near, far, .. } = lamp.kind else { panic!("lamp is a spot") };
+    let LightKind::Spot { direction, near, far, radius, .. } = lamp.kind else { panic!("lamp is a spot") };
+    assert_eq!(radius, Some(0.25));
     assert!((direction.length() - 1.0).abs() < 1e-6);
     assert_eq!((near, far), (0.5, 30.0));
 }

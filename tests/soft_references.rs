@@ -4,7 +4,7 @@
 mod common;
 
 use common::{bundled, near_boundary, scene_from_json};
-use shadowtruth::scene::{Camera, Light, Scene};
+use shadowtruth::scene::{Camera, Light, LightKind, Scene};
 use shadowtruth::trace::{
     AreaLightError, GBuffer, PixelClass, ReferenceCache, SceneBvh, SoftReference, trace_area_light_reference,
     trace_coverage_reference, trace_hard_reference,
@@ -317,10 +317,9 @@ fn sized(name: &str) -> (Scene, Camera, Light) {
     let mut camera = scene.cameras[0].clone();
     (camera.width, camera.height) = (256, 192);
     let mut light = scene.lights[0].clone();
-    if light.is_directional() {
-        light.angular_diameter_deg = Some(6.0);
-    } else {
-        light.radius = Some(0.4);
+    match &mut light.kind {
+        LightKind::Directional { angular_diameter_deg, .. } => *angular_diameter_deg = Some(6.0),
+        LightKind::Spot { radius, .. } => *radius = Some(0.4),
     }
     (scene, camera, light)
 }
@@ -378,10 +377,9 @@ fn cached_soft_references_are_bit_identical_to_fresh_ones() {
         assert!(!cache.area_light_reference(&scene, &bvh, &g, &camera, &light, 2).unwrap().1);
         assert!(cache.area_light_reference(&scene, &bvh, &g, &camera, &light, 4).unwrap().1);
         // The light's size is part of the digest.
-        if light.is_directional() {
-            light.angular_diameter_deg = Some(1.0);
-        } else {
-            light.radius = Some(0.1);
+        match &mut light.kind {
+            LightKind::Directional { angular_diameter_deg, .. } => *angular_diameter_deg = Some(1.0),
+            LightKind::Spot { radius, .. } => *radius = Some(0.1),
         }
         let (resized, cached) = cache.area_light_reference(&scene, &bvh, &g, &camera, &light, 4).unwrap();
         assert!(!cached && bits(&resized) != bits(&fresh_area), "{name}: a new size is traced again");
@@ -413,7 +411,10 @@ fn a_sizeless_light_is_an_error_naming_the_light_and_the_field() {
     for (name, field) in [("plane_box", "angular_diameter_deg"), ("spot", "radius")] {
         let mut scene = bundled(name);
         // The bundled lights have sizes; take them away.
-        (scene.lights[0].angular_diameter_deg, scene.lights[0].radius) = (None, None);
+        match &mut scene.lights[0].kind {
+            LightKind::Directional { angular_diameter_deg: size, .. }
+            | LightKind::Spot { radius: size, .. } => *size = None,
+        }
         let light = &scene.lights[0];
         let mut camera = scene.cameras[0].clone();
         (camera.width, camera.height) = (32, 24);

@@ -242,12 +242,7 @@ fn the_soft_plan_parses_and_covers_every_filtered_family() {
         if path.extension().is_some_and(|e| e == "json") {
             let scene = shadowtruth::scene::load_scene(&path).unwrap();
             for light in &scene.lights {
-                assert!(
-                    light.angular_diameter_deg.is_some() || light.radius.is_some(),
-                    "{}: {}",
-                    path.display(),
-                    light.name
-                );
+                assert!(light.size().is_ok(), "{}: {}", path.display(), light.name);
             }
         }
     }

@@ -70,8 +70,8 @@ fn papers_island_loads_with_its_cameras_light_and_featured_trunk_in_view() {
     assert_eq!(scene.dropped_degenerate, 0);
     assert!(scene.camera("front").is_some() && scene.camera("back").is_some());
     let light = scene.light("sun_spot").expect("light sun_spot");
-    assert!(matches!(light.kind, LightKind::Spot { .. }), "sun_spot is a spot light");
-    assert!(light.radius.is_some_and(|r| r > 0.0), "sun_spot has an area radius");
+    let LightKind::Spot { radius, .. } = light.kind else { panic!("sun_spot is a spot light") };
+    assert!(radius.is_some_and(|r| r > 0.0), "sun_spot has an area radius");
     let trunk = object_index(&scene, FEATURED_TRUNK);
     assert!(scene.objects[trunk as usize].closed);
 
@@ -102,7 +102,7 @@ fn papers_island_loads_with_its_cameras_light_and_featured_trunk_in_view() {
 fn papers_island_light_covers_the_island() {
     let scene = load_scene(&common::repo().join("scenes/papers/island.json")).unwrap();
     let light = scene.light("sun_spot").unwrap();
-    let LightKind::Spot { position, direction, cone_deg, near, far } = light.kind else { unreachable!() };
+    let LightKind::Spot { position, direction, cone_deg, near, far, .. } = light.kind else { unreachable!() };
     let cos_half = (0.5 * cone_deg as f64).to_radians().cos();
     // A margin of 2° and 10 % in depth: the island is well inside, not at the edge.
     let cos_inner = (0.5 * cone_deg as f64 - 2.0).to_radians().cos();

@@ -32,7 +32,8 @@ const SETTING_KEYS: [&str; 3] = ["original_k_0.0001", "original_k_0.01", "enhanc
 const OPEN_SEA_M: f32 = 80.0;
 pub(super) const FIGURE12: &str = "figures/papers.figure12.png";
 
-const EHM: &str = "Ehm, Ederer, Klein & Nischwitz, Adaptive depth bias for soft shadows (WSCG 2015)";
+pub(super) const EHM: &str =
+    "Ehm, Ederer, Klein & Nischwitz, Adaptive depth bias for soft shadows (WSCG 2015)";
 const SETUP: &str = "The island (scenes/papers/island.json): its sea as wide as its terrain, so that sceneScale, \
     which the paper defines as the scene's bounding-box diagonal, is the island's 17 m; the spot light 6 m up, so \
     that the front is well lit and the back grazed, as in Figure 12 (few errors on the front, projective aliasing \

@@ -9,6 +9,7 @@
 //! The sensitivity grid moves the resolution, K and the light (spot or directional).
 
 use super::claims::{self, Agreement, Claim, ClaimText, DIFFERENT_VISIBILITY, SetupResult};
+use super::ehm_fig12::EHM;
 use super::measure::{LightMap, View, light_of, shade_on_one_thread, spec};
 use super::suite::{Suite, plan_of};
 use crate::plan::PlanError;
@@ -21,7 +22,6 @@ const RESOLUTION: u32 = 2048;
 const K: f32 = 0.0001;
 /// The plane the casters' shadows fall on.
 pub(super) const PLANE: &str = "plane";
-const EHM: &str = "Ehm, Ederer, Klein & Nischwitz, Adaptive depth bias for soft shadows (WSCG 2015)";
 /// The paper's GPU timings (Table 1, 11×11): receiver plane, adaptive, Δbias (ms).
 const THEIR_MS: [f64; 3] = [2.27, 5.75, 3.01];
 

@@ -22,8 +22,6 @@ pub const PLAN_FORMAT: &str = "shadowtruth/plan/v1";
 /// A plan above this many runs is refused unless the limit is raised (`run --max-runs`).
 pub const DEFAULT_MAX_RUNS: u64 = 100_000;
 
-/// Largest sample grid (per side) of the fractional references.
-const MAX_REFERENCE_GRID: u64 = 64;
 /// Largest number of timing repeats.
 const MAX_REPEATS: u64 = 1000;
 
@@ -96,10 +94,10 @@ fn read_plan_value(root: &Value, path: &Path, max_runs: u64, problems: &mut Prob
     let depth_formats =
         top.optional_list("depth_formats", as_depth_format).unwrap_or(Some(vec![DepthFormat::F32]));
     let repeats = top.optional_or("repeats", count(1, MAX_REPEATS), 3);
-    let coverage_grid =
-        top.optional_or("coverage_grid", count(1, MAX_REFERENCE_GRID), super::DEFAULT_COVERAGE_GRID);
+    let max_grid = super::MAX_REFERENCE_GRID as u64;
+    let coverage_grid = top.optional_or("coverage_grid", count(1, max_grid), super::DEFAULT_COVERAGE_GRID);
     let area_light_grid =
-        top.optional_or("area_light_grid", count(1, MAX_REFERENCE_GRID), super::DEFAULT_AREA_LIGHT_GRID);
+        top.optional_or("area_light_grid", count(1, max_grid), super::DEFAULT_AREA_LIGHT_GRID);
     let entries = read_technique_entries(&mut top);
     top.finish();
     let entries = entries?;

@@ -4,7 +4,7 @@
 
 use super::{Plan, PlanError, PlanInputError};
 use crate::raster::MAX_SHADOW_MAP_RESOLUTION;
-use crate::scene::{LightKind, Problem, Scene, SceneError, load_scene};
+use crate::scene::{Problem, Scene, SceneError, load_scene};
 use crate::technique::ReferenceKind;
 use std::path::PathBuf;
 
@@ -139,25 +139,9 @@ pub(super) fn load_selected(plan: &Plan) -> Result<Vec<Selected>, PlanError> {
 
 /// PCSS is scored against the area light: every light it runs under needs a size.
 pub(super) fn check_area_light_sizes(plan: &Plan, selected: &[Selected]) -> Result<(), PlanError> {
-    if !plan.techniques.iter().any(|t| t.reference_kind() == ReferenceKind::AreaLight) {
-        return Ok(());
-    }
-    for sel in selected {
-        for &(_, li) in &sel.pairs {
-            let light = &sel.scene.lights[li];
-            let missing = match light.kind {
-                LightKind::Directional { .. } if light.angular_diameter_deg.is_none() => {
-                    "angular_diameter_deg"
-                }
-                LightKind::Spot { .. } if light.radius.is_none() => "radius",
-                _ => continue,
-            };
-            let message = format!(
-                "has no {missing}: pcss is scored against an area light; give the light a size or leave \
-                 pcss out of the plan"
-            );
-            let path = format!("lights[{li}]");
-            return Err(PlanInputError::one(&sel.scene.source, &path, message).into());
+    if plan.techniques.iter().any(|t| t.reference_kind() == ReferenceKind::AreaLight) {
+        for sel in selected {
+            super::area_light::check_area_light_sizes(&sel.scene, sel.pairs.iter().map(|&(_, li)| li))?;
         }
     }
     Ok(())

@@ -35,6 +35,9 @@ pub struct Plan {
 pub const DEFAULT_COVERAGE_GRID: u32 = 4;
 /// Light-sample grid of the area-light reference (8×8).
 pub const DEFAULT_AREA_LIGHT_GRID: u32 = 8;
+/// Largest N of the N×N sample grid of a fractional reference (4096 samples per pixel), in a
+/// plan and on the command line.
+pub const MAX_REFERENCE_GRID: u32 = 64;
 
 /// The default plan file, built into the binary so that `run` works from anywhere.
 pub const DEFAULT_PLAN_JSON: &str = include_str!("../../plans/default.json");

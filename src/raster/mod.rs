@@ -12,9 +12,11 @@ pub use depth_format::DepthFormat;
 
 /// Largest shadow-map side accepted, in texels.
 pub const MAX_SHADOW_MAP_RESOLUTION: u32 = 16384;
+/// What `LightView::light_size` holds; PCSS reads it from here.
+pub use crate::scene::LightSize;
 pub use layer::{DepthLayer, DepthPairLayer};
 pub use multi_depth::{DepthSelection, MultiDepthLayer};
-pub use projection::{LightSize, LightView, Projection};
+pub use projection::{LightView, Projection};
 pub use rasterize::{
     Culling, RasterSettings, rasterize_coverage, rasterize_nearest, rasterize_nearest_into,
     rasterize_two_nearest,

@@ -1,7 +1,7 @@
 //! Light projections: orthographic for a directional light (frustum fitted to the scene bounds),
 //! perspective for a spot light. Depth d ∈ [0, 1], smaller is closer.
 
-use crate::scene::{Light, LightKind};
+use crate::scene::{Light, LightKind, LightSize};
 use glam::{DMat4, DVec3, DVec4, Mat4, Vec3};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -10,15 +10,6 @@ pub enum Projection {
     Orthographic { left: f32, right: f32, bottom: f32, top: f32 },
     /// Symmetric frustum of half-angle `atan(tan_half_fov)`; square map.
     Perspective { tan_half_fov: f32 },
-}
-
-/// The size of an area light, for soft-shadow techniques.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum LightSize {
-    /// A directional light's angular diameter, degrees.
-    AngularDiameterDeg(f32),
-    /// A spot light's disk radius, world units.
-    Radius(f32),
 }
 
 /// The light's camera for one shadow-map resolution.
@@ -52,17 +43,13 @@ impl LightView {
     /// `cone_deg` (clamped to [0.01°, 179°]), the light's near/far (fixed up to 0 < near < far).
     /// Matrices are built in f64 and rounded once to f32. Never panics.
     pub fn new(light: &Light, scene_bounds: (Vec3, Vec3), resolution: u32) -> Self {
-        let light_size = match light.kind {
-            LightKind::Directional { .. } => light.angular_diameter_deg.map(LightSize::AngularDiameterDeg),
-            LightKind::Spot { .. } => light.radius.map(LightSize::Radius),
-        };
         let view = match light.kind {
-            LightKind::Directional { direction } => directional(direction, scene_bounds, resolution),
-            LightKind::Spot { position, direction, cone_deg, near, far } => {
+            LightKind::Directional { direction, .. } => directional(direction, scene_bounds, resolution),
+            LightKind::Spot { position, direction, cone_deg, near, far, .. } => {
                 spot(position, direction, cone_deg, near, far, resolution)
             }
         };
-        LightView { light_size, ..view }
+        LightView { light_size: light.size().ok(), ..view }
     }
 
     /// (u, v, d) of world point `p`, computed in f32 through `clip_from_world` as a GPU would:
@@ -231,11 +218,11 @@ mod tests {
     use super::*;
 
     fn light(kind: LightKind) -> Light {
-        Light { name: "l".into(), kind, angular_diameter_deg: None, radius: None }
+        Light { name: "l".into(), kind }
     }
 
     fn sun(direction: Vec3) -> Light {
-        light(LightKind::Directional { direction: direction.normalize() })
+        light(LightKind::Directional { direction: direction.normalize(), angular_diameter_deg: None })
     }
 
     fn lamp() -> Light {
@@ -245,6 +232,7 @@ mod tests {
             cone_deg: 70.0,
             near: 0.5,
             far: 30.0,
+            radius: None,
         })
     }
 
@@ -325,7 +313,7 @@ mod tests {
         let point = (Vec3::ONE, Vec3::ONE);
         let v = LightView::new(&sun(Vec3::new(0.2, -1.0, 0.5)), point, 64);
         assert!(v.clip_from_world.is_finite() && v.near > 0.0 && v.far > v.near);
-        let zero = light(LightKind::Directional { direction: Vec3::ZERO });
+        let zero = light(LightKind::Directional { direction: Vec3::ZERO, angular_diameter_deg: None });
         assert!(LightView::new(&zero, BOUNDS, 64).clip_from_world.is_finite());
         let bad_spot = light(LightKind::Spot {
             position: Vec3::ZERO,
@@ -333,6 +321,7 @@ mod tests {
             cone_deg: 400.0,
             near: -1.0,
             far: f32::NAN,
+            radius: None,
         });
         let v = LightView::new(&bad_spot, BOUNDS, 64);
         assert!(v.clip_from_world.is_finite() && v.near > 0.0 && v.far > v.near);

@@ -71,7 +71,7 @@ pub fn shaded_base(gbuffer: &GBuffer, light: &Light) -> IndexedImage {
                 PixelClass::FacingAway => 0.22 + 0.18 * sky,
                 cls => {
                     let l = match &light.kind {
-                        LightKind::Directional { direction } => -direction.normalize(),
+                        LightKind::Directional { direction, .. } => -direction.normalize(),
                         LightKind::Spot { position, .. } => {
                             (*position - gbuffer.position[i]).normalize_or(Vec3::Y)
                         }

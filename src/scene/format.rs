@@ -5,7 +5,7 @@
 //! each with its JSON path.
 
 use super::shapes::Shape;
-use super::{Camera, Light, LightKind, SCENE_FORMAT, Transform};
+use super::{Camera, Light, LightKind, LightSize, SCENE_FORMAT, Transform};
 use crate::json_input::{
     Problems, Reader, as_array_of, as_bool, as_name, as_positive, as_positive_array, as_string, count,
     open_range, show,
@@ -218,16 +218,19 @@ fn read_light(r: &mut Reader) -> Option<Light> {
     let direction = r.required("direction", as_direction);
     let light = match light_type.as_deref() {
         Some("directional") => {
-            let angular = r.optional("angular_diameter_deg", open_range(0.0, 90.0));
-            let kind = LightKind::Directional { direction: direction? };
-            Light { name: name?, kind, angular_diameter_deg: angular.map(|a| a as f32), radius: None }
+            let angular = r.optional(LightSize::ANGULAR_DIAMETER_FIELD, open_range(0.0, 90.0));
+            let kind = LightKind::Directional {
+                direction: direction?,
+                angular_diameter_deg: angular.map(|a| a as f32),
+            };
+            Light { name: name?, kind }
         }
         Some("spot") => {
             let position = r.required("position", as_vec3);
             let cone_deg = r.required("cone_deg", open_range(0.0, 180.0));
             let near = r.required("near", as_positive);
             let far = r.required("far", as_positive);
-            let radius = r.optional("radius", as_positive);
+            let radius = r.optional(LightSize::RADIUS_FIELD, as_positive);
             let (near, far) = (near?, far?);
             if far <= near {
                 r.problem("far", format!("must be greater than `near` ({})", show(near)));
@@ -239,8 +242,9 @@ fn read_light(r: &mut Reader) -> Option<Light> {
                 cone_deg: cone_deg? as f32,
                 near: near as f32,
                 far: far as f32,
+                radius: radius.map(|x| x as f32),
             };
-            Light { name: name?, kind, angular_diameter_deg: None, radius: radius.map(|x| x as f32) }
+            Light { name: name?, kind }
         }
         Some(other) => {
             r.problem("type", format!("unknown light type \"{other}\"; expected directional or spot"));

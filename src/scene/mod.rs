@@ -9,15 +9,17 @@ mod load;
 mod obj;
 mod shapes;
 mod transform;
+mod view_key;
 
 pub use camera::Camera;
 pub use error::{Problem, SceneError};
-pub use light::{Light, LightKind};
+pub use light::{Light, LightKind, LightSize, NoLightSize};
 pub(crate) use load::load_scene_str_within;
 pub use load::{load_scene, load_scene_str};
 pub(crate) use obj::parse_obj;
 pub use shapes::{IndexedMesh, Shape};
 pub use transform::Transform;
+pub use view_key::ViewKey;
 
 use glam::Vec3;
 

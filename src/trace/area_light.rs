@@ -49,13 +49,15 @@ fn emitter(light: &Light, grid: u32) -> Result<Emitter, AreaLightError> {
     if grid == 0 {
         return Err(AreaLightError::NoSamples { light: name() });
     }
+    let size = light.size().map_err(|e| AreaLightError::NoSize { light: name(), field: e.field })?;
+    if !size.is_usable() {
+        return Err(AreaLightError::BadSize { light: name(), field: size.field(), value: size.value() });
+    }
+    // `size` is the kind's own: the angular diameter (degrees) of a directional light, the disk
+    // radius (world units) of a spot.
     match &light.kind {
-        LightKind::Directional { direction } => {
-            let field = "angular_diameter_deg";
-            let alpha = light.angular_diameter_deg.ok_or(AreaLightError::NoSize { light: name(), field })?;
-            if !(alpha > 0.0 && alpha < 180.0) {
-                return Err(AreaLightError::BadSize { light: name(), field, value: alpha });
-            }
+        LightKind::Directional { direction, .. } => {
+            let alpha = size.value();
             let axis = -direction.as_dvec3().normalize();
             let (tangent, bitangent) = orthonormal_frame(axis);
             // 1 − cos θ as 2 sin²(θ/2): no cancellation for small suns.
@@ -63,11 +65,7 @@ fn emitter(light: &Light, grid: u32) -> Result<Emitter, AreaLightError> {
             Ok(Emitter::Cap { axis, tangent, bitangent, one_minus_cos: 2.0 * s * s })
         }
         LightKind::Spot { position, direction, .. } => {
-            let field = "radius";
-            let radius = light.radius.ok_or(AreaLightError::NoSize { light: name(), field })?;
-            if !(radius > 0.0 && radius.is_finite()) {
-                return Err(AreaLightError::BadSize { light: name(), field, value: radius });
-            }
+            let radius = size.value();
             let (tangent, bitangent) = orthonormal_frame(direction.as_dvec3().normalize());
             Ok(Emitter::Disk { centre: position.as_dvec3(), tangent, bitangent, radius: radius as f64 })
         }

@@ -20,7 +20,7 @@
 use super::soft_reference::{SoftKind, SoftReference};
 use super::{AreaLightError, TRACER_VERSION};
 use crate::atomic_file::{encode_gray_png, remove_stray_temp_files, write_atomic};
-use crate::scene::{Camera, Light, LightKind, Scene};
+use crate::scene::{Camera, Light, LightKind, LightSize, Scene, ViewKey};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
@@ -36,7 +36,7 @@ pub const MANIFEST_LOCK_FILE: &str = ".manifest.lock";
 #[serde(deny_unknown_fields)]
 struct Manifest {
     format: String,
-    /// Key `scene/camera/light`.
+    /// Key `scene/camera/light` (hard masks) or `scene/camera/light/KIND-NxN` (soft references).
     entries: BTreeMap<String, ManifestEntry>,
 }
 
@@ -109,12 +109,14 @@ pub fn soft_reference_digest(
     hash_view(&mut h, scene, camera, light);
     h.update(b"samples");
     h.update(grid.to_le_bytes());
-    for (name, size) in [("angular_diameter_deg", light.angular_diameter_deg), ("radius", light.radius)] {
-        h.update(name.as_bytes());
-        match size {
-            Some(x) => {
+    // Both fields, each present or absent, as when a light could hold both sizes.
+    let size = light.size().ok();
+    for field in [LightSize::ANGULAR_DIAMETER_FIELD, LightSize::RADIUS_FIELD] {
+        h.update(field.as_bytes());
+        match size.filter(|s| s.field() == field) {
+            Some(s) => {
                 h.update([1]);
-                h.update(x.to_bits().to_le_bytes());
+                h.update(s.value().to_bits().to_le_bytes());
             }
             None => h.update([0]),
         }
@@ -133,11 +135,11 @@ fn hash_view(h: &mut Sha256, scene: &Scene, camera: &Camera, light: &Light) {
     h.update(camera.width.to_le_bytes());
     h.update(camera.height.to_le_bytes());
     match &light.kind {
-        LightKind::Directional { direction } => {
+        LightKind::Directional { direction, .. } => {
             h.update(b"directional");
             floats(h, &direction.to_array());
         }
-        LightKind::Spot { position, direction, cone_deg, near, far } => {
+        LightKind::Spot { position, direction, cone_deg, near, far, .. } => {
             h.update(b"spot");
             floats(h, &position.to_array());
             floats(h, &direction.to_array());
@@ -151,12 +153,14 @@ pub struct ReferenceCache {
     dir: PathBuf,
 }
 
-fn key(scene: &str, camera: &str, light: &str) -> String {
-    format!("{scene}/{camera}/{light}")
+/// The manifest key of a view's hard mask: `scene/camera/light`.
+fn key(view: ViewKey) -> String {
+    format!("{}/{}/{}", view.scene, view.camera, view.light)
 }
 
-fn soft_key(scene: &str, camera: &str, light: &str, kind: SoftKind, grid: u32) -> String {
-    format!("{scene}/{camera}/{light}/{}-{grid}x{grid}", kind.name())
+/// The manifest key of a view's soft reference: `scene/camera/light/KIND-NxN`.
+fn soft_key(view: ViewKey, kind: SoftKind, grid: u32) -> String {
+    format!("{}/{}-{grid}x{grid}", key(view), kind.name())
 }
 
 impl ReferenceCache {
@@ -181,19 +185,19 @@ impl ReferenceCache {
     }
 
     /// The digest recorded for a mask, if any.
-    pub fn recorded_digest(&self, scene: &str, camera: &str, light: &str) -> Option<String> {
-        self.read_manifest().entries.get(&key(scene, camera, light)).map(|e| e.digest.clone())
+    pub fn recorded_digest(&self, view: ViewKey) -> Option<String> {
+        self.read_manifest().entries.get(&key(view)).map(|e| e.digest.clone())
     }
 
-    /// The path of a cached mask, relative to the cache folder.
-    pub fn mask_path(scene: &str, camera: &str, light: &str) -> String {
-        format!("{scene}/{camera}__{light}.png")
+    /// The path of a cached mask, relative to the cache folder: `scene/camera__light.png`.
+    pub fn mask_path(view: ViewKey) -> String {
+        format!("{}/{}__{}.png", view.scene, view.camera, view.light)
     }
 
     /// The cached mask when its recorded digest equals `digest` and the file decodes.
-    pub fn load(&self, scene: &str, camera: &str, light: &str, digest: &str) -> Option<CachedReference> {
+    pub fn load(&self, view: ViewKey, digest: &str) -> Option<CachedReference> {
         let manifest = self.read_manifest();
-        let entry = manifest.entries.get(&key(scene, camera, light))?;
+        let entry = manifest.entries.get(&key(view))?;
         if entry.digest != digest {
             return None;
         }
@@ -207,19 +211,17 @@ impl ReferenceCache {
     /// Writes a mask and records it in the manifest (both atomically).
     pub fn store(
         &self,
-        scene: &str,
-        camera: &str,
-        light: &str,
+        view: ViewKey,
         digest: &str,
         width: u32,
         height: u32,
         codes: &[u8],
     ) -> std::io::Result<()> {
-        let rel = Self::mask_path(scene, camera, light);
+        let rel = Self::mask_path(view);
         self.write_file(&rel, &encode_gray_png(width, height, codes)?)?;
         let entry =
             ManifestEntry { mask: rel, digest: digest.into(), width, height, kind: hard_kind(), samples: 1 };
-        self.record(key(scene, camera, light), entry)
+        self.record(key(view), entry)
     }
 
     /// Writes a cached file (atomically), first removing stray temporary files from its folder.
@@ -255,38 +257,21 @@ impl ReferenceCache {
     }
 
     /// The digest recorded for a soft reference, if any.
-    pub fn recorded_soft_digest(
-        &self,
-        scene: &str,
-        camera: &str,
-        light: &str,
-        kind: SoftKind,
-        grid: u32,
-    ) -> Option<String> {
-        self.read_manifest()
-            .entries
-            .get(&soft_key(scene, camera, light, kind, grid))
-            .map(|e| e.digest.clone())
+    pub fn recorded_soft_digest(&self, view: ViewKey, kind: SoftKind, grid: u32) -> Option<String> {
+        self.read_manifest().entries.get(&soft_key(view, kind, grid)).map(|e| e.digest.clone())
     }
 
-    /// The path of a cached soft reference, relative to the cache folder.
-    pub fn soft_path(scene: &str, camera: &str, light: &str, kind: SoftKind, grid: u32) -> String {
-        format!("{scene}/{camera}__{light}.{}-{grid}x{grid}.exr", kind.name())
+    /// The path of a cached soft reference, relative to the cache folder:
+    /// `scene/camera__light.KIND-NxN.exr`.
+    pub fn soft_path(view: ViewKey, kind: SoftKind, grid: u32) -> String {
+        format!("{}/{}__{}.{}-{grid}x{grid}.exr", view.scene, view.camera, view.light, kind.name())
     }
 
     /// The cached soft reference when its recorded digest equals `digest` and the file decodes
     /// with the recorded size and sample count.
-    pub fn load_soft(
-        &self,
-        scene: &str,
-        camera: &str,
-        light: &str,
-        kind: SoftKind,
-        grid: u32,
-        digest: &str,
-    ) -> Option<SoftReference> {
+    pub fn load_soft(&self, view: ViewKey, kind: SoftKind, grid: u32, digest: &str) -> Option<SoftReference> {
         let manifest = self.read_manifest();
-        let entry = manifest.entries.get(&soft_key(scene, camera, light, kind, grid))?;
+        let entry = manifest.entries.get(&soft_key(view, kind, grid))?;
         if entry.digest != digest || entry.kind != kind.name() || entry.samples != grid * grid {
             return None;
         }
@@ -301,15 +286,13 @@ impl ReferenceCache {
     /// n×n grid of its `samples`.
     pub fn store_soft(
         &self,
-        scene: &str,
-        camera: &str,
-        light: &str,
+        view: ViewKey,
         kind: SoftKind,
         digest: &str,
         reference: &SoftReference,
     ) -> std::io::Result<()> {
         let grid = reference.samples.isqrt();
-        let rel = Self::soft_path(scene, camera, light, kind, grid);
+        let rel = Self::soft_path(view, kind, grid);
         self.write_file(&rel, &reference.to_exr()?)?;
         let entry = ManifestEntry {
             mask: rel,
@@ -319,7 +302,7 @@ impl ReferenceCache {
             kind: kind.name().into(),
             samples: reference.samples,
         };
-        self.record(soft_key(scene, camera, light, kind, grid), entry)
+        self.record(soft_key(view, kind, grid), entry)
     }
 }
 
@@ -335,8 +318,9 @@ impl ReferenceCache {
         camera: &Camera,
         light: &Light,
     ) -> std::io::Result<(super::HardReference, bool)> {
+        let view = ViewKey::from_view(scene, camera, light);
         let digest = reference_digest(scene, camera, light);
-        if let Some(cached) = self.load(&scene.name, &camera.name, &light.name, &digest) {
+        if let Some(cached) = self.load(view, &digest) {
             let reference = super::HardReference::from_mask_codes(cached.width, cached.height, &cached.codes);
             if reference.mask_codes(gbuffer) == cached.codes {
                 return Ok((reference, true));
@@ -344,7 +328,7 @@ impl ReferenceCache {
         }
         let reference = super::trace_hard_reference(bvh, gbuffer, light);
         let codes = reference.mask_codes(gbuffer);
-        self.store(&scene.name, &camera.name, &light.name, &digest, gbuffer.width, gbuffer.height, &codes)?;
+        self.store(view, &digest, gbuffer.width, gbuffer.height, &codes)?;
         Ok((reference, false))
     }
 }
@@ -399,15 +383,15 @@ impl ReferenceCache {
         grid: u32,
         trace: impl FnOnce() -> std::io::Result<SoftReference>,
     ) -> std::io::Result<(SoftReference, bool)> {
+        let view = ViewKey::from_view(scene, camera, light);
         let digest = soft_reference_digest(scene, camera, light, kind, grid);
-        let names = (&scene.name, &camera.name, &light.name);
-        if let Some(cached) = self.load_soft(names.0, names.1, names.2, kind, grid, &digest)
+        if let Some(cached) = self.load_soft(view, kind, grid, &digest)
             && cached.fits(gbuffer)
         {
             return Ok((cached, true));
         }
         let reference = trace()?;
-        self.store_soft(names.0, names.1, names.2, kind, &digest, &reference)?;
+        self.store_soft(view, kind, &digest, &reference)?;
         Ok((reference, false))
     }
 }

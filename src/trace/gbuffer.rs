@@ -64,7 +64,7 @@ impl GBuffer {
 /// Unit vector from `p` towards the light, in f64.
 pub fn to_light(light: &Light, p: DVec3) -> DVec3 {
     match &light.kind {
-        LightKind::Directional { direction } => -direction.as_dvec3().normalize(),
+        LightKind::Directional { direction, .. } => -direction.as_dvec3().normalize(),
         LightKind::Spot { position, .. } => (position.as_dvec3() - p).normalize(),
     }
 }
@@ -73,7 +73,7 @@ pub fn to_light(light: &Light, p: DVec3) -> DVec3 {
 pub fn inside_light(light: &Light, p: DVec3) -> bool {
     match &light.kind {
         LightKind::Directional { .. } => true,
-        LightKind::Spot { position, direction, cone_deg, near, far } => {
+        LightKind::Spot { position, direction, cone_deg, near, far, .. } => {
             let axis = direction.as_dvec3().normalize();
             let offset = p - position.as_dvec3();
             let along = offset.dot(axis);

@@ -15,6 +15,7 @@ mod sampling;
 mod shadow_ray;
 mod simd4;
 mod soft_reference;
+pub(crate) mod splitmix;
 mod watertight;
 
 pub use area_light::{AreaLightError, trace_area_light_reference, validate_area_light};

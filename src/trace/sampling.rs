@@ -3,24 +3,8 @@
 //! samples are the same bits whatever thread traces it; the concentric square-to-disk map; an
 //! orthonormal frame around a direction.
 
+use super::splitmix::{mix64, unit_f64};
 use glam::DVec3;
-
-/// The splitmix64 finalizer (Steele, Lea & Flood, "Fast splittable pseudorandom number
-/// generators", OOPSLA 2014): a bijective 64-bit mix whose outputs for consecutive inputs are
-/// statistically independent enough for jitter.
-#[inline]
-pub fn mix64(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
-}
-
-/// A uniform number in [0, 1) from the top 53 bits of a hash.
-#[inline]
-fn unit(h: u64) -> f64 {
-    (h >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-}
 
 /// The centre of stratum `k` (row-major) of a `grid`×`grid` split of the unit square.
 #[inline]
@@ -36,7 +20,7 @@ pub fn jittered_stratum(pixel: u64, k: u32, grid: u32, salt: u64) -> (f64, f64) 
     let h1 = mix64(mix64(pixel ^ salt.rotate_left(32)) ^ k as u64);
     let h2 = mix64(h1);
     let (i, j) = (k % grid, k / grid);
-    ((i as f64 + unit(h1)) / grid as f64, (j as f64 + unit(h2)) / grid as f64)
+    ((i as f64 + unit_f64(h1)) / grid as f64, (j as f64 + unit_f64(h2)) / grid as f64)
 }
 
 /// Shirley & Chiu, "A Low Distortion Map Between Disk and Square" (JGT 1997), in the

@@ -64,7 +64,7 @@ impl<'a> Adjudicator<'a> {
                 let d = position.as_dvec3() - p.as_dvec3();
                 (Toward::Point(*position), d, d.length(), 1.0)
             }
-            LightKind::Directional { direction } => {
+            LightKind::Directional { direction, .. } => {
                 (Toward::Direction(-*direction), -direction.as_dvec3(), f64::INFINITY, f64::INFINITY)
             }
         };
