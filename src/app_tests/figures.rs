@@ -16,6 +16,7 @@ use shadowtruth::report::figures::{
 };
 use shadowtruth::report::font;
 use shadowtruth::report::indexed_image::{FALSE_LIT, FALSE_SHADOW, IndexedImage};
+use shadowtruth::scene::ViewKey;
 use shadowtruth::technique::{ConstantParams, CullSpec, NoneParams, SlopeScaledParams, TechniqueSpec};
 use std::collections::HashSet;
 
@@ -300,9 +301,10 @@ fn run_stems_are_unique_and_file_name_safe() {
         ("plane_box", "top", "sun"),
         ("plane", "box.main", "sun"),
     ];
-    let view_stems: HashSet<String> = views.iter().map(|(s, c, l)| view_stem(s, c, l)).collect();
+    let view_stems: HashSet<String> =
+        views.iter().map(|(s, c, l)| view_stem(ViewKey::new(s, c, l))).collect();
     assert_eq!(view_stems.len(), views.len());
-    assert!(view_stem("plane_box", "main", "sun").starts_with("plane_box.main.sun."));
+    assert!(view_stem(ViewKey::new("plane_box", "main", "sun")).starts_with("plane_box.main.sun."));
     for stem in &view_stems {
         assert!(stem.chars().all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.')), "{stem:?}");
     }

@@ -6,7 +6,7 @@ use super::PlanError;
 use super::references::ViewReferences;
 use crate::raster::DepthFormat;
 use crate::record::{RunRecord, SceneRecord};
-use crate::scene::{Camera, Light, Scene};
+use crate::scene::{Camera, Light, Scene, ViewKey};
 use crate::trace::GBuffer;
 
 /// One (scene, camera, light) view, traced: what every run of the view is scored against.
@@ -16,6 +16,13 @@ pub struct TracedView<'a> {
     pub light: &'a Light,
     pub gbuffer: &'a GBuffer,
     pub references: &'a ViewReferences,
+}
+
+impl TracedView<'_> {
+    /// The view's names.
+    pub fn key(&self) -> ViewKey<'_> {
+        ViewKey::from_view(self.scene, self.camera, self.light)
+    }
 }
 
 /// Progress of a plan, in schedule order.

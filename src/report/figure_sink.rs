@@ -57,7 +57,7 @@ impl FigureSink {
     fn view_traced(&mut self, view: &TracedView) -> Result<(), PlanError> {
         let sw = Stopwatch::start();
         let canvas = ViewCanvas::new(view.gbuffer, &view.references.hard, view.light);
-        let stem = view_stem(&view.scene.name, &view.camera.name, &view.light.name);
+        let stem = view_stem(view.key());
         write_reference_figure(&self.dir, &stem, view.gbuffer, &view.references.hard, &canvas)
             .map_err(self.io())?;
         self.canvas = Some(canvas);
@@ -109,7 +109,7 @@ impl FigureSink {
             .map_err(self.io())?;
         let cells: Vec<GridCell> =
             cells.iter().map(|(caption, image)| GridCell { image, caption: caption.clone() }).collect();
-        let stem = view_stem(&view.scene.name, &view.camera.name, &view.light.name);
+        let stem = view_stem(view.key());
         let path = self.dir.join(format!("{stem}.r{resolution}.{}.grid.png", format.name()));
         grid(&cells, 4, GRID_CELL_WIDTH).write_png(&path).map_err(self.io())?;
         self.spent_ms += sw.ms();

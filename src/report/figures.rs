@@ -14,7 +14,7 @@
 use super::font;
 pub use super::indexed_image::{FALSE_LIT_INDEX, FALSE_SHADOW_INDEX, GREY_MAX, IndexedImage, grey, is_grey};
 use crate::record::RunRecord;
-use crate::scene::{Light, LightKind};
+use crate::scene::{Light, LightKind, ViewKey};
 use crate::trace::{GBuffer, HardReference, PixelClass};
 use glam::Vec3;
 use rayon::prelude::*;
@@ -569,10 +569,10 @@ fn short_hash(parts: &[&str]) -> String {
 /// `<scene>.<camera>.<light>.<hash>`, each name passed through a character filter (only ASCII
 /// letters, digits, `_`, `-`, `.`) and `<hash>` the first 8 hex digits of the SHA-256 of the
 /// exact names, so that views whose filtered names coincide still get distinct stems.
-pub fn view_stem(scene: &str, camera: &str, light: &str) -> String {
-    let mut readable = view_readable(scene, camera, light);
+pub fn view_stem(view: ViewKey) -> String {
+    let mut readable = view_readable(view.scene, view.camera, view.light);
     readable.truncate(MAX_READABLE);
-    format!("{readable}.{}", short_hash(&[scene, camera, light]))
+    format!("{readable}.{}", short_hash(&[view.scene, view.camera, view.light]))
 }
 
 /// A readable, file-name-safe and unique stem for a run's files:
