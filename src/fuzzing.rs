@@ -65,7 +65,7 @@ pub fn gate_rules(data: &[u8]) {
         return;
     };
     let (report, baseline) = gate_reports();
-    let baseline = (data.len() % 2 == 0).then_some(baseline);
+    let baseline = data.len().is_multiple_of(2).then_some(baseline);
     let options = GateOptions { allow_missing: data.len() % 4 >= 2 };
     if let Ok(outcome) = evaluate(report, baseline, &rules, options) {
         let _ = (outcome.text(), outcome.markdown(), junit_xml(&outcome));

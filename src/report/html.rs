@@ -67,7 +67,7 @@ pub fn index_html(report: &Report, assets: &PageAssets) -> String {
     runs_table(&mut h, report, assets);
     figures_section(&mut h, assets);
     plots_section(&mut h, assets);
-    let _ = write!(h, "<script>{SCRIPT}</script></body></html>\n");
+    let _ = writeln!(h, "<script>{SCRIPT}</script></body></html>");
     h
 }
 

@@ -119,9 +119,13 @@ fn parameter_sweeps(report: &Report) -> Vec<Chart> {
         .collect()
 }
 
+/// Points (x, y) of a chart's series, by series name.
+type SeriesByName = BTreeMap<String, Vec<(f64, f64)>>;
+
 /// Error against resolution, one series per technique setting.
 fn resolution_charts(report: &Report) -> Vec<Chart> {
-    let mut groups: BTreeMap<(String, String), BTreeMap<String, Vec<(f64, f64)>>> = BTreeMap::new();
+    // By (view, depth format).
+    let mut groups: BTreeMap<(String, String), SeriesByName> = BTreeMap::new();
     for r in &report.runs {
         let view = format!("{}/{}/{}", r.scene, r.camera, r.light);
         groups
@@ -170,7 +174,9 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
 /// Shading cost against error at each resolution, one point per technique setting, with the
 /// Pareto front.
 fn cost_charts(report: &Report) -> Vec<Chart> {
-    let mut groups: BTreeMap<(String, u32, String), Vec<(String, (f64, f64))>> = BTreeMap::new();
+    // By (view, resolution, depth format): (label, (cost, error)) per run.
+    type Points = Vec<(String, (f64, f64))>;
+    let mut groups: BTreeMap<(String, u32, String), Points> = BTreeMap::new();
     for r in &report.runs {
         let view = format!("{}/{}/{}", r.scene, r.camera, r.light);
         groups

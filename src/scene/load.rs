@@ -136,10 +136,10 @@ fn load_with_limits(text: &str, source: &Path, base_dir: &Path, limits: Limits) 
             }
             None => None,
         };
-        if let Some(mesh) = mesh {
-            if budget.admit_mesh(&object.path, mesh.triangles.len() as u64, &mut problems) {
-                add_object(&mut scene, object, &mesh, &mut problems);
-            }
+        if let Some(mesh) = mesh
+            && budget.admit_mesh(&object.path, mesh.triangles.len() as u64, &mut problems)
+        {
+            add_object(&mut scene, object, &mesh, &mut problems);
         }
     }
     if problems.list.is_empty() && scene.triangles.is_empty() {

@@ -86,7 +86,7 @@ impl MdsmParams {
         if !(1..=4).contains(&self.depths) {
             return Err(err("depths", format!("must be 1, 2, 3 or 4, found {}", self.depths)));
         }
-        if self.neighbourhood % 2 == 0 || !(1..=15).contains(&self.neighbourhood) {
+        if self.neighbourhood.is_multiple_of(2) || !(1..=15).contains(&self.neighbourhood) {
             return Err(err("neighbourhood", "must be an odd number of texels from 1 to 15"));
         }
         if self.bias == TapBiasSpec::SlopeScaled {
