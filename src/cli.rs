@@ -4,8 +4,8 @@
 use crate::atomic_file::write_atomic;
 use crate::metrics::{Stopwatch, median_ms};
 use crate::plan::{
-    DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_MAX_RUNS, Event, MAX_REFERENCE_GRID, Plan,
-    PlanError, Sink, execute, read_plan,
+    DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_MAX_RUNS, Event, MAX_REFERENCE_GRID, MAX_REPEATS,
+    Plan, PlanError, Sink, execute, read_plan,
 };
 use crate::raster::MAX_SHADOW_MAP_RESOLUTION;
 use crate::report::{
@@ -179,7 +179,7 @@ struct RunArgs {
     #[arg(long, default_value_t = DEFAULT_MAX_RUNS, value_parser = clap::value_parser!(u64).range(1..))]
     max_runs: u64,
     /// Timings are medians of this many layer builds and shading passes (default: the plan's, 3).
-    #[arg(long)]
+    #[arg(long, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_REPEATS as u64))]
     repeats: Option<usize>,
     /// Worker threads (default: all cores).
     #[arg(long)]
@@ -522,9 +522,6 @@ fn run_plan(a: RunArgs) -> Result<u8> {
         plan.zoom = Some([z[0], z[1], z[2], z[3]]);
     }
     if let Some(n) = a.repeats {
-        if n == 0 {
-            bail!("--repeats must be at least 1");
-        }
         plan.repeats = n;
     }
     let cache = (!a.no_cache).then(|| crate::trace::ReferenceCache::new(&a.references));

@@ -10,6 +10,7 @@
 
 use super::Plan;
 use super::size::{PlanSize, TechniqueEntry};
+use super::spec::MAX_REPEATS;
 use crate::json_input::{Problem, Problems, Reader, as_name, as_string, count, describe, parse_json};
 use crate::raster::{DepthFormat, MAX_SHADOW_MAP_RESOLUTION};
 use crate::technique::TechniqueSpec;
@@ -21,9 +22,6 @@ pub const PLAN_FORMAT: &str = "shadowtruth/plan/v1";
 
 /// A plan above this many runs is refused unless the limit is raised (`run --max-runs`).
 pub const DEFAULT_MAX_RUNS: u64 = 100_000;
-
-/// Largest number of timing repeats.
-const MAX_REPEATS: u64 = 1000;
 
 /// Every problem of a plan, each with its file and JSON path.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -93,7 +91,7 @@ fn read_plan_value(root: &Value, path: &Path, max_runs: u64, problems: &mut Prob
     let resolutions = top.required_list("resolutions", count(1, MAX_SHADOW_MAP_RESOLUTION as u64));
     let depth_formats =
         top.optional_list("depth_formats", as_depth_format).unwrap_or(Some(vec![DepthFormat::F32]));
-    let repeats = top.optional_or("repeats", count(1, MAX_REPEATS), 3);
+    let repeats = top.optional_or("repeats", count(1, MAX_REPEATS as u64), 3);
     let max_grid = super::MAX_REFERENCE_GRID as u64;
     let coverage_grid = top.optional_or("coverage_grid", count(1, max_grid), super::DEFAULT_COVERAGE_GRID);
     let area_light_grid =

@@ -39,6 +39,9 @@ pub const DEFAULT_AREA_LIGHT_GRID: u32 = 8;
 /// plan and on the command line.
 pub const MAX_REFERENCE_GRID: u32 = 64;
 
+/// Largest number of timing repeats, in a plan and on the command line.
+pub const MAX_REPEATS: usize = 1000;
+
 /// The default plan file, built into the binary so that `run` works from anywhere.
 pub const DEFAULT_PLAN_JSON: &str = include_str!("../../plans/default.json");
 

@@ -15,7 +15,7 @@ pub const MAX_SHADOW_MAP_RESOLUTION: u32 = 16384;
 /// What `LightView::light_size` holds; PCSS reads it from here.
 pub use crate::scene::LightSize;
 pub use layer::{DepthLayer, DepthPairLayer};
-pub use multi_depth::{DepthSelection, MultiDepthLayer};
+pub use multi_depth::{DepthSelection, MAX_DEPTHS_PER_TEXEL, MultiDepthLayer};
 pub use projection::{LightView, Projection};
 pub use rasterize::{
     Culling, RasterSettings, rasterize_coverage, rasterize_nearest, rasterize_nearest_into,

@@ -26,12 +26,15 @@ pub struct MultiDepthLayer {
     pub depth: Vec<f32>,
 }
 
+/// Most depths per texel of a multiple-depth map.
+pub const MAX_DEPTHS_PER_TEXEL: u32 = 4;
+
 impl MultiDepthLayer {
-    /// The n-SM of `base` with `n` depths (1..=4), extra depths selected over `neighbourhood`²
+    /// The n-SM of `base` with `n` depths (1 to [`MAX_DEPTHS_PER_TEXEL`]), extra depths selected over `neighbourhood`²
     /// texels (odd, ≥ 1) and larger windows as described in the module notes.
     pub fn from_base(base: &DepthLayer, n: u32, neighbourhood: u32, selection: DepthSelection) -> Self {
         let res = base.resolution as usize;
-        let n = n.clamp(1, 4) as usize;
+        let n = n.clamp(1, MAX_DEPTHS_PER_TEXEL) as usize;
         let mut depth = vec![0.0f32; res * res * n];
         let r0 = (neighbourhood.max(1) / 2) as usize;
         let extra: Vec<(bool, usize)> = (1..n)

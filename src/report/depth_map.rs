@@ -4,13 +4,9 @@
 
 use crate::atomic_file::write_atomic;
 use crate::raster::{DepthLayer, LightView};
+use crate::trace::EXR_ENCODING;
 use exr::prelude::*;
 use std::path::Path;
-
-/// Run-length-encoded 64×64 tiles written in increasing order, so that the same layer gives the
-/// same bytes (with `Encoding::FAST_LOSSLESS`'s unspecified order the exr crate writes tiles as
-/// its parallel compressor finishes them).
-const EXR_ENCODING: Encoding = Encoding { line_order: LineOrder::Increasing, ..Encoding::FAST_LOSSLESS };
 
 /// Writes `path` (EXR, channel `Z`) and `path` with extension `.json` (the sidecar).
 pub fn write_depth_map(

@@ -562,7 +562,7 @@ fn short_hash(parts: &[&str]) -> String {
         hasher.update((part.len() as u64).to_le_bytes());
         hasher.update(part.as_bytes());
     }
-    hasher.finalize()[..4].iter().map(|b| format!("{b:02x}")).collect()
+    crate::scene::hex(&hasher.finalize()[..4])
 }
 
 /// A readable, file-name-safe and unique stem for a view's files (its reference figure):

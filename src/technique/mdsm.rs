@@ -10,7 +10,7 @@ use super::{
     EpsilonSpec, KernelSpec, LayerNeeds, MultiDepthNeeds, Pcf, ReferenceKind, TapBiasSpec, TapThreshold,
     Technique, TechniqueParams, TechniqueSpecError,
 };
-use crate::raster::DepthSelection;
+use crate::raster::{DepthSelection, MAX_DEPTHS_PER_TEXEL};
 use serde::{Deserialize, Serialize};
 
 /// Which extra depths a multiple-depth map keeps.
@@ -83,8 +83,9 @@ impl MdsmParams {
     }
 
     fn validate_map(&self) -> Result<(), TechniqueSpecError> {
-        if !(1..=4).contains(&self.depths) {
-            return Err(err("depths", format!("must be 1, 2, 3 or 4, found {}", self.depths)));
+        if !(1..=MAX_DEPTHS_PER_TEXEL).contains(&self.depths) {
+            let message = format!("must be between 1 and {MAX_DEPTHS_PER_TEXEL}, found {}", self.depths);
+            return Err(err("depths", message));
         }
         if self.neighbourhood.is_multiple_of(2) || !(1..=15).contains(&self.neighbourhood) {
             return Err(err("neighbourhood", "must be an odd number of texels from 1 to 15"));

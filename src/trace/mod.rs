@@ -26,6 +26,7 @@ pub use coverage::trace_coverage_reference;
 pub use gbuffer::{GBuffer, PixelClass};
 pub use reference::{HardReference, MaskCode, hard_shadow_ray, trace_hard_reference};
 pub use shadow_ray::{ShadowRay, SurfacePoint, offset_ray_origin, position_error};
+pub(crate) use soft_reference::EXR_ENCODING;
 pub use soft_reference::{SoftKind, SoftReference};
 pub use watertight::{RayTriangleHit, WatertightRay};
 

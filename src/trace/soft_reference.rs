@@ -85,7 +85,10 @@ pub(super) fn trace_evaluated(
 /// Run-length-encoded 64×64 tiles written in increasing order. The exr crate compresses tiles in
 /// parallel and, with `LineOrder::Unspecified` (`Encoding::FAST_LOSSLESS`), writes each as it
 /// finishes, so that the bytes of one image would differ from run to run.
-const EXR_ENCODING: Encoding = Encoding { line_order: LineOrder::Increasing, ..Encoding::FAST_LOSSLESS };
+/// How every EXR of this tool is encoded: lossless, tiles in increasing order (the same image is
+/// the same bytes).
+pub(crate) const EXR_ENCODING: Encoding =
+    Encoding { line_order: LineOrder::Increasing, ..Encoding::FAST_LOSSLESS };
 
 impl SoftReference {
     /// Whether non-evaluated pixels hold zeros and evaluated ones a visibility in [0, 1] with a
