@@ -89,6 +89,17 @@ enum Command {
     /// a `back` camera where the light grazes the slopes. The same seed gives the same bytes;
     /// the default seed gives the committed scenes/papers/island.json.
     Island(IslandArgs),
+    /// Write everything an engine needs to render the same pixels under the same light into
+    /// DIR: view.json, the G-buffer as EXRs and the scene as glTF binary.
+    ///
+    /// view.json (format shadowtruth/view/v1): the camera's view and projection matrices and
+    /// the light's shadow-map view (the CPU rasterizer's, at --resolution) in OpenGL, Vulkan and
+    /// D3D form, each row-major and column-major, with the image size, near/far, the pixel-centre
+    /// convention and the light's parameters. position.exr and normal.exr (f32 R, G, B = x, y,
+    /// z) and ids.exr (u32 triangle, object, class: 0 background, 1 facing away, 2 outside the
+    /// light, 3 evaluated), row 0 at the top. scene.glb: one mesh per object in world space,
+    /// every camera and every light (KHR_lights_punctual).
+    ViewExport(ViewExportArgs),
 }
 
 #[derive(Args)]
@@ -147,6 +158,30 @@ struct DepthMapArgs {
     cull: String,
     #[arg(short, long)]
     out: PathBuf,
+}
+
+#[derive(Args)]
+struct ViewExportArgs {
+    scene: PathBuf,
+    /// Camera name (default: the scene's first camera).
+    #[arg(long)]
+    camera: Option<String>,
+    /// Light name (default: the scene's first light).
+    #[arg(long)]
+    light: Option<String>,
+    /// Shadow-map resolution (texels per side) of the light's exported view.
+    #[arg(long, default_value_t = 2048,
+          value_parser = clap::value_parser!(u32).range(1..=MAX_SHADOW_MAP_RESOLUTION as i64))]
+    resolution: u32,
+    /// Output folder (created if missing).
+    #[arg(short, long)]
+    out: PathBuf,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// No progress messages and no list of files.
+    #[arg(short, long)]
+    quiet: bool,
 }
 
 #[derive(Args)]
@@ -345,6 +380,7 @@ fn run(cli: Cli) -> Result<u8> {
         }
         Command::Gate(a) => gate(a),
         Command::Papers(a) => papers(a),
+        Command::ViewExport(a) => view_export(a),
         Command::Island(a) => {
             crate::papers::write_island(&a.out, a.seed)
                 .with_context(|| format!("writing the island into {}", a.out.display()))?;
@@ -821,5 +857,24 @@ fn depth_map(a: DepthMapArgs) -> Result<u8> {
         serde_json::json!({ "index": a.layer, "format": format.name(), "cull": a.cull, "light": light.name });
     crate::report::write_depth_map(&a.out, &layer, &view, description)
         .with_context(|| format!("writing {}", a.out.display()))?;
+    Ok(0)
+}
+
+fn view_export(a: ViewExportArgs) -> Result<u8> {
+    set_threads(a.threads)?;
+    let scene = load_scene(&a.scene)?;
+    let camera = pick(&scene.cameras, a.camera.as_deref(), |c| &c.name, "camera", &a.scene)?;
+    let light = pick(&scene.lights, a.light.as_deref(), |l| &l.name, "light", &a.scene)?;
+    let bar = if a.quiet { ProgressBar::hidden() } else { ProgressBar::new_spinner() };
+    bar.enable_steady_tick(std::time::Duration::from_millis(120));
+    let files = crate::view_export::write_view_export(&scene, camera, light, a.resolution, &a.out, |step| {
+        bar.set_message(step.to_string())
+    })?;
+    bar.finish_and_clear();
+    if !a.quiet {
+        for f in files {
+            println!("{}", f.display());
+        }
+    }
     Ok(0)
 }

@@ -49,6 +49,7 @@ pub mod scene;
 pub mod technique;
 pub mod trace;
 pub mod verify;
+pub(crate) mod view_export;
 
 #[cfg(test)]
 mod app_tests;
