@@ -25,8 +25,18 @@ struct Case {
 }
 
 /// Every command the binary has; each must have bad-input cases.
-const COMMANDS: [&str; 10] =
-    ["run", "reference", "verify", "export-obj", "depth-map", "report", "gate", "papers", "island", "view-export"];
+const COMMANDS: [&str; 10] = [
+    "run",
+    "reference",
+    "verify",
+    "export-obj",
+    "depth-map",
+    "report",
+    "gate",
+    "papers",
+    "island",
+    "view-export",
+];
 
 fn copy_dir(from: &Path, to: &Path) {
     std::fs::create_dir_all(to).unwrap();

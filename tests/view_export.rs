@@ -141,7 +141,10 @@ fn check_light_matrices(e: &Export, g: &GBuffer, light_name: &str, light: &Value
     assert_eq!(map["far"].as_f64().unwrap() as f32, view.far);
     // D3D's clip_from_world and the view are the rasterizer's own matrices, bit for bit.
     let bits = |m: DMat4| m.as_mat4().to_cols_array().map(f32::to_bits);
-    assert_eq!(bits(matrix(&map["d3d"], "clip_from_world")), view.clip_from_world.to_cols_array().map(f32::to_bits));
+    assert_eq!(
+        bits(matrix(&map["d3d"], "clip_from_world")),
+        view.clip_from_world.to_cols_array().map(f32::to_bits)
+    );
     assert_eq!(bits(matrix(map, "view_from_world")), view.light_from_world.to_cols_array().map(f32::to_bits));
     let light_view = matrix(map, "view_from_world");
     let mut worst: f64 = 0.0;
@@ -165,7 +168,8 @@ fn check_light_matrices(e: &Export, g: &GBuffer, light_name: &str, light: &Value
                 let ndc = c.truncate() / c.w;
                 let y_up = if api == "vulkan" { -ndc.y } else { ndc.y };
                 let depth = if api == "opengl" { 0.5 * ndc.z + 0.5 } else { ndc.z };
-                let err = DVec3::new(0.5 * ndc.x + 0.5 - u, 0.5 * y_up + 0.5 - v, depth - d).abs().max_element();
+                let err =
+                    DVec3::new(0.5 * ndc.x + 0.5 - u, 0.5 * y_up + 0.5 - v, depth - d).abs().max_element();
                 assert!(err <= LIGHT_BOUND, "{api}: clip {ndc} vs ({u}, {v}, {d})");
                 worst = worst.max(err);
             }
@@ -194,7 +198,13 @@ fn read_exr(path: &Path) -> FlatImage {
 
 fn channel<'a>(image: &'a FlatImage, name: &str) -> &'a FlatSamples {
     let layer = &image.layer_data[0];
-    &layer.channel_data.list.iter().find(|c| c.name.eq(name)).unwrap_or_else(|| panic!("no channel {name}")).sample_data
+    &layer
+        .channel_data
+        .list
+        .iter()
+        .find(|c| c.name.eq(name))
+        .unwrap_or_else(|| panic!("no channel {name}"))
+        .sample_data
 }
 
 #[test]

@@ -2,6 +2,7 @@
 //! object in world space, the cameras, the lights as `KHR_lights_punctual`; a hand-built GLB
 //! container (12-byte header, a JSON chunk padded with spaces, a BIN chunk padded with zeros).
 
+use super::{num, nums};
 use crate::raster::LightView;
 use crate::scene::{Camera, Light, LightKind, LightSize, Object, Scene};
 use glam::{DMat3, DQuat, DVec3, Vec3};
@@ -65,10 +66,10 @@ pub(crate) fn scene_glb(scene: &Scene, cameras: &[GlbCamera], lights: &[GlbLight
             "name": cam.name,
             "type": "perspective",
             "perspective": {
-                "yfov": (cam.fov_y_deg as f64).to_radians() as f32,
-                "aspectRatio": (cam.width as f64 / cam.height as f64) as f32,
-                "znear": c.near,
-                "zfar": c.far,
+                "yfov": num((cam.fov_y_deg as f64).to_radians() as f32),
+                "aspectRatio": num((cam.width as f64 / cam.height as f64) as f32),
+                "znear": num(c.near),
+                "zfar": num(c.far),
             },
             "extras": { "width": cam.width, "height": cam.height },
         }));
@@ -122,14 +123,15 @@ fn write_mesh(
         });
         indices.push(i);
     }
-    let (lo, hi) = vertices.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
+    let (lo, hi) =
+        vertices.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
     let positions: Vec<u8> = vertices.iter().flat_map(|v| v.to_array()).flat_map(f32::to_le_bytes).collect();
     let index_bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
     let position_accessor = accessors.len();
     push_view(bin, buffer_views, &positions, ARRAY_BUFFER);
     accessors.push(json!({
         "bufferView": buffer_views.len() - 1, "componentType": FLOAT, "count": vertices.len(),
-        "type": "VEC3", "min": lo.to_array(), "max": hi.to_array(),
+        "type": "VEC3", "min": nums(&lo.to_array()), "max": nums(&hi.to_array()),
     }));
     push_view(bin, buffer_views, &index_bytes, ELEMENT_ARRAY_BUFFER);
     accessors.push(json!({
@@ -147,7 +149,8 @@ fn write_mesh(
 
 /// Appends `bytes` (a multiple of 4 long, so every view stays 4-byte aligned) as a buffer view.
 fn push_view(bin: &mut Vec<u8>, buffer_views: &mut Vec<Value>, bytes: &[u8], target: u32) {
-    buffer_views.push(json!({ "buffer": 0, "byteOffset": bin.len(), "byteLength": bytes.len(), "target": target }));
+    buffer_views
+        .push(json!({ "buffer": 0, "byteOffset": bin.len(), "byteLength": bytes.len(), "target": target }));
     bin.extend_from_slice(bytes);
 }
 
@@ -157,8 +160,8 @@ fn frame_node(name: &str, position: Vec3, right: DVec3, up: DVec3, forward: DVec
     let rotation = DQuat::from_mat3(&DMat3::from_cols(right, up, -forward)).normalize();
     json!({
         "name": name,
-        "translation": position.to_array(),
-        "rotation": rotation.as_quat().to_array(),
+        "translation": nums(&position.to_array()),
+        "rotation": nums(&rotation.as_quat().to_array()),
     })
 }
 
@@ -169,23 +172,24 @@ fn light_json(l: &GlbLight) -> (Value, Value) {
     let basis = |i: usize| world_from_light.col(i).truncate().normalize();
     let eye = world_from_light.col(3).truncate().as_vec3();
     let (right, up, forward) = (basis(0), basis(1), -basis(2));
-    let mut extras = json!({ "near": l.view.near, "far": l.view.far });
+    let mut extras = json!({ "near": num(l.view.near), "far": num(l.view.far) });
     if let Ok(size) = l.light.size() {
         extras[match size {
             LightSize::AngularDiameterDeg(_) => LightSize::ANGULAR_DIAMETER_FIELD,
             LightSize::Radius(_) => LightSize::RADIUS_FIELD,
-        }] = json!(size.value());
+        }] = num(size.value());
     }
     let (light, position) = match l.light.kind {
-        LightKind::Directional { .. } => {
-            (json!({ "name": l.light.name, "type": "directional", "color": [1.0, 1.0, 1.0], "intensity": 1.0 }), eye)
-        }
+        LightKind::Directional { .. } => (
+            json!({ "name": l.light.name, "type": "directional", "color": [1.0, 1.0, 1.0], "intensity": 1.0 }),
+            eye,
+        ),
         LightKind::Spot { position, cone_deg, far, .. } => {
-            extras["cone_deg"] = json!(cone_deg);
+            extras["cone_deg"] = num(cone_deg);
             let (inner, outer) = cone_angles(cone_deg);
             let light = json!({
                 "name": l.light.name, "type": "spot", "color": [1.0, 1.0, 1.0], "intensity": 1.0,
-                "range": far, "spot": { "innerConeAngle": inner, "outerConeAngle": outer },
+                "range": num(far), "spot": { "innerConeAngle": num(inner), "outerConeAngle": num(outer) },
             });
             (light, position)
         }

@@ -32,7 +32,7 @@ impl Api {
     /// A D3D-form matrix (one whose output is D3D clip coordinates) in this form, by row
     /// operations: OpenGL's z row becomes 2z − w, Vulkan's y row is negated, D3D's is left as
     /// it is (so its bits, signed zeros included, are kept).
-    fn from_d3d(self, m: DMat4) -> DMat4 {
+    fn convert_d3d(self, m: DMat4) -> DMat4 {
         let mut rows = m.transpose();
         match self {
             Api::OpenGl => rows.z_axis = 2.0 * rows.z_axis - rows.w_axis,
@@ -126,11 +126,11 @@ pub(crate) fn camera_matrices(camera: &Camera, near: f32, far: f32) -> ViewMatri
     let apis = Api::ALL
         .iter()
         .map(|&api| {
-            let clip_from_view = api.from_d3d(d3d);
+            let clip_from_view = api.convert_d3d(d3d);
             ApiMatrices {
                 api,
                 clip_from_view: clip_from_view.as_mat4(),
-                clip_from_world: api.from_d3d(d3d * view_from_world).as_mat4(),
+                clip_from_world: api.convert_d3d(d3d * view_from_world).as_mat4(),
                 texture_from_world: None,
             }
         })
@@ -163,10 +163,10 @@ pub(crate) fn light_matrices(view: &LightView) -> ViewMatrices {
     let apis = Api::ALL
         .iter()
         .map(|&api| {
-            let clip_from_world = api.from_d3d(d3d_clip_from_world);
+            let clip_from_world = api.convert_d3d(d3d_clip_from_world);
             ApiMatrices {
                 api,
-                clip_from_view: api.from_d3d(d3d_projection).as_mat4(),
+                clip_from_view: api.convert_d3d(d3d_projection).as_mat4(),
                 clip_from_world: clip_from_world.as_mat4(),
                 texture_from_world: Some((api.texture_from_clip() * clip_from_world).as_mat4()),
             }
@@ -224,7 +224,7 @@ mod tests {
         // D3D clip point at the top-left corner of the map (x = −1, y = +1), depth ¼.
         let d3d = DVec4::new(-1.0, 1.0, 0.25, 1.0);
         for api in Api::ALL {
-            let t = api.texture_from_clip() * (api.from_d3d(DMat4::IDENTITY) * d3d);
+            let t = api.texture_from_clip() * (api.convert_d3d(DMat4::IDENTITY) * d3d);
             let expected_t = if api == Api::OpenGl { 1.0 } else { 0.0 };
             assert_eq!((t.x, t.y, t.z, t.w), (0.0, expected_t, 0.25, 1.0), "{api:?}");
         }

@@ -7,7 +7,6 @@ mod gbuffer_exr;
 mod glb;
 mod matrices;
 
-
 use crate::atomic_file::write_atomic;
 use crate::raster::{LightView, Projection};
 use crate::scene::{Camera, Light, LightKind, LightSize, Scene};
@@ -77,8 +76,11 @@ pub(crate) fn write_view_export(
             GlbCamera { camera: c, near, far }
         })
         .collect();
-    let lights: Vec<GlbLight> =
-        scene.lights.iter().map(|l| GlbLight { light: l, view: LightView::new(l, bounds, resolution) }).collect();
+    let lights: Vec<GlbLight> = scene
+        .lights
+        .iter()
+        .map(|l| GlbLight { light: l, view: LightView::new(l, bounds, resolution) })
+        .collect();
 
     progress("writing");
     let mut files = Vec::new();
@@ -110,10 +112,22 @@ pub(crate) fn write_view_export(
     Ok(files)
 }
 
+/// An f32 as the JSON number of its shortest decimal (which reads back as the same f32), not
+/// of its f64 widening.
+pub(super) fn num(x: f32) -> Value {
+    let shortest: f64 = x.to_string().parse().unwrap_or(x as f64);
+    let exact = if shortest as f32 == x || x.is_nan() { shortest } else { x as f64 };
+    serde_json::Number::from_f64(exact).map_or(Value::Null, Value::Number)
+}
+
+pub(super) fn nums(xs: &[f32]) -> Value {
+    Value::Array(xs.iter().map(|&x| num(x)).collect())
+}
+
 /// `{name}_row_major` and `{name}_column_major` of `m`.
 fn insert_matrix(object: &mut Map<String, Value>, name: &str, m: &Mat4) {
-    object.insert(format!("{name}_row_major"), json!(m.transpose().to_cols_array()));
-    object.insert(format!("{name}_column_major"), json!(m.to_cols_array()));
+    object.insert(format!("{name}_row_major"), nums(&m.transpose().to_cols_array()));
+    object.insert(format!("{name}_column_major"), nums(&m.to_cols_array()));
 }
 
 /// The view matrix, then one object per API with its projections.
@@ -137,19 +151,19 @@ fn camera_json(camera: &Camera, m: &ViewMatrices, node: usize) -> Value {
     let mut object = json!({
         "name": camera.name,
         "glb_node": node,
-        "position": camera.position.to_array(),
-        "look_at": camera.look_at.to_array(),
-        "up": camera.up.to_array(),
-        "right_unit": r.as_vec3().to_array(),
-        "up_unit": u.as_vec3().to_array(),
-        "forward_unit": f.as_vec3().to_array(),
-        "fov_y_deg": camera.fov_y_deg,
-        "fov_y_rad": (camera.fov_y_deg as f64).to_radians() as f32,
+        "position": nums(&camera.position.to_array()),
+        "look_at": nums(&camera.look_at.to_array()),
+        "up": nums(&camera.up.to_array()),
+        "right_unit": nums(&r.as_vec3().to_array()),
+        "up_unit": nums(&u.as_vec3().to_array()),
+        "forward_unit": nums(&f.as_vec3().to_array()),
+        "fov_y_deg": num(camera.fov_y_deg),
+        "fov_y_rad": num((camera.fov_y_deg as f64).to_radians() as f32),
         "width": camera.width,
         "height": camera.height,
-        "aspect_ratio": (camera.width as f64 / camera.height as f64) as f32,
-        "near": m.near,
-        "far": m.far,
+        "aspect_ratio": num((camera.width as f64 / camera.height as f64) as f32),
+        "near": num(m.near),
+        "far": num(m.far),
         "depth_range": "near = ½ the smallest view depth of the G-buffer's hits, far = the largest view depth of the \
                         scene bounds' corners plus 1 %",
     });
@@ -162,15 +176,15 @@ fn light_json(light: &Light, view: &LightView, node: usize) -> Value {
     match &light.kind {
         LightKind::Directional { direction, .. } => {
             object["type"] = json!("directional");
-            object["direction"] = json!(direction.to_array());
+            object["direction"] = nums(&direction.to_array());
         }
         LightKind::Spot { position, direction, cone_deg, near, far, .. } => {
             object["type"] = json!("spot");
-            object["position"] = json!(position.to_array());
-            object["direction"] = json!(direction.to_array());
-            object["cone_deg"] = json!(cone_deg);
-            object["near"] = json!(near);
-            object["far"] = json!(far);
+            object["position"] = nums(&position.to_array());
+            object["direction"] = nums(&direction.to_array());
+            object["cone_deg"] = num(*cone_deg);
+            object["near"] = num(*near);
+            object["far"] = num(*far);
         }
     }
     if let Ok(size) = light.size() {
@@ -178,20 +192,20 @@ fn light_json(light: &Light, view: &LightView, node: usize) -> Value {
             LightSize::AngularDiameterDeg(_) => LightSize::ANGULAR_DIAMETER_FIELD,
             LightSize::Radius(_) => LightSize::RADIUS_FIELD,
         };
-        object[field] = json!(size.value());
+        object[field] = num(size.value());
     }
-    let mut map = json!({ "resolution": view.resolution, "near": view.near, "far": view.far });
+    let mut map = json!({ "resolution": view.resolution, "near": num(view.near), "far": num(view.far) });
     match view.projection {
         Projection::Orthographic { left, right, bottom, top } => {
             map["projection"] = json!("orthographic");
-            map["left"] = json!(left);
-            map["right"] = json!(right);
-            map["bottom"] = json!(bottom);
-            map["top"] = json!(top);
+            map["left"] = num(left);
+            map["right"] = num(right);
+            map["bottom"] = num(bottom);
+            map["top"] = num(top);
         }
         Projection::Perspective { tan_half_fov } => {
             map["projection"] = json!("perspective");
-            map["tan_half_fov"] = json!(tan_half_fov);
+            map["tan_half_fov"] = num(tan_half_fov);
         }
     }
     map.as_object_mut().expect("an object").extend(matrices_json(&light_matrices(view)));
