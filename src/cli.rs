@@ -162,6 +162,7 @@ struct DepthMapArgs {
 
 #[derive(Args)]
 struct ViewExportArgs {
+    /// The scene file (shadowtruth/scene/v1).
     scene: PathBuf,
     /// Camera name (default: the scene's first camera).
     #[arg(long)]
@@ -173,8 +174,8 @@ struct ViewExportArgs {
     #[arg(long, default_value_t = 2048,
           value_parser = clap::value_parser!(u32).range(1..=MAX_SHADOW_MAP_RESOLUTION as i64))]
     resolution: u32,
-    /// Output folder (created if missing).
-    #[arg(short, long)]
+    /// Output folder (created if missing); files of the same names in it are replaced.
+    #[arg(short, long, value_name = "DIR")]
     out: PathBuf,
     /// Worker threads (default: all cores).
     #[arg(long)]
