@@ -25,8 +25,8 @@ struct Case {
 }
 
 /// Every command the binary has; each must have bad-input cases.
-const COMMANDS: [&str; 9] =
-    ["run", "reference", "verify", "export-obj", "depth-map", "report", "gate", "papers", "island"];
+const COMMANDS: [&str; 10] =
+    ["run", "reference", "verify", "export-obj", "depth-map", "report", "gate", "papers", "island", "score"];
 
 fn copy_dir(from: &Path, to: &Path) {
     std::fs::create_dir_all(to).unwrap();

@@ -11,7 +11,8 @@ use crate::metrics::{LightUv, Stopwatch, attribute, median_ms, score_hard, score
 use crate::raster::{DepthFormat, LightView};
 use crate::record::{RunRecord, SceneRecord, Timings};
 use crate::scene::{Camera, Light, Scene, SceneError};
-use crate::technique::{LayerNeeds, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated};
+use crate::import::{ReadOptions, evaluated_visibility, read_depth, read_visibility};
+use crate::technique::{ExternalParams, LayerNeeds, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated};
 use crate::trace::{GBuffer, ReferenceCache, SceneBvh};
 use std::path::PathBuf;
 
@@ -24,6 +25,9 @@ pub enum PlanError {
     Input(#[from] PlanInputError),
     #[error("plan: {0}")]
     Invalid(String),
+    /// An imported buffer (`external`) that cannot be read or does not fit its view.
+    #[error(transparent)]
+    Import(crate::error::Error),
     #[error("writing {path}: {source}")]
     Io { path: PathBuf, source: std::io::Error },
 }
@@ -65,10 +69,12 @@ pub fn execute(
     selected.iter().try_for_each(|sel| schedule.scene(sel))
 }
 
+/// Imported techniques (`external`) build no technique and read no layers: they are in no group.
 fn layer_groups(techniques: &[TechniqueSpec]) -> LayerGroups {
     let mut groups: LayerGroups = Vec::new();
     for (ti, t) in techniques.iter().enumerate() {
-        let needs = t.build().layer_needs();
+        let Some(technique) = t.build() else { continue };
+        let needs = technique.layer_needs();
         match groups.iter_mut().find(|(n, _)| *n == needs) {
             Some((_, members)) => members.push(ti),
             None => groups.push((needs, vec![ti])),
@@ -113,6 +119,7 @@ impl Schedule<'_, '_, '_> {
         let references = ViewReferences::new(self.plan, self.cache, scene, bvh, &gbuffer, camera, light)?;
         let traced = TracedView { scene, camera, light, gbuffer: &gbuffer, references: &references };
         emit(self.sinks, &Event::ViewTraced(&traced))?;
+        let imported = load_imported(self.plan, &traced)?;
         let bounds = scene.bounds();
         for &resolution in &self.plan.resolutions {
             let view = LightView::new(light, bounds, resolution);
@@ -121,6 +128,7 @@ impl Schedule<'_, '_, '_> {
             for &format in &self.plan.depth_formats {
                 let map = MapSetting { view: &view, light_uv: &light_uv, order: &order, resolution, format };
                 self.map(&traced, &map)?;
+                self.imported_runs(&traced, &map, &imported)?;
                 emit(self.sinks, &Event::MapsDone { view: &traced, resolution, format })?;
             }
         }
@@ -154,7 +162,7 @@ impl Schedule<'_, '_, '_> {
 
     /// The technique's visibility of every evaluated sample, and the median shading time (ms).
     fn shade(&self, spec: &TechniqueSpec, order: &ShadeOrder, ctx: &ShadeContext) -> (Vec<f32>, f64) {
-        let technique = spec.build();
+        let technique = spec.build().expect("only shaded techniques are in a layer group");
         let mut shade_ms = Vec::with_capacity(self.plan.repeats);
         let mut visibility = Vec::new();
         for _ in 0..self.plan.repeats.max(1) {
@@ -164,6 +172,47 @@ impl Schedule<'_, '_, '_> {
         }
         (visibility, median_ms(&shade_ms))
     }
+}
+
+impl Schedule<'_, '_, '_> {
+    /// The runs of the imported techniques at one (resolution, depth format): their buffers were
+    /// read once per view; the resolution gives the attribution its texel footprint.
+    fn imported_runs(&mut self, traced: &TracedView, map: &MapSetting, imported: &[Imported]) -> Result<(), PlanError> {
+        for run in imported {
+            let mut record = run_record(traced, map, &run.spec, &run.visibility);
+            record.timings = timings(run.read_ms, 0.0, record.counts.evaluated);
+            emit(self.sinks, &Event::RunDone { record: &record, visibility: &run.visibility })?;
+        }
+        Ok(())
+    }
+}
+
+/// An imported technique of one view: its spec with the view's files, the visibility of every
+/// evaluated pixel (NaN for a surface mismatch) and the time spent reading it.
+struct Imported {
+    spec: TechniqueSpec,
+    visibility: Vec<f32>,
+    read_ms: f64,
+}
+
+/// Reads the buffers of the plan's `external` techniques for one view.
+fn load_imported(plan: &Plan, traced: &TracedView) -> Result<Vec<Imported>, PlanError> {
+    let mut out = Vec::new();
+    for spec in &plan.techniques {
+        let TechniqueSpec::External(params) = spec else { continue };
+        let params = params.for_view(&traced.scene.name, &traced.camera.name, &traced.light.name);
+        let sw = Stopwatch::start();
+        let visibility = read_external(&params, traced).map_err(PlanError::Import)?;
+        out.push(Imported { spec: TechniqueSpec::External(params), visibility, read_ms: sw.ms() });
+    }
+    Ok(out)
+}
+
+fn read_external(params: &ExternalParams, traced: &TracedView) -> Result<Vec<f32>, crate::error::Error> {
+    let visibility = read_visibility(&params.visibility, &params.read_options())?;
+    let depth_options = ReadOptions { channel: None, flip_y: params.flip_y };
+    let depth = params.depth.as_ref().map(|d| read_depth(d, &depth_options)).transpose()?;
+    evaluated_visibility(traced.gbuffer, traced.camera, &visibility, depth.as_ref(), params.depth_tolerance())
 }
 
 /// A run's record scored against the reference its technique is judged by (timings and layer
