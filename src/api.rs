@@ -7,9 +7,9 @@
 //! [`trace_hard_reference`]: crate::trace_hard_reference
 
 use crate::error::{Error, Result};
+use crate::import::{ImportedImage, evaluated_visibility};
 use crate::metrics::{Counts, score_hard};
 use crate::raster::{DepthFormat, LightView, MAX_SHADOW_MAP_RESOLUTION};
-use crate::import::{ImportedImage, evaluated_visibility};
 use crate::scene::{Camera, Light, Scene};
 use crate::technique::{BuiltLayers, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated};
 use crate::trace::{GBuffer, HardReference};
@@ -156,7 +156,10 @@ pub fn score_visibility(gbuffer: &GBuffer, reference: &HardReference, values: &[
 fn built(technique: &TechniqueSpec) -> Result<Box<dyn crate::technique::Technique>> {
     technique.validate().map_err(|source| Error::Technique { technique: technique.label(), source })?;
     technique.build().ok_or_else(|| {
-        Error::Invalid(format!("technique {}: imported from files, not shaded (see score_imported)", technique.name()))
+        Error::Invalid(format!(
+            "technique {}: imported from files, not shaded (see score_imported)",
+            technique.name()
+        ))
     })
 }
 

@@ -559,8 +559,7 @@ fn write_plan_report(
     let bar = progress.0;
     let outputs_started = Instant::now();
     bar.set_message("figures, plots and index.html");
-    write_report_outputs(out, writer.report())
-        .with_context(|| format!("writing into {}", out.display()))?;
+    write_report_outputs(out, writer.report()).with_context(|| format!("writing into {}", out.display()))?;
     bar.finish_and_clear();
     // What the figures, plots, CSV and page cost beside the runs themselves.
     let outputs_s = (figures_ms / 1e3) + outputs_started.elapsed().as_secs_f64();

@@ -56,8 +56,8 @@ pub mod verify;
 mod app_tests;
 
 pub use api::{light_view, load_scene, rasterize_layers, score_imported, score_visibility, shade_technique};
-pub use import::{ImportedImage, ReadOptions, read_depth, read_visibility};
 pub use error::{Error, Result};
+pub use import::{ImportedImage, ReadOptions, read_depth, read_visibility};
 pub use metrics::Counts;
 pub use raster::{DepthFormat, LightView};
 pub use scene::{Camera, Light, Scene};

@@ -164,9 +164,15 @@ fn a_moved_camera_gives_surface_mismatches_and_the_same_camera_none() {
             DEFAULT_DEPTH_TOLERANCE,
         )
         .unwrap();
-        let without =
-            score_imported(&original.gbuffer, camera, &original.reference, &visibility, None, DEFAULT_DEPTH_TOLERANCE)
-                .unwrap();
+        let without = score_imported(
+            &original.gbuffer,
+            camera,
+            &original.reference,
+            &visibility,
+            None,
+            DEFAULT_DEPTH_TOLERANCE,
+        )
+        .unwrap();
         (with_depth, without)
     };
     // The same camera, its depth exact or rounded to f16: every pixel matches, nothing is wrong.
@@ -224,8 +230,22 @@ fn score_the_plan_entry_and_the_built_in_technique_agree() {
     let res = RESOLUTION.to_string();
     let out = dir.path().join("score");
     shadowtruth(&[
-        "score", s, "--camera", "c", "--light", "sun", "--visibility", render.to_str().unwrap(), "--name",
-        "ours", "--resolution", &res, "--no-cache", "--quiet", "-o", out.to_str().unwrap(),
+        "score",
+        s,
+        "--camera",
+        "c",
+        "--light",
+        "sun",
+        "--visibility",
+        render.to_str().unwrap(),
+        "--name",
+        "ours",
+        "--resolution",
+        &res,
+        "--no-cache",
+        "--quiet",
+        "-o",
+        out.to_str().unwrap(),
     ]);
     let scored = runs(&out);
     assert_eq!(scored.len(), 1);
@@ -246,7 +266,13 @@ fn score_the_plan_entry_and_the_built_in_technique_agree() {
     let out_plan = dir.path().join("plan_out");
     let plan_path = dir.path().join("plan.json");
     shadowtruth(&[
-        "run", "--plan", plan_path.to_str().unwrap(), "--no-cache", "--no-figures", "--quiet", "-o",
+        "run",
+        "--plan",
+        plan_path.to_str().unwrap(),
+        "--no-cache",
+        "--no-figures",
+        "--quiet",
+        "-o",
         out_plan.to_str().unwrap(),
     ]);
     let planned = runs(&out_plan);

@@ -19,7 +19,10 @@ pub fn read_visibility(path: impl AsRef<Path>, options: &ReadOptions) -> Result<
         let (x, y) = (i as u32 % image.width, i as u32 / image.width);
         return Err(import_error(
             &image.path,
-            format!("pixel ({x}, {y}) is {}: visibility must be in [0, 1] (NaN or negative for background)", image.values[i]),
+            format!(
+                "pixel ({x}, {y}) is {}: visibility must be in [0, 1] (NaN or negative for background)",
+                image.values[i]
+            ),
         ));
     }
     Ok(image)
@@ -92,13 +95,19 @@ fn read_exr(path: &Path, channel: Option<&str>, fallback: Option<&str>) -> Resul
     };
     let Some(chosen) = chosen else {
         let wanted = channel.or(fallback).map_or("one channel".to_string(), |c| format!("channel \"{c}\""));
-        return Err(import_error(path, format!("no {wanted} among the channels {}: name one", names.join(", "))));
+        return Err(import_error(
+            path,
+            format!("no {wanted} among the channels {}: name one", names.join(", ")),
+        ));
     };
     let values = match &chosen.sample_data {
         FlatSamples::F32(v) => v.clone(),
         FlatSamples::F16(v) => v.iter().map(|h| h.to_f32()).collect(),
         FlatSamples::U32(_) => {
-            return Err(import_error(path, format!("channel {} holds u32 samples: expected f16 or f32", chosen.name)));
+            return Err(import_error(
+                path,
+                format!("channel {} holds u32 samples: expected f16 or f32", chosen.name),
+            ));
         }
     };
     Ok((layer.size.width() as u32, layer.size.height() as u32, values))

@@ -32,7 +32,9 @@ pub fn evaluated_visibility(
         }
     }
     if !(depth_tolerance.is_finite() && depth_tolerance >= 0.0) {
-        return Err(Error::Invalid(format!("depth tolerance {depth_tolerance}: must be a finite number ≥ 0")));
+        return Err(Error::Invalid(format!(
+            "depth tolerance {depth_tolerance}: must be a finite number ≥ 0"
+        )));
     }
     let eye = camera.position.as_dvec3();
     let same_surface = |i: usize| -> bool {

@@ -7,12 +7,14 @@ use super::events::{Event, Sink, TracedView, emit};
 use super::references::ViewReferences;
 use super::select::{Selected, check_area_light_sizes, check_plan, check_run_count, load_selected};
 use super::{Plan, PlanInputError, build_layers_timed};
+use crate::import::{ReadOptions, evaluated_visibility, read_depth, read_visibility};
 use crate::metrics::{LightUv, Stopwatch, attribute, median_ms, score_hard, score_soft};
 use crate::raster::{DepthFormat, LightView};
 use crate::record::{RunRecord, SceneRecord, Timings};
 use crate::scene::{Camera, Light, Scene, SceneError};
-use crate::import::{ReadOptions, evaluated_visibility, read_depth, read_visibility};
-use crate::technique::{ExternalParams, LayerNeeds, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated};
+use crate::technique::{
+    ExternalParams, LayerNeeds, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated,
+};
 use crate::trace::{GBuffer, ReferenceCache, SceneBvh};
 use std::path::PathBuf;
 
@@ -177,7 +179,12 @@ impl Schedule<'_, '_, '_> {
 impl Schedule<'_, '_, '_> {
     /// The runs of the imported techniques at one (resolution, depth format): their buffers were
     /// read once per view; the resolution gives the attribution its texel footprint.
-    fn imported_runs(&mut self, traced: &TracedView, map: &MapSetting, imported: &[Imported]) -> Result<(), PlanError> {
+    fn imported_runs(
+        &mut self,
+        traced: &TracedView,
+        map: &MapSetting,
+        imported: &[Imported],
+    ) -> Result<(), PlanError> {
         for run in imported {
             let mut record = run_record(traced, map, &run.spec, &run.visibility);
             record.timings = timings(run.read_ms, 0.0, record.counts.evaluated);

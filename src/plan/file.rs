@@ -114,7 +114,8 @@ fn read_plan_value(root: &Value, path: &Path, max_runs: u64, problems: &mut Prob
         problems.report(&at, message);
         return None;
     }
-    let techniques = expand_entries(&entries, problems).into_iter().map(|t| files_relative_to(t, base)).collect();
+    let techniques =
+        expand_entries(&entries, problems).into_iter().map(|t| files_relative_to(t, base)).collect();
     Some(Plan {
         source: Some(path.to_path_buf()),
         scenes: scenes?.iter().map(|s| base.join(s)).collect(),

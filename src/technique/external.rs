@@ -36,14 +36,23 @@ pub struct ExternalParams {
 impl ExternalParams {
     /// The files of one view: each placeholder replaced by the view's name.
     pub fn for_view(&self, scene: &str, camera: &str, light: &str) -> ExternalParams {
-        let fill = |s: &str| s.replace("{scene}", scene).replace("{camera}", camera).replace("{light}", light);
-        ExternalParams { visibility: fill(&self.visibility), depth: self.depth.as_deref().map(fill), ..self.clone() }
+        let fill =
+            |s: &str| s.replace("{scene}", scene).replace("{camera}", camera).replace("{light}", light);
+        ExternalParams {
+            visibility: fill(&self.visibility),
+            depth: self.depth.as_deref().map(fill),
+            ..self.clone()
+        }
     }
 
     /// The files with relative names taken relative to `base` (a plan file's folder).
     pub fn relative_to(&self, base: &Path) -> ExternalParams {
         let join = |s: &str| base.join(s).to_string_lossy().into_owned();
-        ExternalParams { visibility: join(&self.visibility), depth: self.depth.as_deref().map(join), ..self.clone() }
+        ExternalParams {
+            visibility: join(&self.visibility),
+            depth: self.depth.as_deref().map(join),
+            ..self.clone()
+        }
     }
 
     /// How the visibility file is read.

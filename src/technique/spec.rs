@@ -6,9 +6,9 @@
 //! rest through [`TechniqueParams`].
 
 use super::{
-    AdaptiveParams, ConstantParams, ExternalParams, DualParams, MdsmParams, MidpointParams, NoneParams, NormalOffsetParams,
-    PcfParams, PcssParams, ReceiverPlaneParams, ReferenceKind, SecondDepthParams, SlopeScaledParams,
-    Technique, TechniqueParams, TechniqueSpecError,
+    AdaptiveParams, ConstantParams, DualParams, ExternalParams, MdsmParams, MidpointParams, NoneParams,
+    NormalOffsetParams, PcfParams, PcssParams, ReceiverPlaneParams, ReferenceKind, SecondDepthParams,
+    SlopeScaledParams, Technique, TechniqueParams, TechniqueSpecError,
 };
 use serde::{Deserialize, Serialize};
 

@@ -95,7 +95,11 @@ fn run_problems(run: &RunRecord) -> Vec<String> {
     if c.evaluated > c.pixels {
         problems.push(format!(".counts.evaluated: {} > pixels {}", c.evaluated, c.pixels));
     }
-    let fields = [("false_shadow", c.false_shadow), ("false_lit", c.false_lit), ("surface_mismatch", c.surface_mismatch)];
+    let fields = [
+        ("false_shadow", c.false_shadow),
+        ("false_lit", c.false_lit),
+        ("surface_mismatch", c.surface_mismatch),
+    ];
     for (field, count) in fields {
         if count > c.evaluated {
             problems.push(format!(".counts.{field}: {count} > evaluated {}", c.evaluated));
