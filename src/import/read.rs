@@ -141,7 +141,21 @@ fn read_png(path: &Path) -> Result<(u32, u32, Vec<f32>)> {
 
 #[cfg(test)]
 mod tests {
-    use super::flip_rows;
+    use super::*;
+
+    #[test]
+    fn an_rgb_png_gives_its_first_channel_over_255() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("v.png");
+        // Red carries the visibility; green and blue must be ignored.
+        let pixels = [0u8, 255, 255, 255, 0, 0, 51, 7, 9];
+        image::save_buffer(&path, &pixels, 3, 1, image::ExtendedColorType::Rgb8).unwrap();
+        let image = read_visibility(&path, &ReadOptions::default()).unwrap();
+        assert_eq!((image.width, image.height), (3, 1));
+        assert_eq!(image.values, vec![0.0, 1.0, 0.2]);
+        let named = ReadOptions { channel: Some("R".into()), flip_y: false };
+        assert!(read_visibility(&path, &named).unwrap_err().to_string().contains("EXR files only"));
+    }
 
     #[test]
     fn flipping_reverses_the_rows_only() {
