@@ -290,3 +290,57 @@ fn score_the_plan_entry_and_the_built_in_technique_agree() {
     assert!(external["aliasing"].as_u64().unwrap() > 0, "{external}");
     assert!(external.get("surface_mismatch").is_none(), "written only when not 0");
 }
+
+#[test]
+fn a_shadow_map_written_by_depth_map_scores_the_technique_on_our_own_map() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_path = scene_file(dir.path(), EYE);
+    let s = scene_path.to_str().unwrap();
+    let (map, res) = (dir.path().join("map.exr"), RESOLUTION.to_string());
+    shadowtruth(&["depth-map", s, "--light", "sun", "--resolution", &res, "-o", map.to_str().unwrap()]);
+    let out = dir.path().join("score");
+    shadowtruth(&[
+        "score",
+        s,
+        "--camera",
+        "c",
+        "--light",
+        "sun",
+        "--shadow-map",
+        map.to_str().unwrap(),
+        "--technique",
+        TECHNIQUE,
+        "--no-cache",
+        "--no-figures",
+        "--quiet",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let out_run = dir.path().join("run");
+    let plan = serde_json::json!({
+        "format": "shadowtruth/plan/v1", "scenes": ["scene.json"],
+        "techniques": [serde_json::from_str::<serde_json::Value>(TECHNIQUE).unwrap()],
+        "resolutions": [RESOLUTION], "repeats": 1
+    });
+    let plan_path = dir.path().join("plan.json");
+    std::fs::write(&plan_path, plan.to_string()).unwrap();
+    shadowtruth(&[
+        "run",
+        "--plan",
+        plan_path.to_str().unwrap(),
+        "--no-cache",
+        "--no-figures",
+        "--quiet",
+        "-o",
+        out_run.to_str().unwrap(),
+    ]);
+    let (imported, ours) = (runs(&out), runs(&out_run));
+    assert_eq!((imported.len(), ours.len()), (1, 1));
+    assert_eq!(
+        comparable(&imported[0]),
+        comparable(&ours[0]),
+        "the same record, counts and attribution included"
+    );
+    let counts: Counts = serde_json::from_value(imported[0]["counts"].clone()).unwrap();
+    assert!(counts.false_shadow > 0 && counts.false_lit > 0 && counts.aliasing > 0, "{counts:?}");
+}

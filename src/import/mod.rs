@@ -9,14 +9,20 @@
 //!   to the surface the renderer saw, along the pixel's primary ray, in world units; `+inf` or
 //!   `0` where it drew background. EXR only (f16 or f32; the only channel, or `Z`).
 //!
+//! - A **shadow map** (`read_shadow_map`) is one depth layer with its `clip_from_world`, as
+//!   `shadowtruth depth-map` writes it: a built-in technique shades the reference's G-buffer
+//!   with it instead of our own map.
+//!
 //! A pixel the reference evaluates is a *surface mismatch*, left out of every score and counted
 //! in `Counts::surface_mismatch`, when the renderer drew background there, or when its depth `d`
 //! differs from the reference's distance `t` by more than `tolerance · t + DEPTH_FLOOR_WORLD`.
 
 mod read;
+mod shadow_map;
 mod surface;
 
 pub use read::{read_depth, read_visibility};
+pub use shadow_map::{ImportedShadowMap, read_shadow_map};
 pub use surface::evaluated_visibility;
 
 use std::path::PathBuf;

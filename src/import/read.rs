@@ -44,7 +44,11 @@ pub fn read_depth(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Impor
 
 /// One channel of an EXR or PNG file, by extension; `fallback` is the channel taken from a
 /// many-channel EXR when none is named.
-fn read_image(path: &Path, options: &ReadOptions, fallback: Option<&str>) -> Result<ImportedImage> {
+pub(super) fn read_image(
+    path: &Path,
+    options: &ReadOptions,
+    fallback: Option<&str>,
+) -> Result<ImportedImage> {
     if !path.is_file() {
         return Err(import_error(path, "no such file"));
     }

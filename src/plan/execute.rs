@@ -13,7 +13,7 @@ use crate::raster::{DepthFormat, LightView};
 use crate::record::{RunRecord, SceneRecord, Timings};
 use crate::scene::{Camera, Light, Scene, SceneError};
 use crate::technique::{
-    ExternalParams, LayerNeeds, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated,
+    BuiltLayers, ExternalParams, LayerNeeds, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated,
 };
 use crate::trace::{GBuffer, ReferenceCache, SceneBvh};
 use std::path::PathBuf;
@@ -67,8 +67,32 @@ pub fn execute(
     check_area_light_sizes(plan, &selected)?;
     let runs = check_run_count(plan, selected.iter().map(|s| s.pairs.len()).sum())?;
     emit(sinks, &Event::Planned { runs })?;
-    let mut schedule = Schedule { plan, cache, groups: layer_groups(&plan.techniques), sinks };
+    let groups = layer_groups(&plan.techniques);
+    check_imported_map(plan, &groups)?;
+    let mut schedule = Schedule { plan, cache, groups, sinks };
     selected.iter().try_for_each(|sel| schedule.scene(sel))
+}
+
+/// An imported shadow map is one nearest layer at one resolution: every technique must read just
+/// that (no culling, raster bias, second layer or multiple depths), at that resolution.
+fn check_imported_map(plan: &Plan, groups: &LayerGroups) -> Result<(), PlanError> {
+    let Some(imported) = &plan.shadow_map else { return Ok(()) };
+    if plan.resolutions != [imported.layer.resolution] {
+        return Err(PlanError::Invalid(format!(
+            "the imported shadow map is {0}²: the plan's resolutions must be [{0}]",
+            imported.layer.resolution
+        )));
+    }
+    for (needs, members) in groups {
+        if *needs != LayerNeeds::default() {
+            let label = plan.techniques[members[0]].label();
+            return Err(PlanError::Invalid(format!(
+                "technique {label} reads layers an imported shadow map does not hold (culling, raster bias, a \
+                 second layer or multiple depths): only single-layer techniques read one"
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Imported techniques (`external`) build no technique and read no layers: they are in no group.
@@ -124,7 +148,10 @@ impl Schedule<'_, '_, '_> {
         let imported = load_imported(self.plan, &traced)?;
         let bounds = scene.bounds();
         for &resolution in &self.plan.resolutions {
-            let view = LightView::new(light, bounds, resolution);
+            let view = match &self.plan.shadow_map {
+                Some(imported) => imported.light_view(light).map_err(PlanError::Import)?,
+                None => LightView::new(light, bounds, resolution),
+            };
             let light_uv = LightUv::new(&gbuffer, &view);
             let order = ShadeOrder::new(&gbuffer, &view);
             for &format in &self.plan.depth_formats {
@@ -146,8 +173,12 @@ impl Schedule<'_, '_, '_> {
                 "{}/{}/{}: {resolution}² {format} layers",
                 scene.name, camera.name, light.name
             ))?;
-            let (layers, prepare_ms) =
-                build_layers_timed(scene, map.view, map.format, &self.groups[gi].0, self.plan.repeats);
+            let (layers, prepare_ms) = match &self.plan.shadow_map {
+                Some(imported) => (BuiltLayers::Nearest(imported.layer.clone()), 0.0),
+                None => {
+                    build_layers_timed(scene, map.view, map.format, &self.groups[gi].0, self.plan.repeats)
+                }
+            };
             let ctx = ShadeContext::new(scene, map.view, layers.as_layers());
             let layer_memory_bytes = layers.memory_bytes() as u64;
             for mi in 0..self.groups[gi].1.len() {

@@ -130,6 +130,7 @@ fn read_plan_value(root: &Value, path: &Path, max_runs: u64, problems: &mut Prob
         coverage_grid: coverage_grid?,
         area_light_grid: area_light_grid?,
         max_runs,
+        shadow_map: None,
     })
 }
 
