@@ -81,6 +81,9 @@ enum Command {
     /// beyond the tolerance) are counted as surface_mismatch and left out of the rates. In a plan
     /// the same is a technique entry {"technique": "external", "name": ..., "visibility":
     /// "renders/{scene}.{camera}.{light}.exr"}.
+    ///
+    /// With --shadow-map and --technique instead of --visibility: the renderer's shadow map (as
+    /// `depth-map` writes it) read by a built-in technique, to tell a wrong map from a wrong test.
     Score(score::ScoreArgs),
     /// Re-render report.csv, the plots and index.html of a report folder from its report.json,
     /// without running anything.

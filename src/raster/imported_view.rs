@@ -25,7 +25,7 @@ impl LightView {
         far: f32,
         resolution: u32,
     ) -> Result<LightView, String> {
-        if !clip_from_world.is_finite() || !(near.is_finite() && far.is_finite() && far > near) {
+        if !(clip_from_world.is_finite() && near.is_finite() && far.is_finite() && far > near) {
             return Err(format!("clip_from_world must be finite and near < far (near {near}, far {far})"));
         }
         let m = clip_from_world.as_dmat4();
