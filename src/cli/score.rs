@@ -26,7 +26,7 @@ pub(super) struct ScoreArgs {
     /// background.
     #[arg(long, required_unless_present = "shadow_map", conflicts_with = "shadow_map")]
     visibility: Option<PathBuf>,
-    /// The renderer's camera depth (EXR): per pixel the distance from the camera's position to
+    /// The renderer's camera depth (EXR, the only channel or `Z`): per pixel the distance from the camera's position to
     /// the surface along the primary ray, in world units; 0 or +inf for background. Pixels whose
     /// surface differs from the reference's are counted as surface_mismatch, not scored.
     #[arg(long, conflicts_with = "shadow_map")]

@@ -27,7 +27,7 @@ pub enum PlanError {
     Input(#[from] PlanInputError),
     #[error("plan: {0}")]
     Invalid(String),
-    /// An imported buffer (`external`) that cannot be read or does not fit its view.
+    /// An imported buffer (`external`) or shadow map that cannot be read or does not fit its view.
     #[error(transparent)]
     Import(crate::error::Error),
     #[error("writing {path}: {source}")]
@@ -145,11 +145,11 @@ impl Schedule<'_, '_, '_> {
         let references = ViewReferences::new(self.plan, self.cache, scene, bvh, &gbuffer, camera, light)?;
         let traced = TracedView { scene, camera, light, gbuffer: &gbuffer, references: &references };
         emit(self.sinks, &Event::ViewTraced(&traced))?;
-        let imported = load_imported(self.plan, &traced)?;
+        let external = load_imported(self.plan, &traced)?;
         let bounds = scene.bounds();
         for &resolution in &self.plan.resolutions {
             let view = match &self.plan.shadow_map {
-                Some(imported) => imported.light_view(light).map_err(PlanError::Import)?,
+                Some(map_file) => map_file.light_view(light).map_err(PlanError::Import)?,
                 None => LightView::new(light, bounds, resolution),
             };
             let light_uv = LightUv::new(&gbuffer, &view);
@@ -157,7 +157,7 @@ impl Schedule<'_, '_, '_> {
             for &format in &self.plan.depth_formats {
                 let map = MapSetting { view: &view, light_uv: &light_uv, order: &order, resolution, format };
                 self.map(&traced, &map)?;
-                self.imported_runs(&traced, &map, &imported)?;
+                self.imported_runs(&traced, &map, &external)?;
                 emit(self.sinks, &Event::MapsDone { view: &traced, resolution, format })?;
             }
         }
@@ -174,7 +174,7 @@ impl Schedule<'_, '_, '_> {
                 scene.name, camera.name, light.name
             ))?;
             let (layers, prepare_ms) = match &self.plan.shadow_map {
-                Some(imported) => (BuiltLayers::Nearest(imported.layer.clone()), 0.0),
+                Some(map_file) => (BuiltLayers::Nearest(map_file.layer.clone()), 0.0),
                 None => {
                     build_layers_timed(scene, map.view, map.format, &self.groups[gi].0, self.plan.repeats)
                 }
