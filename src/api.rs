@@ -7,9 +7,10 @@
 //! [`trace_hard_reference`]: crate::trace_hard_reference
 
 use crate::error::{Error, Result};
+use crate::import::{ImportedImage, evaluated_visibility};
 use crate::metrics::{Counts, score_hard};
 use crate::raster::{DepthFormat, LightView, MAX_SHADOW_MAP_RESOLUTION};
-use crate::scene::{Light, Scene};
+use crate::scene::{Camera, Light, Scene};
 use crate::technique::{BuiltLayers, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated};
 use crate::trace::{GBuffer, HardReference};
 use std::path::Path;
@@ -67,8 +68,7 @@ pub fn rasterize_layers(
     format: DepthFormat,
     technique: &TechniqueSpec,
 ) -> Result<BuiltLayers> {
-    validate(technique)?;
-    Ok(BuiltLayers::build(scene, view, format, &technique.build().layer_needs()))
+    Ok(BuiltLayers::build(scene, view, format, &built(technique)?.layer_needs()))
 }
 
 /// Shades `technique` at every pixel the G-buffer evaluates, reading `layers` (from
@@ -100,10 +100,10 @@ pub fn shade_technique(
     view: &LightView,
     layers: &BuiltLayers,
 ) -> Result<Vec<f32>> {
-    validate(technique)?;
+    let built = built(technique)?;
     let order = ShadeOrder::new(gbuffer, view);
     let ctx = ShadeContext::new(scene, view, layers.as_layers());
-    let evaluated = shade_evaluated(technique.build().as_ref(), &order, &ctx);
+    let evaluated = shade_evaluated(built.as_ref(), &order, &ctx);
     let mut image = vec![1.0; gbuffer.pixel_count()];
     for (&pixel, v) in gbuffer.evaluated.iter().zip(evaluated) {
         image[pixel as usize] = v;
@@ -152,6 +152,55 @@ pub fn score_visibility(gbuffer: &GBuffer, reference: &HardReference, values: &[
     Ok(score_hard(gbuffer, reference, &evaluated))
 }
 
-fn validate(technique: &TechniqueSpec) -> Result<()> {
-    technique.validate().map_err(|source| Error::Technique { technique: technique.label(), source })
+/// The technique, validated; `external` is refused (its visibility is imported, not shaded).
+fn built(technique: &TechniqueSpec) -> Result<Box<dyn crate::technique::Technique>> {
+    technique.validate().map_err(|source| Error::Technique { technique: technique.label(), source })?;
+    technique.build().ok_or_else(|| {
+        Error::Invalid(format!(
+            "technique {}: imported from files, not shaded (see score_imported)",
+            technique.name()
+        ))
+    })
+}
+
+/// Scores another renderer's buffers against the reference (see [`crate::import`]):
+/// `visibility` (from [`read_visibility`](crate::read_visibility)) and optionally its camera
+/// `depth` (from [`read_depth`](crate::read_depth)), both the G-buffer's size. Pixels where the
+/// renderer drew background, or whose depth differs from the reference's distance by more than
+/// `depth_tolerance` (relative, plus [`DEPTH_FLOOR_WORLD`](crate::import::DEPTH_FLOOR_WORLD)),
+/// are counted in `surface_mismatch` and scored neither way; the rates are over the other
+/// evaluated pixels. `camera` is the G-buffer's. As with [`score_visibility`], the artefact
+/// classes are left at 0.
+///
+/// ```
+/// use shadowtruth::{GBuffer, ImportedImage, SceneBvh, trace_hard_reference};
+/// use shadowtruth::import::DEFAULT_DEPTH_TOLERANCE;
+/// # let scene = shadowtruth::load_scene(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/plane_box.json"))?;
+/// let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
+/// let bvh = SceneBvh::build(&scene);
+/// let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
+/// let reference = trace_hard_reference(&bvh, &gbuffer, light);
+///
+/// // A renderer that agrees with the reference except for one pixel, where it drew background.
+/// let mut values: Vec<f32> = reference.lit.iter().map(|&lit| lit as f32).collect();
+/// values[gbuffer.evaluated[0] as usize] = f32::NAN;
+/// let image = ImportedImage { path: "render.exr".into(), width: camera.width, height: camera.height, values };
+/// let counts = shadowtruth::score_imported(&gbuffer, camera, &reference, &image, None, DEFAULT_DEPTH_TOLERANCE)?;
+/// assert_eq!((counts.false_shadow, counts.false_lit, counts.surface_mismatch), (0, 0, 1));
+/// assert_eq!(counts.scored(), counts.evaluated - 1);
+/// # Ok::<(), shadowtruth::Error>(())
+/// ```
+pub fn score_imported(
+    gbuffer: &GBuffer,
+    camera: &Camera,
+    reference: &HardReference,
+    visibility: &ImportedImage,
+    depth: Option<&ImportedImage>,
+    depth_tolerance: f64,
+) -> Result<Counts> {
+    if (camera.width, camera.height) != (gbuffer.width, gbuffer.height) {
+        return Err(Error::Invalid(format!("camera {} is not the G-buffer's", camera.name)));
+    }
+    let evaluated = evaluated_visibility(gbuffer, camera, visibility, depth, depth_tolerance)?;
+    Ok(score_hard(gbuffer, reference, &evaluated))
 }

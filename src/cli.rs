@@ -25,6 +25,8 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+mod score;
+
 /// shadowtruth measures how wrong shadow maps are: an exact ray-traced reference decides, pixel
 /// by pixel, what is lit; every shadow-map technique is scored against it (false shadow: acne,
 /// self-shadowing; false lit: leaks, peter-panning) per resolution and bias setting.
@@ -70,6 +72,19 @@ enum Command {
     /// Write one depth layer of a light as a one-channel f32 EXR, with a JSON sidecar holding
     /// clip_from_world and the near and far planes, to check the rasterizer against another.
     DepthMap(DepthMapArgs),
+    /// Score another renderer's shadows: its visibility buffer of one view (and optionally its
+    /// camera depth) against the exact reference, into a report folder like `run`'s.
+    ///
+    /// The buffer is one technique, `external`, with the same metrics, attribution (at
+    /// --resolution), figures, CSV, plots and page as the built-in ones. Pixels where the
+    /// renderer shows another surface (background where the reference has a surface, or a depth
+    /// beyond the tolerance) are counted as surface_mismatch and left out of the rates. In a plan
+    /// the same is a technique entry {"technique": "external", "name": ..., "visibility":
+    /// "renders/{scene}.{camera}.{light}.exr"}.
+    ///
+    /// With --shadow-map and --technique instead of --visibility: the renderer's shadow map (as
+    /// `depth-map` writes it) read by a built-in technique, to tell a wrong map from a wrong test.
+    Score(score::ScoreArgs),
     /// Re-render report.csv, the plots and index.html of a report folder from its report.json,
     /// without running anything.
     Report(ReportArgs),
@@ -365,6 +380,7 @@ fn run(cli: Cli) -> Result<u8> {
         Command::Reference(a) => reference(a),
         Command::Verify(a) => verify(a),
         Command::DepthMap(a) => depth_map(a),
+        Command::Score(a) => score::score(a),
         Command::Report(a) => {
             let (report, file) = load_report(&a.dir)?;
             let dir = file.parent().unwrap_or(Path::new(".")).to_path_buf();
@@ -562,23 +578,34 @@ fn run_plan(a: RunArgs) -> Result<u8> {
         plan.repeats = n;
     }
     let cache = (!a.no_cache).then(|| crate::trace::ReferenceCache::new(&a.references));
-    let mut writer = ReportWriter::create(&a.out).with_context(|| format!("opening {}", a.out.display()))?;
+    write_plan_report(&plan, &a.out, cache.as_ref(), a.quiet)?;
+    Ok(0)
+}
+
+/// Runs `plan` into the report folder `out` (report.json, figures unless the plan has none, then
+/// the CSV, plots and page) and prints the table and summary unless `quiet`.
+fn write_plan_report(
+    plan: &Plan,
+    out: &Path,
+    cache: Option<&crate::trace::ReferenceCache>,
+    quiet: bool,
+) -> Result<()> {
+    let mut writer = ReportWriter::create(out).with_context(|| format!("opening {}", out.display()))?;
     let started = Instant::now();
-    let mut progress = Progress::new(a.quiet);
-    let mut figures = plan.figures.then(|| FigureSink::new(&a.out.join("figures"), plan.zoom));
-    execute(&plan, cache.as_ref(), &mut sinks(&mut writer, figures.as_mut(), &mut progress))?;
+    let mut progress = Progress::new(quiet);
+    let mut figures = plan.figures.then(|| FigureSink::new(&out.join("figures"), plan.zoom));
+    execute(plan, cache, &mut sinks(&mut writer, figures.as_mut(), &mut progress))?;
     let figures_ms = figures.as_ref().map_or(0.0, FigureSink::spent_ms);
     let bar = progress.0;
     let outputs_started = Instant::now();
     bar.set_message("figures, plots and index.html");
-    write_report_outputs(&a.out, writer.report())
-        .with_context(|| format!("writing into {}", a.out.display()))?;
+    write_report_outputs(out, writer.report()).with_context(|| format!("writing into {}", out.display()))?;
     bar.finish_and_clear();
     // What the figures, plots, CSV and page cost beside the runs themselves.
     let outputs_s = (figures_ms / 1e3) + outputs_started.elapsed().as_secs_f64();
     let total_s = started.elapsed().as_secs_f64();
     let runs_s = total_s - outputs_s;
-    if !a.quiet {
+    if !quiet {
         print_table(writer.report());
         println!(
             "{} runs in {runs_s:.1} s, then figures, plots and page in {outputs_s:.1} s ({:.1} % of the runs' \
@@ -586,10 +613,10 @@ fn run_plan(a: RunArgs) -> Result<u8> {
             writer.report().runs.len(),
             100.0 * outputs_s / runs_s.max(1e-9),
             writer.path().display(),
-            a.out.join("index.html").display()
+            out.join("index.html").display()
         );
     }
-    Ok(0)
+    Ok(())
 }
 
 /// Error rate (%) per technique setting and resolution, averaged over scenes, cameras and lights.

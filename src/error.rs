@@ -20,6 +20,10 @@ pub enum Error {
     /// A visibility buffer that does not fit the G-buffer, or a value outside [0, 1].
     #[error("visibility buffer: {0}")]
     Visibility(String),
+    /// An imported image (`crate::import`) that cannot be read or does not fit the view: the
+    /// file, and the pixel for a bad value.
+    #[error("{}: {message}", path.display())]
+    Import { path: std::path::PathBuf, message: String },
     /// An argument outside its range (a shadow-map resolution, …).
     #[error("{0}")]
     Invalid(String),

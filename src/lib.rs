@@ -4,7 +4,8 @@
 //!
 //! Data flows one way: [`scene`] → [`trace`] (BVH, G-buffer, references) and [`raster`] (light
 //! views, depth layers) → [`technique`] (visibility of every evaluated pixel) → [`metrics`]
-//! (false shadow and false lit) → [`record`] (the report's records). [`verify`] re-decides the
+//! (false shadow and false lit) → [`record`] (the report's records); [`import`] reads another
+//! renderer's buffers to be scored the same way. [`verify`] re-decides the
 //! reference with exact predicates. The `shadowtruth` command's own modules (plans and their
 //! schedule, reports, figures, the gate, the papers suite) are private to the crate.
 //!
@@ -38,6 +39,7 @@ mod cli;
 mod error;
 #[doc(hidden)]
 pub mod fuzzing;
+pub mod import;
 pub(crate) mod json_input;
 pub mod metrics;
 pub(crate) mod papers;
@@ -54,8 +56,9 @@ pub(crate) mod view_export;
 #[cfg(test)]
 mod app_tests;
 
-pub use api::{light_view, load_scene, rasterize_layers, score_visibility, shade_technique};
+pub use api::{light_view, load_scene, rasterize_layers, score_imported, score_visibility, shade_technique};
 pub use error::{Error, Result};
+pub use import::{ImportedImage, ReadOptions, read_depth, read_visibility};
 pub use metrics::Counts;
 pub use raster::{DepthFormat, LightView};
 pub use scene::{Camera, Light, Scene};

@@ -52,7 +52,7 @@ fn pcf11(bias: &str, epsilon: &str) -> TechniqueSpec {
 
 /// Visibility of every evaluated pixel under `spec` at `resolution`.
 fn shade(scene: &Scene, g: &GBuffer, spec: &TechniqueSpec, resolution: u32) -> Vec<f32> {
-    let technique = spec.build();
+    let technique = spec.build().expect("a shaded technique");
     let view = LightView::new(&scene.lights[0], scene.bounds(), resolution);
     let layers =
         shadowtruth::technique::BuiltLayers::build(scene, &view, DepthFormat::F32, &technique.layer_needs());

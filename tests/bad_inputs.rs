@@ -25,7 +25,7 @@ struct Case {
 }
 
 /// Every command the binary has; each must have bad-input cases.
-const COMMANDS: [&str; 10] = [
+const COMMANDS: [&str; 11] = [
     "run",
     "reference",
     "verify",
@@ -36,6 +36,7 @@ const COMMANDS: [&str; 10] = [
     "papers",
     "island",
     "view-export",
+    "score",
 ];
 
 fn copy_dir(from: &Path, to: &Path) {

@@ -34,7 +34,7 @@ fn edge_scene(slab_yaw_deg: f32) -> Scene {
 
 /// Visibility of every evaluated pixel (in `g.evaluated` order) under `spec` at `resolution`.
 fn shade(scene: &Scene, g: &GBuffer, spec: &TechniqueSpec, resolution: u32) -> Vec<f32> {
-    let technique = spec.build();
+    let technique = spec.build().expect("a shaded technique");
     let view = LightView::new(&scene.lights[0], scene.bounds(), resolution);
     let layers =
         shadowtruth::technique::BuiltLayers::build(scene, &view, DepthFormat::F32, &technique.layer_needs());

@@ -339,7 +339,7 @@ fn figures_cost_per_run_at_1024x768() {
     let canvas = ViewCanvas::new(&g, &r, &scene.lights[0]);
 
     // One shading pass of the plain depth test with a 2048² layer (what every run repeats).
-    let technique = TechniqueSpec::None(NoneParams {}).build();
+    let technique = TechniqueSpec::None(NoneParams {}).build().expect("a shaded technique");
     let view = shadowtruth::raster::LightView::new(&scene.lights[0], scene.bounds(), 2048);
     let layers =
         shadowtruth::technique::BuiltLayers::build(&scene, &view, DepthFormat::F32, &technique.layer_needs());

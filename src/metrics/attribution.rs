@@ -11,7 +11,8 @@
 //! - A pixel is *false* with the ½ threshold of `score_hard`: on an evaluated pixel (one of
 //!   `GBuffer::evaluated`; `visibility[k]` belongs to pixel `gbuffer.evaluated[k]`) the technique
 //!   says lit when `v ≥ ½`, the reference says lit when `HardReference::lit[i] == 1`; the pixel
-//!   is false when the two differ. Hence `aliasing + acne + leak == false_shadow + false_lit`.
+//!   is false when the two differ; a NaN (a surface mismatch of an imported buffer) is never
+//!   false. Hence `aliasing + acne + leak == false_shadow + false_lit`.
 //! - Every evaluated pixel i has a light-map position `(u, v)` from
 //!   `LightView::project(gbuffer.position[i])`, kept in texel units `(u·N, v·N)`,
 //!   N = `view.resolution` (`LightUv`, computed once per G-buffer and view).
@@ -135,7 +136,7 @@ pub fn attribute(
         .evaluated
         .par_iter()
         .zip(visibility.par_iter())
-        .any(|(&i, &v)| (reference.lit[i as usize] != 0) != (v >= 0.5));
+        .any(|(&i, &v)| !v.is_nan() && (reference.lit[i as usize] != 0) != (v >= 0.5));
     if !any_false {
         return Attribution::default();
     }
@@ -151,7 +152,8 @@ pub fn attribute(
             let i = i as usize;
             let r_lit = reference.lit[i] != 0;
             let v_lit = v >= 0.5;
-            if r_lit == v_lit {
+            // NaN: a surface mismatch, which is no false pixel (classify.rs).
+            if v.is_nan() || r_lit == v_lit {
                 Attribution::default()
             } else if search.near_boundary(i) {
                 Attribution { aliasing: 1, ..Attribution::default() }

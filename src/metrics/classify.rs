@@ -25,6 +25,15 @@ pub struct Counts {
     /// Other false lits.
     #[serde(default)]
     pub leak: u64,
+    /// Evaluated pixels where an imported buffer shows another surface than the reference (its
+    /// background, or a depth beyond the tolerance): left out of every other score. Always 0
+    /// for the built-in techniques, and then not written.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub surface_mismatch: u64,
+}
+
+fn is_zero(n: &u64) -> bool {
+    *n == 0
 }
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -35,9 +44,10 @@ pub struct Rates {
 }
 
 impl Counts {
-    /// Rates as fractions of the evaluated pixels (0 when none is evaluated).
+    /// Rates as fractions of the scored pixels: evaluated less surface mismatches (0 when none
+    /// is scored).
     pub fn rates(&self) -> Rates {
-        let n = self.evaluated.max(1) as f64;
+        let n = self.scored().max(1) as f64;
         Rates {
             false_shadow: self.false_shadow as f64 / n,
             false_lit: self.false_lit as f64 / n,
@@ -46,8 +56,17 @@ impl Counts {
     }
 }
 
+impl Counts {
+    /// The pixels the rates are over: evaluated, less the surface mismatches.
+    pub fn scored(&self) -> u64 {
+        self.evaluated.saturating_sub(self.surface_mismatch)
+    }
+}
+
 /// Scores `visibility` (one value per evaluated pixel, in `gbuffer.evaluated` order) against the
-/// hard reference. The attribution fields stay 0 (see `attribution::attribute`).
+/// hard reference. A NaN marks a surface mismatch (an imported buffer showing another surface,
+/// `crate::import`): counted as such and scored neither way. The attribution fields stay 0 (see
+/// `attribution::attribute`).
 pub fn score_hard(gbuffer: &GBuffer, reference: &HardReference, visibility: &[f32]) -> Counts {
     assert_eq!(visibility.len(), gbuffer.evaluated.len(), "one visibility per evaluated pixel");
     let mut c = Counts { pixels: gbuffer.pixel_count() as u64, ..Counts::default() };
@@ -60,6 +79,10 @@ pub fn score_hard(gbuffer: &GBuffer, reference: &HardReference, visibility: &[f3
         }
     }
     for (&i, &v) in gbuffer.evaluated.iter().zip(visibility) {
+        if v.is_nan() {
+            c.surface_mismatch += 1;
+            continue;
+        }
         let r_lit = reference.lit[i as usize] != 0;
         let v_lit = v >= 0.5;
         c.false_shadow += (r_lit && !v_lit) as u64;

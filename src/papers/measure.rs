@@ -118,7 +118,7 @@ pub(super) fn shade(
     scene_scale: Option<f32>,
     repeats: usize,
 ) -> Shaded {
-    let technique = spec.build();
+    let technique = spec.build().expect("the papers' techniques are all shaded");
     let layers =
         crate::technique::BuiltLayers::build(v.scene, &map.view, DepthFormat::F32, &technique.layer_needs());
     let mut ctx = ShadeContext::new(v.scene, &map.view, layers.as_layers());

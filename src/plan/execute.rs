@@ -7,11 +7,14 @@ use super::events::{Event, Sink, TracedView, emit};
 use super::references::ViewReferences;
 use super::select::{Selected, check_area_light_sizes, check_plan, check_run_count, load_selected};
 use super::{Plan, PlanInputError, build_layers_timed};
+use crate::import::{ReadOptions, evaluated_visibility, read_depth, read_visibility};
 use crate::metrics::{LightUv, Stopwatch, attribute, median_ms, score_hard, score_soft};
 use crate::raster::{DepthFormat, LightView};
 use crate::record::{RunRecord, SceneRecord, Timings};
 use crate::scene::{Camera, Light, Scene, SceneError};
-use crate::technique::{LayerNeeds, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated};
+use crate::technique::{
+    BuiltLayers, ExternalParams, LayerNeeds, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated,
+};
 use crate::trace::{GBuffer, ReferenceCache, SceneBvh};
 use std::path::PathBuf;
 
@@ -24,6 +27,9 @@ pub enum PlanError {
     Input(#[from] PlanInputError),
     #[error("plan: {0}")]
     Invalid(String),
+    /// An imported buffer (`external`) or shadow map that cannot be read or does not fit its view.
+    #[error(transparent)]
+    Import(crate::error::Error),
     #[error("writing {path}: {source}")]
     Io { path: PathBuf, source: std::io::Error },
 }
@@ -61,14 +67,40 @@ pub fn execute(
     check_area_light_sizes(plan, &selected)?;
     let runs = check_run_count(plan, selected.iter().map(|s| s.pairs.len()).sum())?;
     emit(sinks, &Event::Planned { runs })?;
-    let mut schedule = Schedule { plan, cache, groups: layer_groups(&plan.techniques), sinks };
+    let groups = layer_groups(&plan.techniques);
+    check_imported_map(plan, &groups)?;
+    let mut schedule = Schedule { plan, cache, groups, sinks };
     selected.iter().try_for_each(|sel| schedule.scene(sel))
 }
 
+/// An imported shadow map is one nearest layer at one resolution: every technique must read just
+/// that (no culling, raster bias, second layer or multiple depths), at that resolution.
+fn check_imported_map(plan: &Plan, groups: &LayerGroups) -> Result<(), PlanError> {
+    let Some(imported) = &plan.shadow_map else { return Ok(()) };
+    if plan.resolutions != [imported.layer.resolution] {
+        return Err(PlanError::Invalid(format!(
+            "the imported shadow map is {0}²: the plan's resolutions must be [{0}]",
+            imported.layer.resolution
+        )));
+    }
+    for (needs, members) in groups {
+        if *needs != LayerNeeds::default() {
+            let label = plan.techniques[members[0]].label();
+            return Err(PlanError::Invalid(format!(
+                "technique {label} reads layers an imported shadow map does not hold (culling, raster bias, a \
+                 second layer or multiple depths): only single-layer techniques read one"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Imported techniques (`external`) build no technique and read no layers: they are in no group.
 fn layer_groups(techniques: &[TechniqueSpec]) -> LayerGroups {
     let mut groups: LayerGroups = Vec::new();
     for (ti, t) in techniques.iter().enumerate() {
-        let needs = t.build().layer_needs();
+        let Some(technique) = t.build() else { continue };
+        let needs = technique.layer_needs();
         match groups.iter_mut().find(|(n, _)| *n == needs) {
             Some((_, members)) => members.push(ti),
             None => groups.push((needs, vec![ti])),
@@ -113,14 +145,19 @@ impl Schedule<'_, '_, '_> {
         let references = ViewReferences::new(self.plan, self.cache, scene, bvh, &gbuffer, camera, light)?;
         let traced = TracedView { scene, camera, light, gbuffer: &gbuffer, references: &references };
         emit(self.sinks, &Event::ViewTraced(&traced))?;
+        let external = load_imported(self.plan, &traced)?;
         let bounds = scene.bounds();
         for &resolution in &self.plan.resolutions {
-            let view = LightView::new(light, bounds, resolution);
+            let view = match &self.plan.shadow_map {
+                Some(map_file) => map_file.light_view(light).map_err(PlanError::Import)?,
+                None => LightView::new(light, bounds, resolution),
+            };
             let light_uv = LightUv::new(&gbuffer, &view);
             let order = ShadeOrder::new(&gbuffer, &view);
             for &format in &self.plan.depth_formats {
                 let map = MapSetting { view: &view, light_uv: &light_uv, order: &order, resolution, format };
                 self.map(&traced, &map)?;
+                self.imported_runs(&traced, &map, &external)?;
                 emit(self.sinks, &Event::MapsDone { view: &traced, resolution, format })?;
             }
         }
@@ -136,8 +173,12 @@ impl Schedule<'_, '_, '_> {
                 "{}/{}/{}: {resolution}² {format} layers",
                 scene.name, camera.name, light.name
             ))?;
-            let (layers, prepare_ms) =
-                build_layers_timed(scene, map.view, map.format, &self.groups[gi].0, self.plan.repeats);
+            let (layers, prepare_ms) = match &self.plan.shadow_map {
+                Some(map_file) => (BuiltLayers::Nearest(map_file.layer.clone()), 0.0),
+                None => {
+                    build_layers_timed(scene, map.view, map.format, &self.groups[gi].0, self.plan.repeats)
+                }
+            };
             let ctx = ShadeContext::new(scene, map.view, layers.as_layers());
             let layer_memory_bytes = layers.memory_bytes() as u64;
             for mi in 0..self.groups[gi].1.len() {
@@ -154,7 +195,7 @@ impl Schedule<'_, '_, '_> {
 
     /// The technique's visibility of every evaluated sample, and the median shading time (ms).
     fn shade(&self, spec: &TechniqueSpec, order: &ShadeOrder, ctx: &ShadeContext) -> (Vec<f32>, f64) {
-        let technique = spec.build();
+        let technique = spec.build().expect("only shaded techniques are in a layer group");
         let mut shade_ms = Vec::with_capacity(self.plan.repeats);
         let mut visibility = Vec::new();
         for _ in 0..self.plan.repeats.max(1) {
@@ -164,6 +205,52 @@ impl Schedule<'_, '_, '_> {
         }
         (visibility, median_ms(&shade_ms))
     }
+}
+
+impl Schedule<'_, '_, '_> {
+    /// The runs of the imported techniques at one (resolution, depth format): their buffers were
+    /// read once per view; the resolution gives the attribution its texel footprint.
+    fn imported_runs(
+        &mut self,
+        traced: &TracedView,
+        map: &MapSetting,
+        imported: &[Imported],
+    ) -> Result<(), PlanError> {
+        for run in imported {
+            let mut record = run_record(traced, map, &run.spec, &run.visibility);
+            record.timings = timings(run.read_ms, 0.0, record.counts.evaluated);
+            emit(self.sinks, &Event::RunDone { record: &record, visibility: &run.visibility })?;
+        }
+        Ok(())
+    }
+}
+
+/// An imported technique of one view: its spec with the view's files, the visibility of every
+/// evaluated pixel (NaN for a surface mismatch) and the time spent reading it.
+struct Imported {
+    spec: TechniqueSpec,
+    visibility: Vec<f32>,
+    read_ms: f64,
+}
+
+/// Reads the buffers of the plan's `external` techniques for one view.
+fn load_imported(plan: &Plan, traced: &TracedView) -> Result<Vec<Imported>, PlanError> {
+    let mut out = Vec::new();
+    for spec in &plan.techniques {
+        let TechniqueSpec::External(params) = spec else { continue };
+        let params = params.for_view(&traced.scene.name, &traced.camera.name, &traced.light.name);
+        let sw = Stopwatch::start();
+        let visibility = read_external(&params, traced).map_err(PlanError::Import)?;
+        out.push(Imported { spec: TechniqueSpec::External(params), visibility, read_ms: sw.ms() });
+    }
+    Ok(out)
+}
+
+fn read_external(params: &ExternalParams, traced: &TracedView) -> Result<Vec<f32>, crate::error::Error> {
+    let visibility = read_visibility(&params.visibility, &params.read_options())?;
+    let depth_options = ReadOptions { channel: None, flip_y: params.flip_y };
+    let depth = params.depth.as_ref().map(|d| read_depth(d, &depth_options)).transpose()?;
+    evaluated_visibility(traced.gbuffer, traced.camera, &visibility, depth.as_ref(), params.depth_tolerance())
 }
 
 /// A run's record scored against the reference its technique is judged by (timings and layer

@@ -114,7 +114,8 @@ fn read_plan_value(root: &Value, path: &Path, max_runs: u64, problems: &mut Prob
         problems.report(&at, message);
         return None;
     }
-    let techniques = expand_entries(&entries, problems);
+    let techniques =
+        expand_entries(&entries, problems).into_iter().map(|t| files_relative_to(t, base)).collect();
     Some(Plan {
         source: Some(path.to_path_buf()),
         scenes: scenes?.iter().map(|s| base.join(s)).collect(),
@@ -129,7 +130,16 @@ fn read_plan_value(root: &Value, path: &Path, max_runs: u64, problems: &mut Prob
         coverage_grid: coverage_grid?,
         area_light_grid: area_light_grid?,
         max_runs,
+        shadow_map: None,
     })
+}
+
+/// Imported buffers' files, like scenes, are relative to the plan file.
+fn files_relative_to(technique: TechniqueSpec, base: &Path) -> TechniqueSpec {
+    match technique {
+        TechniqueSpec::External(p) => TechniqueSpec::External(p.relative_to(base)),
+        other => other,
+    }
 }
 
 /// A list that selects (cameras, lights): absent means all (`Some(None)`); `None` when invalid.

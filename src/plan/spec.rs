@@ -29,6 +29,9 @@ pub struct Plan {
     pub area_light_grid: u32,
     /// A plan expanding to more runs than this is refused before anything is built.
     pub max_runs: u64,
+    /// Another renderer's shadow map (`score --shadow-map`): every technique reads it instead of
+    /// layers rasterized here, at its resolution and through its clip_from_world.
+    pub shadow_map: Option<crate::import::ImportedShadowMap>,
 }
 
 /// Sub-pixel grid of the coverage reference (4×4).

@@ -3,6 +3,7 @@
 
 mod clip;
 mod depth_format;
+mod imported_view;
 mod layer;
 mod multi_depth;
 mod projection;

@@ -170,8 +170,9 @@ pub fn visibility_image(gbuffer: &GBuffer, canvas: &ViewCanvas, values: &[f32]) 
 /// A base grey darkened by visibility `v`; `shadowed` is `lut(SHADOW_FACTOR)`.
 #[inline]
 fn darkened(level: u8, v: f32, shadowed: &[u8; 256]) -> u8 {
-    // Hard techniques return exactly 0 or 1: the branches predict well.
-    if v >= 1.0 {
+    // Hard techniques return exactly 0 or 1: the branches predict well. NaN (an imported
+    // buffer's surface mismatch) leaves the base as it is.
+    if v >= 1.0 || v.is_nan() {
         level
     } else if v <= 0.0 {
         shadowed[level as usize]
@@ -183,6 +184,9 @@ fn darkened(level: u8, v: f32, shadowed: &[u8; 256]) -> u8 {
 /// The error colour of an evaluated pixel (the thresholds of `metrics::score_hard`), if any.
 #[inline]
 fn error_index(reference_lit: u8, v: f32) -> Option<u8> {
+    if v.is_nan() {
+        return None; // a surface mismatch: neither error
+    }
     match (reference_lit != 0, v >= 0.5) {
         (true, false) => Some(FALSE_SHADOW_INDEX),
         (false, true) => Some(FALSE_LIT_INDEX),

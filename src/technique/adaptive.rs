@@ -194,8 +194,8 @@ impl TechniqueParams for AdaptiveParams {
         non_negative("k", self.k)
     }
 
-    fn build(&self) -> Box<dyn Technique> {
-        Box::new(AdaptiveBias { k: self.k as f32, epsilon: self.epsilon.into() })
+    fn build(&self) -> Option<Box<dyn Technique>> {
+        Some(Box::new(AdaptiveBias { k: self.k as f32, epsilon: self.epsilon.into() }))
     }
 
     fn canonical_fields(&self, f: &mut CanonicalFields) {

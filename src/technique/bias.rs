@@ -93,8 +93,8 @@ impl TechniqueParams for NoneParams {
         Ok(())
     }
 
-    fn build(&self) -> Box<dyn Technique> {
-        Box::new(NoBias)
+    fn build(&self) -> Option<Box<dyn Technique>> {
+        Some(Box::new(NoBias))
     }
 
     fn canonical_fields(&self, _: &mut CanonicalFields) {}
@@ -122,11 +122,11 @@ impl TechniqueParams for ConstantParams {
         }
     }
 
-    fn build(&self) -> Box<dyn Technique> {
-        Box::new(match (self.bias_depth, self.bias_world) {
+    fn build(&self) -> Option<Box<dyn Technique>> {
+        Some(Box::new(match (self.bias_depth, self.bias_world) {
             (_, Some(w)) => ConstantBias::World(w as f32),
             (d, None) => ConstantBias::Depth(d.unwrap_or(0.0) as f32),
-        })
+        }))
     }
 
     fn canonical_fields(&self, f: &mut CanonicalFields) {
@@ -177,12 +177,12 @@ impl TechniqueParams for SlopeScaledParams {
         non_negative("units", self.units)
     }
 
-    fn build(&self) -> Box<dyn Technique> {
-        Box::new(SlopeScaledBias {
+    fn build(&self) -> Option<Box<dyn Technique>> {
+        Some(Box::new(SlopeScaledBias {
             factor: self.factor as f32,
             units: self.units as f32,
             culling: self.cull.into(),
-        })
+        }))
     }
 
     fn canonical_fields(&self, f: &mut CanonicalFields) {

@@ -93,8 +93,8 @@ impl TechniqueParams for SecondDepthParams {
         non_negative("bias_depth", self.bias_depth)
     }
 
-    fn build(&self) -> Box<dyn Technique> {
-        Box::new(SecondDepth { bias_depth: self.bias_depth as f32 })
+    fn build(&self) -> Option<Box<dyn Technique>> {
+        Some(Box::new(SecondDepth { bias_depth: self.bias_depth as f32 }))
     }
 
     fn canonical_fields(&self, f: &mut CanonicalFields) {
@@ -115,8 +115,8 @@ impl TechniqueParams for MidpointParams {
         Ok(())
     }
 
-    fn build(&self) -> Box<dyn Technique> {
-        Box::new(Midpoint { cull_back_faces: self.cull_back_faces })
+    fn build(&self) -> Option<Box<dyn Technique>> {
+        Some(Box::new(Midpoint { cull_back_faces: self.cull_back_faces }))
     }
 
     fn canonical_fields(&self, f: &mut CanonicalFields) {
@@ -138,8 +138,8 @@ impl TechniqueParams for DualParams {
         non_negative("z_offset", self.z_offset)
     }
 
-    fn build(&self) -> Box<dyn Technique> {
-        Box::new(DualDepth { z_offset: self.z_offset as f32, cull_back_faces: self.cull_back_faces })
+    fn build(&self) -> Option<Box<dyn Technique>> {
+        Some(Box::new(DualDepth { z_offset: self.z_offset as f32, cull_back_faces: self.cull_back_faces }))
     }
 
     fn canonical_fields(&self, f: &mut CanonicalFields) {

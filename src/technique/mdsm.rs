@@ -116,15 +116,15 @@ impl TechniqueParams for MdsmParams {
         self.tap_bias_fields().validate()
     }
 
-    fn build(&self) -> Box<dyn Technique> {
+    fn build(&self) -> Option<Box<dyn Technique>> {
         let kernel = self.kernel_fields();
-        Box::new(Pcf {
+        Some(Box::new(Pcf {
             kernel: kernel.kernel(DEFAULT_BOX_SIZE),
             radius_texels: kernel.radius_texels(),
             bias: self.tap_bias_fields().tap_bias(),
             threshold: TapThreshold::MultiDepth,
             needs: self.layer_needs(),
-        })
+        }))
     }
 
     fn reference_kind(&self) -> ReferenceKind {

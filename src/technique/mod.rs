@@ -10,6 +10,7 @@ mod bias;
 mod built_layers;
 mod canonical;
 mod depth_layers;
+mod external;
 mod filter_params;
 mod kernel;
 mod mdsm;
@@ -30,6 +31,7 @@ pub use bias::{
 pub use built_layers::BuiltLayers;
 pub use canonical::canonical_json;
 pub use depth_layers::{DualDepth, DualParams, Midpoint, MidpointParams, SecondDepth, SecondDepthParams};
+pub use external::ExternalParams;
 pub use filter_params::{KernelSpec, TapBiasSpec};
 pub use kernel::{Kernel, POISSON_SIZES, poisson_set};
 pub use mdsm::{MdsmParams, SelectSpec};

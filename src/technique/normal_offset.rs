@@ -80,8 +80,8 @@ impl TechniqueParams for NormalOffsetParams {
         non_negative("scale_texels", self.scale_texels)
     }
 
-    fn build(&self) -> Box<dyn Technique> {
-        Box::new(NormalOffset { scale_texels: self.scale_texels as f32, falloff: self.falloff.into() })
+    fn build(&self) -> Option<Box<dyn Technique>> {
+        Some(Box::new(NormalOffset { scale_texels: self.scale_texels as f32, falloff: self.falloff.into() }))
     }
 
     fn canonical_fields(&self, f: &mut CanonicalFields) {

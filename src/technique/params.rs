@@ -13,8 +13,9 @@ pub trait TechniqueParams: ParametersJson {
     /// each parameter used only where it belongs.
     fn validate(&self) -> Result<(), TechniqueSpecError>;
 
-    /// The technique to run.
-    fn build(&self) -> Box<dyn Technique>;
+    /// The technique to run; `None` for a technique whose visibility is imported from another
+    /// renderer's files instead of shaded here (`external.rs`).
+    fn build(&self) -> Option<Box<dyn Technique>>;
 
     /// The reference the technique's output means the same thing as.
     fn reference_kind(&self) -> ReferenceKind {

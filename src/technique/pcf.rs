@@ -411,16 +411,16 @@ impl TechniqueParams for PcfParams {
         self.validate_layers()
     }
 
-    fn build(&self) -> Box<dyn Technique> {
+    fn build(&self) -> Option<Box<dyn Technique>> {
         let (threshold, needs) = self.threshold_and_needs();
         let kernel = self.kernel_fields();
-        Box::new(Pcf {
+        Some(Box::new(Pcf {
             kernel: kernel.kernel(DEFAULT_BOX_SIZE),
             radius_texels: kernel.radius_texels(),
             bias: self.tap_bias_fields().tap_bias(),
             threshold,
             needs,
-        })
+        }))
     }
 
     fn reference_kind(&self) -> ReferenceKind {

@@ -178,12 +178,12 @@ impl TechniqueParams for PcssParams {
         self.tap_bias_fields().validate()
     }
 
-    fn build(&self) -> Box<dyn Technique> {
-        Box::new(Pcss {
+    fn build(&self) -> Option<Box<dyn Technique>> {
+        Some(Box::new(Pcss {
             search: Kernel::Poisson { taps: self.search_taps },
             filter: self.filter(),
             bias: self.tap_bias_fields().tap_bias(),
-        })
+        }))
     }
 
     fn reference_kind(&self) -> ReferenceKind {

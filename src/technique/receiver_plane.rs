@@ -67,8 +67,8 @@ impl TechniqueParams for ReceiverPlaneParams {
         non_negative("bias_depth", self.bias_depth)
     }
 
-    fn build(&self) -> Box<dyn Technique> {
-        Box::new(ReceiverPlane { bias_depth: self.bias_depth as f32 })
+    fn build(&self) -> Option<Box<dyn Technique>> {
+        Some(Box::new(ReceiverPlane { bias_depth: self.bias_depth as f32 }))
     }
 
     fn canonical_fields(&self, f: &mut CanonicalFields) {

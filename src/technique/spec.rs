@@ -6,9 +6,9 @@
 //! rest through [`TechniqueParams`].
 
 use super::{
-    AdaptiveParams, ConstantParams, DualParams, MdsmParams, MidpointParams, NoneParams, NormalOffsetParams,
-    PcfParams, PcssParams, ReceiverPlaneParams, ReferenceKind, SecondDepthParams, SlopeScaledParams,
-    Technique, TechniqueParams, TechniqueSpecError,
+    AdaptiveParams, ConstantParams, DualParams, ExternalParams, MdsmParams, MidpointParams, NoneParams,
+    NormalOffsetParams, PcfParams, PcssParams, ReceiverPlaneParams, ReferenceKind, SecondDepthParams,
+    SlopeScaledParams, Technique, TechniqueParams, TechniqueSpecError,
 };
 use serde::{Deserialize, Serialize};
 
@@ -67,6 +67,8 @@ techniques! {
     "mdsm" => Mdsm(MdsmParams),
     /// Percentage-closer soft shadows (Fernando 2005).
     "pcss" => Pcss(PcssParams),
+    /// Another renderer's visibility buffer, read from an image file and scored as it is.
+    "external" => External(ExternalParams),
 }
 
 impl TechniqueSpec {
@@ -99,8 +101,8 @@ impl TechniqueSpec {
         self.params().validate()
     }
 
-    /// The technique to run.
-    pub fn build(&self) -> Box<dyn Technique> {
+    /// The technique to run; `None` for `external`, whose visibility is read from files.
+    pub fn build(&self) -> Option<Box<dyn Technique>> {
         self.params().build()
     }
 }

@@ -58,7 +58,7 @@ pub fn score_technique(
     format: shadowtruth::raster::DepthFormat,
 ) -> (shadowtruth::metrics::Counts, Vec<f32>) {
     use shadowtruth::technique::{ShadeContext, ShadeOrder, shade_evaluated};
-    let technique = spec.build();
+    let technique = spec.build().expect("a shaded technique");
     let view = shadowtruth::raster::LightView::new(&scene.lights[0], scene.bounds(), resolution);
     let layers = shadowtruth::technique::BuiltLayers::build(scene, &view, format, &technique.layer_needs());
     let ctx = ShadeContext::new(scene, &view, layers.as_layers());

@@ -95,14 +95,20 @@ fn run_problems(run: &RunRecord) -> Vec<String> {
     if c.evaluated > c.pixels {
         problems.push(format!(".counts.evaluated: {} > pixels {}", c.evaluated, c.pixels));
     }
-    for (field, count) in [("false_shadow", c.false_shadow), ("false_lit", c.false_lit)] {
+    let fields = [
+        ("false_shadow", c.false_shadow),
+        ("false_lit", c.false_lit),
+        ("surface_mismatch", c.surface_mismatch),
+    ];
+    for (field, count) in fields {
         if count > c.evaluated {
             problems.push(format!(".counts.{field}: {count} > evaluated {}", c.evaluated));
         }
     }
     let both = c.false_shadow as u128 + c.false_lit as u128;
-    if problems.is_empty() && both > c.evaluated as u128 {
-        problems.push(format!(".counts: false_shadow + false_lit = {both} > evaluated {}", c.evaluated));
+    if problems.is_empty() && both > c.scored() as u128 {
+        let what = if c.surface_mismatch == 0 { "evaluated" } else { "evaluated - surface_mismatch" };
+        problems.push(format!(".counts: false_shadow + false_lit = {both} > {what} {}", c.scored()));
     }
     if let Some(soft) = &run.soft {
         for (field, v) in [
