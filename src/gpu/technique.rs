@@ -79,6 +79,7 @@ impl GpuTechnique {
             culling: needs.culling,
             slope_factor: needs.slope_factor,
             slope_units: needs.slope_units,
+            ..RasterSettings::default()
         }
     }
 }
