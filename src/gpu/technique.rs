@@ -38,6 +38,13 @@ impl GpuTechnique {
                 spec.label()
             ))
         };
+        let units = Self::raster_settings(spec).slope_units;
+        if units.fract() != 0.0 {
+            return Err(GpuError(format!(
+                "technique {}: the GPU's depth bias takes whole units, not {units}",
+                spec.label()
+            )));
+        }
         Ok(match spec {
             TechniqueSpec::None(_) | TechniqueSpec::SlopeScaled(_) => GpuTechnique::Plain,
             TechniqueSpec::Constant(ConstantParams { bias_world: Some(w), .. }) => {

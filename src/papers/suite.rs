@@ -82,6 +82,7 @@ pub(super) fn plan_of(
         coverage_grid: DEFAULT_COVERAGE_GRID,
         area_light_grid: DEFAULT_AREA_LIGHT_GRID,
         max_runs: DEFAULT_MAX_RUNS,
+        pipeline: crate::plan::Pipeline::Cpu,
     }
 }
 

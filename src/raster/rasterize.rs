@@ -475,10 +475,7 @@ fn raster_triangle(
 
     let (cols, rows) = (centre_range(&x, resolution)?, centre_range(&y, resolution)?);
 
-    let (dz_dx, dz_dy, col_offset, row_offset) = match depth_plane(&v, settings.depth_plane, a) {
-        Some(plane) => plane,
-        None => return None,
-    };
+    let (dz_dx, dz_dy, col_offset, row_offset) = depth_plane(&v, settings.depth_plane, a)?;
     // Polygon offset: m = |∇z| in depth units per texel, constant over the triangle (the fan
     // pieces of a clipped polygon are coplanar: equal m up to rounding), r from the polygon's
     // largest vertex depth. Added to the vertex depth before interpolation, as D3D specifies.
