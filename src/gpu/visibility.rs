@@ -115,17 +115,7 @@ pub fn shade_visibility(
         usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
         view_formats: &[],
     });
-    // Clamp to the edge and compare `reference ≤ texel` with bilinear weights: D3D10+ hardware
-    // PCF, the CPU's `Kernel::Bilinear` (src/technique/kernel.rs).
-    let sampler = gpu.device.create_sampler(&wgpu::SamplerDescriptor {
-        label: Some("compare"),
-        address_mode_u: wgpu::AddressMode::ClampToEdge,
-        address_mode_v: wgpu::AddressMode::ClampToEdge,
-        mag_filter: wgpu::FilterMode::Linear,
-        min_filter: wgpu::FilterMode::Linear,
-        compare: Some(wgpu::CompareFunction::LessEqual),
-        ..Default::default()
-    });
+    let sampler = compare_sampler(gpu);
     let pipeline = shade_pipeline(gpu);
     let map_view = map.texture.create_view(&Default::default());
     let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -139,13 +129,37 @@ pub fn shade_visibility(
             wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(&sampler) },
         ],
     });
-    let target_view = target.create_view(&Default::default());
+    draw_fullscreen(gpu, &pipeline, &bind_group, &target.create_view(&Default::default()));
+    read_f32_texture(gpu, &target, wgpu::TextureAspect::All, width, height)
+}
+
+/// Clamp to the edge and compare `reference ≤ texel` with bilinear weights: D3D10+ hardware PCF,
+/// the CPU's `Kernel::Bilinear` (src/technique/kernel.rs).
+fn compare_sampler(gpu: &GpuDevice) -> wgpu::Sampler {
+    gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("compare"),
+        address_mode_u: wgpu::AddressMode::ClampToEdge,
+        address_mode_v: wgpu::AddressMode::ClampToEdge,
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        compare: Some(wgpu::CompareFunction::LessEqual),
+        ..Default::default()
+    })
+}
+
+/// One full-screen triangle into `target_view` (cleared to 1, lit), submitted.
+fn draw_fullscreen(
+    gpu: &GpuDevice,
+    pipeline: &wgpu::RenderPipeline,
+    bind_group: &wgpu::BindGroup,
+    target_view: &wgpu::TextureView,
+) {
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("visibility"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &target_view,
+                view: target_view,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
@@ -158,12 +172,11 @@ pub fn shade_visibility(
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
         pass.draw(0..3, 0..1);
     }
     gpu.queue.submit([encoder.finish()]);
-    read_f32_texture(gpu, &target, wgpu::TextureAspect::All, width, height)
 }
 
 /// Per camera pixel: (position, 1) where the pixel is evaluated, else zeros; and the normal.
