@@ -245,6 +245,12 @@ struct RunArgs {
     /// given as x,y,width,height in pixels (the papers' enlarged panels).
     #[arg(long, value_delimiter = ',', value_name = "X,Y,W,H")]
     zoom: Option<Vec<u32>>,
+    /// Draw the shadow maps and shade the techniques on a Vulkan GPU (`gpu`: none, constant,
+    /// slope_scaled, normal_offset and pcf with a box or bilinear kernel; f32 maps) instead of
+    /// the CPU (default: the plan's, cpu). Without a GPU, Mesa's lavapipe
+    /// (`apt-get install mesa-vulkan-drivers libvulkan1`) is one.
+    #[arg(long, value_enum)]
+    pipeline: Option<crate::plan::Pipeline>,
 }
 
 /// Which reference `shadowtruth reference` writes.
@@ -566,6 +572,9 @@ fn run_plan(a: RunArgs) -> Result<u8> {
     plan.scenes = expand_scenes(&plan.scenes)?;
     if let Some(r) = a.resolutions {
         plan.resolutions = r;
+    }
+    if let Some(p) = a.pipeline {
+        plan.pipeline = p;
     }
     plan.figures = !a.no_figures;
     if let Some(z) = &a.zoom {

@@ -106,6 +106,7 @@ fn gate_reports() -> &'static (crate::report::CheckedReport, crate::report::Chec
             layer_memory_bytes: 0,
             reference: ReferenceUsed::default(),
             soft: None,
+            pipeline: None,
         }
     };
     REPORTS.get_or_init(|| {

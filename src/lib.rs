@@ -39,6 +39,13 @@ mod cli;
 mod error;
 #[doc(hidden)]
 pub mod fuzzing;
+#[doc(hidden)]
+pub mod gpu_pipeline {
+    //! The command's GPU pipeline (`src/gpu/`), reachable for its cross-check against the CPU
+    //! (tests/gpu_pipeline.rs). Not a stable API.
+    pub use crate::gpu::*;
+}
+pub(crate) mod gpu;
 pub mod import;
 pub(crate) mod json_input;
 pub mod metrics;

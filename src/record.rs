@@ -76,6 +76,19 @@ pub struct RunRecord {
     /// Soft errors, for runs scored against a fractional reference (coverage, area light).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub soft: Option<SoftErrors>,
+    /// The device of a run on the GPU pipeline (absent for the CPU's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pipeline: Option<PipelineUsed>,
+}
+
+/// The GPU a run's map was drawn and its technique shaded on.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PipelineUsed {
+    /// "gpu".
+    pub name: String,
+    pub adapter: String,
+    pub driver: String,
+    pub backend: String,
 }
 
 /// Which reference a run was scored against and with how many samples per pixel (1 for hard).

@@ -58,6 +58,7 @@ fn run(
         layer_memory_bytes: 0,
         reference: Default::default(),
         soft: None,
+        pipeline: None,
     }
 }
 

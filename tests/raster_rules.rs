@@ -390,7 +390,7 @@ fn polygon_offset_adds_factor_times_slope_plus_units_times_r() {
     for (format, r) in [(DepthFormat::F32, 2f64.powi(-25)), (DepthFormat::Unorm16, 1.0 / 65535.0)] {
         let offset = factor as f64 * m + units as f64 * r;
         let settings =
-            RasterSettings { format, culling: Culling::None, slope_factor: factor, slope_units: units };
+            RasterSettings { format, slope_factor: factor, slope_units: units, ..Default::default() };
         let layer = rasterize_nearest(&s, &view, &settings);
         let mut covered = 0;
         for row in 0..64 {
@@ -450,6 +450,7 @@ fn thread_count_does_not_change_a_bit() {
         culling: Culling::BackFacesOfClosed,
         slope_factor: 1.5,
         slope_units: 2.0,
+        ..Default::default()
     };
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();

@@ -255,6 +255,7 @@ fn record(
         layer_memory_bytes: 0,
         reference: Default::default(),
         soft: None,
+        pipeline: None,
     }
 }
 

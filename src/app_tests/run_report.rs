@@ -32,6 +32,7 @@ fn a_plan_writes_one_record_per_run_with_consistent_counts() {
         area_light_grid: shadowtruth::plan::DEFAULT_AREA_LIGHT_GRID,
         max_runs: shadowtruth::plan::DEFAULT_MAX_RUNS,
         shadow_map: None,
+        pipeline: shadowtruth::plan::Pipeline::Cpu,
     };
     let mut writer = ReportWriter::new(dir.path());
     let mut done = 0;

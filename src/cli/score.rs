@@ -116,6 +116,7 @@ pub(super) fn score(a: ScoreArgs) -> Result<u8> {
         area_light_grid: DEFAULT_AREA_LIGHT_GRID,
         max_runs: DEFAULT_MAX_RUNS,
         shadow_map,
+        pipeline: crate::plan::Pipeline::Cpu,
     };
     let cache = (!a.no_cache).then(|| crate::trace::ReferenceCache::new(&a.references));
     write_plan_report(&plan, &a.out, cache.as_ref(), a.quiet)?;

@@ -83,6 +83,7 @@ pub(super) fn plan_of(
         area_light_grid: DEFAULT_AREA_LIGHT_GRID,
         max_runs: DEFAULT_MAX_RUNS,
         shadow_map: None,
+        pipeline: crate::plan::Pipeline::Cpu,
     }
 }
 

@@ -6,11 +6,12 @@
 use super::events::{Event, Sink, TracedView, emit};
 use super::references::ViewReferences;
 use super::select::{Selected, check_area_light_sizes, check_plan, check_run_count, load_selected};
-use super::{Plan, PlanInputError, build_layers_timed};
+use super::{Pipeline, Plan, PlanInputError, build_layers_timed};
+use crate::gpu::{GpuDepthMap, GpuDevice, GpuTechnique, shade_visibility};
 use crate::import::{ReadOptions, evaluated_visibility, read_depth, read_visibility};
 use crate::metrics::{LightUv, Stopwatch, attribute, median_ms, score_hard, score_soft};
 use crate::raster::{DepthFormat, LightView};
-use crate::record::{RunRecord, SceneRecord, Timings};
+use crate::record::{PipelineUsed, RunRecord, SceneRecord, Timings};
 use crate::scene::{Camera, Light, Scene, SceneError};
 use crate::technique::{
     BuiltLayers, ExternalParams, LayerNeeds, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated,
@@ -44,6 +45,8 @@ struct Schedule<'p, 's, 'k> {
     cache: Option<&'p ReferenceCache>,
     groups: LayerGroups,
     sinks: &'s mut [&'k mut dyn Sink],
+    /// The device of a plan on the GPU pipeline.
+    gpu: Option<GpuDevice>,
 }
 
 /// One shadow map's set-up within a view: the light view and what is built from it once.
@@ -69,7 +72,12 @@ pub fn execute(
     emit(sinks, &Event::Planned { runs })?;
     let groups = layer_groups(&plan.techniques);
     check_imported_map(plan, &groups)?;
-    let mut schedule = Schedule { plan, cache, groups, sinks };
+    // Before anything is traced: a machine without a Vulkan adapter is told at once.
+    let gpu = match plan.pipeline {
+        Pipeline::Cpu => None,
+        Pipeline::Gpu => Some(GpuDevice::new().map_err(|e| PlanError::Invalid(e.to_string()))?),
+    };
+    let mut schedule = Schedule { plan, cache, groups, sinks, gpu };
     selected.iter().try_for_each(|sel| schedule.scene(sel))
 }
 
@@ -166,6 +174,11 @@ impl Schedule<'_, '_, '_> {
 
     /// Every technique at one (resolution, depth format): each group's layers built once.
     fn map(&mut self, traced: &TracedView, map: &MapSetting) -> Result<(), PlanError> {
+        if let Some(gpu) = self.gpu.take() {
+            let done = self.map_on_gpu(&gpu, traced, map);
+            self.gpu = Some(gpu);
+            return done;
+        }
         for gi in 0..self.groups.len() {
             let (scene, camera, light) = (traced.scene, traced.camera, traced.light);
             let (resolution, format) = (map.resolution, map.format.name());
@@ -220,6 +233,54 @@ impl Schedule<'_, '_, '_> {
             let mut record = run_record(traced, map, &run.spec, &run.visibility);
             record.timings = timings(run.read_ms, 0.0, record.counts.evaluated);
             emit(self.sinks, &Event::RunDone { record: &record, visibility: &run.visibility })?;
+        }
+        Ok(())
+    }
+
+    /// Every technique at one resolution on the device: its map drawn there (timed as
+    /// `prepare`), then shaded there (`shade`), each the median of the plan's repeats.
+    fn map_on_gpu(
+        &mut self,
+        gpu: &GpuDevice,
+        traced: &TracedView,
+        map: &MapSetting,
+    ) -> Result<(), PlanError> {
+        let (scene, camera, light) = (traced.scene, traced.camera, traced.light);
+        let adapter = gpu.adapter();
+        let used = PipelineUsed {
+            name: "gpu".into(),
+            adapter: adapter.name,
+            driver: adapter.driver,
+            backend: adapter.backend,
+        };
+        let failed = |e: crate::gpu::GpuError| {
+            PlanError::Invalid(format!("{}/{}/{}: {e}", scene.name, camera.name, light.name))
+        };
+        // Imported techniques are read, not shaded (`imported_runs`).
+        for spec in self.plan.techniques.iter().filter(|t| t.build().is_some()) {
+            self.stage(&format!(
+                "{}/{}/{}: {}² on the GPU",
+                scene.name, camera.name, light.name, map.resolution
+            ))?;
+            let technique = GpuTechnique::from_spec(spec).map_err(failed)?;
+            let settings = GpuTechnique::raster_settings(spec);
+            let (mut prepare_ms, mut shade_ms, mut image) = (Vec::new(), Vec::new(), Vec::new());
+            for _ in 0..self.plan.repeats.max(1) {
+                let sw = Stopwatch::start();
+                let depth_map = GpuDepthMap::render(gpu, scene, map.view, &settings).map_err(failed)?;
+                gpu.wait().map_err(failed)?;
+                prepare_ms.push(sw.ms());
+                let sw = Stopwatch::start();
+                image =
+                    shade_visibility(gpu, traced.gbuffer, map.view, &depth_map, technique).map_err(failed)?;
+                shade_ms.push(sw.ms());
+            }
+            let visibility: Vec<f32> = traced.gbuffer.evaluated.iter().map(|&i| image[i as usize]).collect();
+            let mut record = run_record(traced, map, spec, &visibility);
+            record.timings = timings(median_ms(&prepare_ms), median_ms(&shade_ms), record.counts.evaluated);
+            record.layer_memory_bytes = map.resolution as u64 * map.resolution as u64 * 4;
+            record.pipeline = Some(used.clone());
+            emit(self.sinks, &Event::RunDone { record: &record, visibility: &visibility })?;
         }
         Ok(())
     }
@@ -279,6 +340,7 @@ fn run_record(traced: &TracedView, map: &MapSetting, spec: &TechniqueSpec, visib
         layer_memory_bytes: 0,
         reference: reference_used,
         soft: soft_reference.map(|r| score_soft(gbuffer, &r.visibility, visibility)),
+        pipeline: None,
     }
 }
 

@@ -96,6 +96,7 @@ fn read_plan_value(root: &Value, path: &Path, max_runs: u64, problems: &mut Prob
     let coverage_grid = top.optional_or("coverage_grid", count(1, max_grid), super::DEFAULT_COVERAGE_GRID);
     let area_light_grid =
         top.optional_or("area_light_grid", count(1, max_grid), super::DEFAULT_AREA_LIGHT_GRID);
+    let pipeline = top.optional_or("pipeline", as_pipeline, super::Pipeline::Cpu);
     let entries = read_technique_entries(&mut top);
     top.finish();
     let entries = entries?;
@@ -131,6 +132,7 @@ fn read_plan_value(root: &Value, path: &Path, max_runs: u64, problems: &mut Prob
         area_light_grid: area_light_grid?,
         max_runs,
         shadow_map: None,
+        pipeline: pipeline?,
     })
 }
 
@@ -140,6 +142,11 @@ fn files_relative_to(technique: TechniqueSpec, base: &Path) -> TechniqueSpec {
         TechniqueSpec::External(p) => TechniqueSpec::External(p.relative_to(base)),
         other => other,
     }
+}
+
+fn as_pipeline(v: &Value) -> Result<super::Pipeline, String> {
+    let name = as_string(v)?;
+    super::Pipeline::parse(&name).ok_or_else(|| format!("unknown pipeline \"{name}\" (cpu, gpu)"))
 }
 
 /// A list that selects (cameras, lights): absent means all (`Some(None)`); `None` when invalid.

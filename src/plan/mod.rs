@@ -18,4 +18,6 @@ pub use events::{Event, Sink, TracedView, emit};
 pub use execute::{PlanError, execute};
 pub use file::{DEFAULT_MAX_RUNS, PlanInputError, parse_plan, parse_plan_limited, read_plan};
 pub use layers::build_layers_timed;
-pub use spec::{DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, MAX_REFERENCE_GRID, MAX_REPEATS, Plan};
+pub use spec::{
+    DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, MAX_REFERENCE_GRID, MAX_REPEATS, Pipeline, Plan,
+};

@@ -88,6 +88,21 @@ pub(super) fn check_plan(plan: &Plan) -> Result<(), PlanError> {
             problem(format!("techniques[{i}]"), format!("{}: {e}", t.label()));
         }
     }
+    if plan.pipeline == super::Pipeline::Gpu {
+        for (i, t) in plan.techniques.iter().enumerate() {
+            if let Err(e) = crate::gpu::GpuTechnique::from_spec(t) {
+                problem(format!("techniques[{i}]"), e.to_string());
+            }
+        }
+        for (i, f) in plan.depth_formats.iter().enumerate() {
+            if *f != crate::raster::DepthFormat::F32 {
+                problem(
+                    format!("depth_formats[{i}]"),
+                    format!("the GPU pipeline draws f32 maps only, not {}", f.name()),
+                );
+            }
+        }
+    }
     for (i, &r) in plan.resolutions.iter().enumerate() {
         if !(1..=MAX_SHADOW_MAP_RESOLUTION).contains(&r) {
             problem(

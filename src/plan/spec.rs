@@ -32,6 +32,27 @@ pub struct Plan {
     /// Another renderer's shadow map (`score --shadow-map`): every technique reads it instead of
     /// layers rasterized here, at its resolution and through its clip_from_world.
     pub shadow_map: Option<crate::import::ImportedShadowMap>,
+    /// Where the shadow maps are drawn and the techniques shaded.
+    pub pipeline: Pipeline,
+}
+
+/// Where a plan's shadow maps are drawn and its techniques shaded: the CPU rasterizer and
+/// techniques, or a Vulkan device (`src/gpu/`, for the techniques it implements).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Pipeline {
+    #[default]
+    Cpu,
+    Gpu,
+}
+
+impl Pipeline {
+    pub fn parse(name: &str) -> Option<Self> {
+        match name {
+            "cpu" => Some(Pipeline::Cpu),
+            "gpu" => Some(Pipeline::Gpu),
+            _ => None,
+        }
+    }
 }
 
 /// Sub-pixel grid of the coverage reference (4×4).

@@ -31,6 +31,16 @@ pub enum Culling {
     FrontFacesOfClosed,
 }
 
+/// Which vertices the depth plane of a triangle goes through (docs/conventions.md, "Rasterizer").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum DepthPlane {
+    /// The vertices snapped to 1/256 texel, as coverage uses them (the default).
+    #[default]
+    Snapped,
+    /// The unsnapped vertices (after the divide and viewport), as llvmpipe sets the plane up.
+    Exact,
+}
+
 /// Everything a depth layer depends on besides the scene and the light view.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RasterSettings {
@@ -40,6 +50,8 @@ pub struct RasterSettings {
     pub slope_factor: f32,
     /// glPolygonOffset `units` (multiplies the format's minimum resolvable difference r).
     pub slope_units: f32,
+    /// The vertices the depth plane goes through; coverage always uses the snapped ones.
+    pub depth_plane: DepthPlane,
 }
 
 impl Default for RasterSettings {
@@ -49,6 +61,7 @@ impl Default for RasterSettings {
             culling: Culling::None,
             slope_factor: 0.0,
             slope_units: 0.0,
+            depth_plane: DepthPlane::Snapped,
         }
     }
 }
@@ -337,14 +350,16 @@ fn setup_triangle(
     let mut xs = [0i64; super::clip::MAX_CLIPPED_VERTICES];
     let mut ys = xs;
     let mut zs = [0f32; super::clip::MAX_CLIPPED_VERTICES];
+    let mut exact = [(0f32, 0f32); super::clip::MAX_CLIPPED_VERTICES];
     for (i, c) in polygon.as_slice().iter().enumerate() {
         if c.w <= 0.0 {
             return;
         }
         let inv_w = 1.0 / c.w;
         let (u, v) = (0.5 * c.x * inv_w + 0.5, 0.5 * c.y * inv_w + 0.5);
-        xs[i] = snap(u * n);
-        ys[i] = snap((1.0 - v) * n);
+        exact[i] = (u * n, (1.0 - v) * n);
+        xs[i] = snap(exact[i].0);
+        ys[i] = snap(exact[i].1);
         zs[i] = c.z * inv_w;
     }
     let len = polygon.len;
@@ -383,9 +398,8 @@ fn setup_triangle(
     };
     for k in 1..len - 1 {
         let fan = [0, k, k + 1];
-        if let Some(t) =
-            raster_triangle(fan.map(|i| (xs[i], ys[i], zs[i])), view.resolution, settings, offset_on, r)
-        {
+        let vertices = fan.map(|i| RasterVertex { x: xs[i], y: ys[i], z: zs[i], exact: exact[i] });
+        if let Some(t) = raster_triangle(vertices, view.resolution, settings, offset_on, r) {
             out.push(t);
         }
     }
@@ -418,18 +432,27 @@ fn snap(coordinate: f32) -> i64 {
     (t + 0.5f64.copysign(t)) as i64
 }
 
-/// Set-up of one snapped triangle (x, y in 1/256 texels, z/w): orientation, fill-rule biases,
-/// bounding box, depth plane and polygon offset. None when it covers no texel centre.
+/// A vertex after the viewport: snapped (x, y) in 1/256 texels, z/w, and the unsnapped raster
+/// position in texels.
+#[derive(Clone, Copy, Debug)]
+struct RasterVertex {
+    x: i64,
+    y: i64,
+    z: f32,
+    exact: (f32, f32),
+}
+
+/// Set-up of one snapped triangle: orientation, fill-rule biases, bounding box, depth plane and
+/// polygon offset. None when it covers no texel centre.
 fn raster_triangle(
-    v: [(i64, i64, f32); 3],
+    v: [RasterVertex; 3],
     resolution: u32,
     settings: &RasterSettings,
     offset_on: bool,
     r: f32,
 ) -> Option<RasterTriangle> {
-    let area = |v: &[(i64, i64, f32); 3]| {
-        (v[1].0 - v[0].0) * (v[2].1 - v[0].1) - (v[2].0 - v[0].0) * (v[1].1 - v[0].1)
-    };
+    let area =
+        |v: &[RasterVertex; 3]| (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[2].x - v[0].x) * (v[1].y - v[0].y);
     let mut v = v;
     let a = area(&v);
     if a == 0 {
@@ -438,8 +461,8 @@ fn raster_triangle(
     if a < 0 {
         v.swap(1, 2);
     }
-    let x = v.map(|p| p.0);
-    let y = v.map(|p| p.1);
+    let x = v.map(|p| p.x);
+    let y = v.map(|p| p.y);
 
     // Top-left rule (D3D) in y-down space for this (clockwise on screen) winding: a top edge is
     // horizontal and runs in +x, a left edge runs upwards (−y).
@@ -452,18 +475,7 @@ fn raster_triangle(
 
     let (cols, rows) = (centre_range(&x, resolution)?, centre_range(&y, resolution)?);
 
-    // Depth plane through the snapped vertices, in f32 as a GPU's setup: texel units.
-    let texels = |d: i64| d as f32 / SUBTEXEL as f32;
-    let (dx1, dy1) = (texels(x[1] - x[0]), texels(y[1] - y[0]));
-    let (dx2, dy2) = (texels(x[2] - x[0]), texels(y[2] - y[0]));
-    // Twice the area from the exact integer area: never rounds to zero for a sliver.
-    let det = a.abs() as f32 / (SUBTEXEL * SUBTEXEL) as f32;
-    let (dz1, dz2) = (v[1].2 - v[0].2, v[2].2 - v[0].2);
-    let dz_dx = (dz1 * dy2 - dz2 * dy1) / det;
-    let dz_dy = (dx1 * dz2 - dx2 * dz1) / det;
-    if !(dz_dx.is_finite() && dz_dy.is_finite()) {
-        return None;
-    }
+    let (dz_dx, dz_dy, col_offset, row_offset) = depth_plane(&v, settings.depth_plane, a)?;
     // Polygon offset: m = |∇z| in depth units per texel, constant over the triangle (the fan
     // pieces of a clipped polygon are coplanar: equal m up to rounding), r from the polygon's
     // largest vertex depth. Added to the vertex depth before interpolation, as D3D specifies.
@@ -478,12 +490,43 @@ fn raster_triangle(
         edge_bias,
         rows: (rows.0 as u32, rows.1 as u32),
         cols: (cols.0 as u32, cols.1 as u32),
-        z0: v[0].2 + offset,
+        z0: v[0].z + offset,
         dz_dx,
         dz_dy,
-        col_offset: texels(HALF_TEXEL - x[0]),
-        row_offset: texels(HALF_TEXEL - y[0]),
+        col_offset,
+        row_offset,
     })
+}
+
+/// The depth plane of a triangle in f32, as a GPU's setup, in texel units: (∂z/∂x, ∂z/∂y) and
+/// the offsets that make a texel index the distance from vertex 0 (`RasterTriangle::col_offset`). `area` is the
+/// snapped triangle's doubled area in 1/256² texels (positive). None when the plane is not
+/// finite.
+fn depth_plane(v: &[RasterVertex; 3], plane: DepthPlane, area: i64) -> Option<(f32, f32, f32, f32)> {
+    let texels = |d: i64| d as f32 / SUBTEXEL as f32;
+    let (dz1, dz2) = (v[1].z - v[0].z, v[2].z - v[0].z);
+    let (dx1, dy1, dx2, dy2, det, (col_offset, row_offset)) = match plane {
+        DepthPlane::Snapped => {
+            let (dx1, dy1) = (texels(v[1].x - v[0].x), texels(v[1].y - v[0].y));
+            let (dx2, dy2) = (texels(v[2].x - v[0].x), texels(v[2].y - v[0].y));
+            // Twice the area from the exact integer area: never rounds to zero for a sliver.
+            let det = area.abs() as f32 / (SUBTEXEL * SUBTEXEL) as f32;
+            let offsets = (texels(HALF_TEXEL - v[0].x), texels(HALF_TEXEL - v[0].y));
+            (dx1, dy1, dx2, dy2, det, offsets)
+        }
+        DepthPlane::Exact => {
+            let e = v.map(|p| p.exact);
+            let (dx1, dy1) = (e[1].0 - e[0].0, e[1].1 - e[0].1);
+            let (dx2, dy2) = (e[2].0 - e[0].0, e[2].1 - e[0].1);
+            (dx1, dy1, dx2, dy2, dx1 * dy2 - dx2 * dy1, (0.5 - e[0].0, 0.5 - e[0].1))
+        }
+    };
+    let dz_dx = (dz1 * dy2 - dz2 * dy1) / det;
+    let dz_dy = (dx1 * dz2 - dx2 * dz1) / det;
+    if !(dz_dx.is_finite() && dz_dy.is_finite()) {
+        return None;
+    }
+    Some((dz_dx, dz_dy, col_offset, row_offset))
 }
 
 #[cfg(test)]
@@ -491,7 +534,7 @@ mod tests {
     use super::*;
 
     fn tri(points: [(f32, f32); 3]) -> RasterTriangle {
-        let v = points.map(|(x, y)| (snap(x), snap(y), 0.5));
+        let v = points.map(|(x, y)| RasterVertex { x: snap(x), y: snap(y), z: 0.5, exact: (x, y) });
         raster_triangle(v, 16, &RasterSettings::default(), false, 0.0).unwrap()
     }
 

@@ -26,6 +26,7 @@ impl BuiltLayers {
             culling: needs.culling,
             slope_factor: needs.slope_factor,
             slope_units: needs.slope_units,
+            ..RasterSettings::default()
         };
         match (needs.second_layer, needs.multi_depth) {
             (true, _) => BuiltLayers::TwoNearest(rasterize_two_nearest(scene, view, &settings)),

@@ -37,6 +37,7 @@ pub use kernel::{Kernel, POISSON_SIZES, poisson_set};
 pub use mdsm::{MdsmParams, SelectSpec};
 pub use normal_offset::{FalloffSpec, NormalOffset, NormalOffsetParams, OffsetFalloff};
 pub use params::{ReferenceKind, TechniqueParams, TechniqueSpecError};
+pub(crate) use pcf::DEFAULT_BOX_SIZE as PCF_DEFAULT_BOX_SIZE;
 pub use pcf::{AffineDepth, LayerSpec, Pcf, PcfParams, TapBias, TapDepth, TapThreshold};
 pub use pcss::{Pcss, PcssParams};
 pub use receiver_plane::{ReceiverPlane, ReceiverPlaneParams, receiver_plane_slope};

@@ -283,7 +283,7 @@ fn is_nearest(l: &LayerSpec) -> bool {
 }
 
 /// A box of this side (in texels) when `pcf` names no size.
-const DEFAULT_BOX_SIZE: u32 = 3;
+pub(crate) const DEFAULT_BOX_SIZE: u32 = 3;
 
 /// `pcf`: the kernel, the per-tap bias (with `factor` and `units` for `slope_scaled`) and the
 /// depth-layer test under each tap (with `z_offset` and `cull_back_faces` where it reads two

@@ -175,6 +175,7 @@ mod tests {
             layer_memory_bytes: 0,
             reference: Default::default(),
             soft: None,
+            pipeline: None,
         }
     }
 

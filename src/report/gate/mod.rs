@@ -68,5 +68,6 @@ pub(crate) fn test_run(
         layer_memory_bytes: 0,
         reference: Default::default(),
         soft: None,
+        pipeline: None,
     }
 }
