@@ -318,6 +318,7 @@ fn run_on_the_gpu_pipeline_records_the_adapter() {
     };
     let (gpu_runs, cpu_runs) = (report("gpu"), report("cpu"));
     assert_eq!(gpu_runs.len(), 3);
+    assert_eq!(cpu_runs.len(), 3);
     for (g, c) in gpu_runs.iter().zip(&cpu_runs) {
         assert!(c.get("pipeline").is_none(), "a CPU run records no pipeline");
         let used = &g["pipeline"];

@@ -39,14 +39,14 @@ pub(super) struct ScoreArgs {
     #[arg(long, default_value = "external")]
     name: String,
     /// Row 0 of the files is the bottom row.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "shadow_map")]
     flip_y: bool,
     /// The EXR channel of the visibility file (needed when it has more than one).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "shadow_map")]
     channel: Option<String>,
     /// The shadow-map resolution the attribution's texel footprint is taken at (aliasing: a false
     /// pixel within one texel of a reference shadow boundary).
-    #[arg(long, default_value_t = 2048,
+    #[arg(long, default_value_t = 2048, conflicts_with = "shadow_map",
           value_parser = clap::value_parser!(u32).range(1..=MAX_SHADOW_MAP_RESOLUTION as i64))]
     resolution: u32,
     /// Instead of a visibility buffer, the renderer's shadow map: one depth layer as an EXR (row

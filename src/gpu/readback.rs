@@ -15,6 +15,13 @@ pub fn read_f32_texture(
     let row_bytes = width as u64 * 4;
     let align = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT as u64;
     let padded = row_bytes.div_ceil(align) * align;
+    if padded * height as u64 > gpu.limits.max_buffer_size {
+        return Err(GpuError(format!(
+            "a {width}×{height} readback needs {} bytes, more than the adapter's buffer limit of {}",
+            padded * height as u64,
+            gpu.limits.max_buffer_size
+        )));
+    }
     let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("readback"),
         size: padded * height as u64,

@@ -114,7 +114,12 @@ fn read_exr(path: &Path, channel: Option<&str>, fallback: Option<&str>) -> Resul
             ));
         }
     };
-    Ok((layer.size.width() as u32, layer.size.height() as u32, values))
+    let (width, height) = (layer.size.width() as u32, layer.size.height() as u32);
+    if values.len() != width as usize * height as usize {
+        let message = format!("channel {} is subsampled: expected one sample per pixel", chosen.name);
+        return Err(import_error(path, message));
+    }
+    Ok((width, height, values))
 }
 
 fn read_png(path: &Path) -> Result<(u32, u32, Vec<f32>)> {

@@ -89,7 +89,8 @@ pub(super) fn check_plan(plan: &Plan) -> Result<(), PlanError> {
         }
     }
     if plan.pipeline == super::Pipeline::Gpu {
-        for (i, t) in plan.techniques.iter().enumerate() {
+        // Imported techniques are read, not drawn or shaded: they run on either pipeline.
+        for (i, t) in plan.techniques.iter().enumerate().filter(|(_, t)| t.build().is_some()) {
             if let Err(e) = crate::gpu::GpuTechnique::from_spec(t) {
                 problem(format!("techniques[{i}]"), e.to_string());
             }

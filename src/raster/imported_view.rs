@@ -96,11 +96,10 @@ fn light_from_world(m: &DMat4, right: DVec3, up: DVec3, z_row: DVec4, orthograph
 }
 
 fn close(a: f64, b: f64, what: &str) -> Result<(), String> {
-    if (a - b).abs() <= TOLERANCE * b.abs().max(1.0) {
-        Ok(())
-    } else {
-        Err(format!("{what} ({a} against {b})"))
-    }
+    // Relative to the expected value, absolute only where that is zero: a depth scale of
+    // 1/(far − near) ≪ 1 must still match to 1e-4 of itself.
+    let bound = if b == 0.0 { TOLERANCE } else { TOLERANCE * b.abs() };
+    if (a - b).abs() <= bound { Ok(()) } else { Err(format!("{what} ({a} against {b})")) }
 }
 
 #[cfg(test)]

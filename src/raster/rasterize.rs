@@ -518,13 +518,24 @@ fn depth_plane(v: &[RasterVertex; 3], plane: DepthPlane, area: i64) -> Option<(f
             let e = v.map(|p| p.exact);
             let (dx1, dy1) = (e[1].0 - e[0].0, e[1].1 - e[0].1);
             let (dx2, dy2) = (e[2].0 - e[0].0, e[2].1 - e[0].1);
-            (dx1, dy1, dx2, dy2, dx1 * dy2 - dx2 * dy1, (0.5 - e[0].0, 0.5 - e[0].1))
+            let det = dx1 * dy2 - dx2 * dy1;
+            // A sliver whose unsnapped area is zero, or turned over by snapping, has no usable
+            // exact plane: coverage comes from the snapped vertices, and so does its plane.
+            let snapped_cross = (v[1].x - v[0].x) as i128 * (v[2].y - v[0].y) as i128
+                - (v[2].x - v[0].x) as i128 * (v[1].y - v[0].y) as i128;
+            if !(det.is_finite() && det != 0.0 && (det > 0.0) == (snapped_cross > 0)) {
+                return depth_plane(v, DepthPlane::Snapped, area);
+            }
+            (dx1, dy1, dx2, dy2, det, (0.5 - e[0].0, 0.5 - e[0].1))
         }
     };
     let dz_dx = (dz1 * dy2 - dz2 * dy1) / det;
     let dz_dy = (dx1 * dz2 - dx2 * dz1) / det;
     if !(dz_dx.is_finite() && dz_dy.is_finite()) {
-        return None;
+        return match plane {
+            DepthPlane::Exact => depth_plane(v, DepthPlane::Snapped, area),
+            DepthPlane::Snapped => None,
+        };
     }
     Some((dz_dx, dz_dy, col_offset, row_offset))
 }

@@ -199,11 +199,15 @@ fn light_json(l: &GlbLight) -> (Value, Value) {
     (light, node)
 }
 
+/// The largest f32 not above π/2 (π/2 itself rounds up in f32).
+const HALF_PI_BELOW: f32 = f32::from_bits(0x3FC9_0FDA);
+
 /// (innerConeAngle, outerConeAngle) of a hard-edged cone of full angle `cone_deg`: the outer
 /// angle is the half-angle; glTF needs inner < outer, so inner is the next f32 below it.
 pub(crate) fn cone_angles(cone_deg: f32) -> (f32, f32) {
-    let outer = (0.5 * cone_deg as f64).to_radians() as f32;
-    (f32::from_bits(outer.to_bits().saturating_sub(1)), outer)
+    // Within glTF's 0 ≤ inner < outer ≤ π/2, also for a cone that f32 rounds to 0° or 180°.
+    let outer = ((0.5 * cone_deg as f64).to_radians() as f32).clamp(f32::from_bits(1), HALF_PI_BELOW);
+    (f32::from_bits(outer.to_bits() - 1), outer)
 }
 
 /// The GLB container: header (magic, version 2, total length), the JSON chunk padded with spaces

@@ -68,7 +68,8 @@ pub(crate) fn write_view_export(
         .cameras
         .iter()
         .map(|c| {
-            let (near, far) = if c.name == camera.name {
+            // The exported camera itself (by identity: names need not be unique).
+            let (near, far) = if std::ptr::eq(c, camera) {
                 camera_depth_range(c, &gbuffer, bounds)
             } else {
                 camera_depth_range(c, &GBuffer::trace(scene, &bvh, c, light), bounds)
@@ -105,7 +106,9 @@ pub(crate) fn write_view_export(
     let mut text = serde_json::to_string_pretty(&document)?;
     text.push('\n');
     write(VIEW_FILE, text.as_bytes())?;
-    for (name, bytes) in gbuffer_exr::gbuffer_exrs(&gbuffer)? {
+    let exrs = gbuffer_exr::gbuffer_exrs(&gbuffer)
+        .with_context(|| format!("encoding the G-buffer EXRs for {}", dir.display()))?;
+    for (name, bytes) in exrs {
         write(name, &bytes)?;
     }
     write(GLB_FILE, &glb::scene_glb(scene, &cameras, &lights))?;
