@@ -36,6 +36,20 @@ pub struct GpuDevice {
 }
 
 impl GpuDevice {
+    /// Runs `work` with the device's validation and out-of-memory errors returned as a
+    /// `GpuError` (wgpu's default handler would panic on them).
+    pub fn checked<T>(&self, work: impl FnOnce() -> Result<T, GpuError>) -> Result<T, GpuError> {
+        let out_of_memory = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let result = work();
+        let invalid = pollster::block_on(validation.pop());
+        let exhausted = pollster::block_on(out_of_memory.pop());
+        match invalid.or(exhausted) {
+            Some(e) => Err(GpuError(format!("the device refused the work: {e}"))),
+            None => result,
+        }
+    }
+
     /// The first Vulkan adapter (a hardware one preferred), with the adapter's own limits (the
     /// defaults would cap textures at 2048 texels).
     pub fn new() -> Result<Self, GpuError> {

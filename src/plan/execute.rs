@@ -267,12 +267,14 @@ impl Schedule<'_, '_, '_> {
             let (mut prepare_ms, mut shade_ms, mut image) = (Vec::new(), Vec::new(), Vec::new());
             for _ in 0..self.plan.repeats.max(1) {
                 let sw = Stopwatch::start();
-                let depth_map = GpuDepthMap::render(gpu, scene, map.view, &settings).map_err(failed)?;
+                let depth_map =
+                    gpu.checked(|| GpuDepthMap::render(gpu, scene, map.view, &settings)).map_err(failed)?;
                 gpu.wait().map_err(failed)?;
                 prepare_ms.push(sw.ms());
                 let sw = Stopwatch::start();
-                image =
-                    shade_visibility(gpu, traced.gbuffer, map.view, &depth_map, technique).map_err(failed)?;
+                image = gpu
+                    .checked(|| shade_visibility(gpu, traced.gbuffer, map.view, &depth_map, technique))
+                    .map_err(failed)?;
                 shade_ms.push(sw.ms());
             }
             let visibility: Vec<f32> = traced.gbuffer.evaluated.iter().map(|&i| image[i as usize]).collect();
