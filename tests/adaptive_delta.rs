@@ -12,8 +12,7 @@ use serde_json::json;
 use shadowtruth::raster::{DepthFormat, DepthLayer, LightView};
 use shadowtruth::scene::Scene;
 use shadowtruth::technique::{
-    AdaptiveBias, EpsilonScale, Layers, Sample, ShadeContext, ShadeOrder, TangentPlane, TapBias, TapDepth,
-    TechniqueSpec, shade_evaluated,
+    AdaptiveBias, EpsilonScale, Layers, Sample, ShadeContext, TangentPlane, TapBias, TapDepth, TechniqueSpec,
 };
 use shadowtruth::trace::GBuffer;
 
@@ -50,14 +49,9 @@ fn pcf11(bias: &str, epsilon: &str) -> TechniqueSpec {
     spec
 }
 
-/// Visibility of every evaluated pixel under `spec` at `resolution`.
+/// Visibility of every evaluated pixel (in `g.evaluated` order) under `spec` at `resolution`.
 fn shade(scene: &Scene, g: &GBuffer, spec: &TechniqueSpec, resolution: u32) -> Vec<f32> {
-    let technique = spec.build().expect("a shaded technique");
-    let view = LightView::new(&scene.lights[0], scene.bounds(), resolution);
-    let layers =
-        shadowtruth::technique::BuiltLayers::build(scene, &view, DepthFormat::F32, &technique.layer_needs());
-    let ctx = ShadeContext::new(scene, &view, layers.as_layers());
-    shade_evaluated(technique.as_ref(), &ShadeOrder::new(g, &view), &ctx)
+    common::shade_technique(scene, g, spec, resolution, DepthFormat::F32)
 }
 
 /// Receivers with a tap of the 11×11 kernel whose potential occluder lies in front of the near

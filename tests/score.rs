@@ -203,6 +203,12 @@ fn shadowtruth(args: &[&str]) -> std::process::Output {
     out
 }
 
+/// `shadowtruth run --plan PLAN -o OUT`, without cache or figures.
+fn run_plan(plan: &Path, out: &Path) {
+    let (plan, out) = (plan.to_str().unwrap(), out.to_str().unwrap());
+    shadowtruth(&["run", "--plan", plan, "--no-cache", "--no-figures", "--quiet", "-o", out]);
+}
+
 fn runs(report_dir: &Path) -> Vec<serde_json::Value> {
     let text = std::fs::read_to_string(report_dir.join("report.json")).unwrap();
     let report: serde_json::Value = serde_json::from_str(&text).unwrap();
@@ -265,16 +271,7 @@ fn score_the_plan_entry_and_the_built_in_technique_agree() {
     std::fs::write(dir.path().join("plan.json"), plan.to_string()).unwrap();
     let out_plan = dir.path().join("plan_out");
     let plan_path = dir.path().join("plan.json");
-    shadowtruth(&[
-        "run",
-        "--plan",
-        plan_path.to_str().unwrap(),
-        "--no-cache",
-        "--no-figures",
-        "--quiet",
-        "-o",
-        out_plan.to_str().unwrap(),
-    ]);
+    run_plan(&plan_path, &out_plan);
     let planned = runs(&out_plan);
     assert_eq!(planned.len(), 2);
     // The plan's file, relative to the plan, names the same file as the command's.
@@ -324,16 +321,7 @@ fn a_shadow_map_written_by_depth_map_scores_the_technique_on_our_own_map() {
     });
     let plan_path = dir.path().join("plan.json");
     std::fs::write(&plan_path, plan.to_string()).unwrap();
-    shadowtruth(&[
-        "run",
-        "--plan",
-        plan_path.to_str().unwrap(),
-        "--no-cache",
-        "--no-figures",
-        "--quiet",
-        "-o",
-        out_run.to_str().unwrap(),
-    ]);
+    run_plan(&plan_path, &out_run);
     let (imported, ours) = (runs(&out), runs(&out_run));
     assert_eq!((imported.len(), ours.len()), (1, 1));
     assert_eq!(

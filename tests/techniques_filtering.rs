@@ -8,7 +8,7 @@ mod common;
 use common::{scene_from_json, trace_first};
 use shadowtruth::raster::{DepthFormat, LightView};
 use shadowtruth::scene::Scene;
-use shadowtruth::technique::{ReceiverPlaneParams, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated};
+use shadowtruth::technique::{ReceiverPlaneParams, TechniqueSpec};
 use shadowtruth::trace::GBuffer;
 use std::collections::BTreeSet;
 
@@ -34,12 +34,7 @@ fn edge_scene(slab_yaw_deg: f32) -> Scene {
 
 /// Visibility of every evaluated pixel (in `g.evaluated` order) under `spec` at `resolution`.
 fn shade(scene: &Scene, g: &GBuffer, spec: &TechniqueSpec, resolution: u32) -> Vec<f32> {
-    let technique = spec.build().expect("a shaded technique");
-    let view = LightView::new(&scene.lights[0], scene.bounds(), resolution);
-    let layers =
-        shadowtruth::technique::BuiltLayers::build(scene, &view, DepthFormat::F32, &technique.layer_needs());
-    let ctx = ShadeContext::new(scene, &view, layers.as_layers());
-    shade_evaluated(technique.as_ref(), &ShadeOrder::new(g, &view), &ctx)
+    common::shade_technique(scene, g, spec, resolution, DepthFormat::F32)
 }
 
 /// Indices (into `g.evaluated`) of the ground's pixels.

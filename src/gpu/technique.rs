@@ -4,7 +4,8 @@
 use super::GpuError;
 use crate::raster::{DepthFormat, RasterSettings};
 use crate::technique::{
-    ConstantParams, FalloffSpec, KernelSpec, LayerSpec, PCF_DEFAULT_BOX_SIZE, TapBiasSpec, TechniqueSpec,
+    ConstantParams, FalloffSpec, KernelSpec, LayerNeeds, LayerSpec, PCF_DEFAULT_BOX_SIZE, TapBiasSpec,
+    TechniqueSpec,
 };
 
 /// One shadow test of `visibility.wgsl`, with its parameters.
@@ -81,7 +82,11 @@ impl GpuTechnique {
     /// How the map of `spec` is rasterized: its culling and polygon offset, in f32 depth.
     pub fn raster_settings(spec: &TechniqueSpec) -> RasterSettings {
         // An imported technique draws no map: it has the default needs.
-        let needs = spec.build().map(|t| t.layer_needs()).unwrap_or_default();
+        Self::raster_settings_of(&spec.build().map(|t| t.layer_needs()).unwrap_or_default())
+    }
+
+    /// The map that techniques with these layer needs read (one map serves them all).
+    pub fn raster_settings_of(needs: &LayerNeeds) -> RasterSettings {
         RasterSettings {
             format: DepthFormat::F32,
             culling: needs.culling,

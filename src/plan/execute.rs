@@ -256,33 +256,46 @@ impl Schedule<'_, '_, '_> {
         let failed = |e: crate::gpu::GpuError| {
             PlanError::Invalid(format!("{}/{}/{}: {e}", scene.name, camera.name, light.name))
         };
-        // Imported techniques are read, not shaded (`imported_runs`).
-        for spec in self.plan.techniques.iter().filter(|t| t.build().is_some()) {
+        // One map per layer group, as on the CPU: drawn once, read by every technique of the
+        // group. Imported techniques are in no group (`imported_runs`).
+        for gi in 0..self.groups.len() {
             self.stage(&format!(
                 "{}/{}/{}: {}² on the GPU",
                 scene.name, camera.name, light.name, map.resolution
             ))?;
-            let technique = GpuTechnique::from_spec(spec).map_err(failed)?;
-            let settings = GpuTechnique::raster_settings(spec);
-            let (mut prepare_ms, mut shade_ms, mut image) = (Vec::new(), Vec::new(), Vec::new());
+            let settings = GpuTechnique::raster_settings_of(&self.groups[gi].0);
+            let mut prepare_ms = Vec::new();
+            let mut depth_map = None;
             for _ in 0..self.plan.repeats.max(1) {
                 let sw = Stopwatch::start();
-                let depth_map =
+                let drawn =
                     gpu.checked(|| GpuDepthMap::render(gpu, scene, map.view, &settings)).map_err(failed)?;
                 gpu.wait().map_err(failed)?;
                 prepare_ms.push(sw.ms());
-                let sw = Stopwatch::start();
-                image = gpu
-                    .checked(|| shade_visibility(gpu, traced.gbuffer, map.view, &depth_map, technique))
-                    .map_err(failed)?;
-                shade_ms.push(sw.ms());
+                depth_map = Some(drawn);
             }
-            let visibility: Vec<f32> = traced.gbuffer.evaluated.iter().map(|&i| image[i as usize]).collect();
-            let mut record = run_record(traced, map, spec, &visibility);
-            record.timings = timings(median_ms(&prepare_ms), median_ms(&shade_ms), record.counts.evaluated);
-            record.layer_memory_bytes = map.resolution as u64 * map.resolution as u64 * 4;
-            record.pipeline = Some(used.clone());
-            emit(self.sinks, &Event::RunDone { record: &record, visibility: &visibility })?;
+            let depth_map = depth_map.expect("at least one draw");
+            for mi in 0..self.groups[gi].1.len() {
+                let spec = &self.plan.techniques[self.groups[gi].1[mi]];
+                let technique = GpuTechnique::from_spec(spec).map_err(failed)?;
+                let mut shade_ms = Vec::new();
+                let mut image = Vec::new();
+                for _ in 0..self.plan.repeats.max(1) {
+                    let sw = Stopwatch::start();
+                    image = gpu
+                        .checked(|| shade_visibility(gpu, traced.gbuffer, map.view, &depth_map, technique))
+                        .map_err(failed)?;
+                    shade_ms.push(sw.ms());
+                }
+                let visibility: Vec<f32> =
+                    traced.gbuffer.evaluated.iter().map(|&i| image[i as usize]).collect();
+                let mut record = run_record(traced, map, spec, &visibility);
+                record.timings =
+                    timings(median_ms(&prepare_ms), median_ms(&shade_ms), record.counts.evaluated);
+                record.layer_memory_bytes = map.resolution as u64 * map.resolution as u64 * 4;
+                record.pipeline = Some(used.clone());
+                emit(self.sinks, &Event::RunDone { record: &record, visibility: &visibility })?;
+            }
         }
         Ok(())
     }

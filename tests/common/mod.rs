@@ -48,6 +48,23 @@ pub fn near_boundary(width: u32, height: u32, codes: &[u8]) -> Vec<bool> {
     out
 }
 
+/// Visibility of every evaluated pixel (in `g.evaluated` order) under `spec`, on the map of the
+/// scene's first light at `resolution` in `format`.
+pub fn shade_technique(
+    scene: &Scene,
+    g: &GBuffer,
+    spec: &shadowtruth::technique::TechniqueSpec,
+    resolution: u32,
+    format: shadowtruth::raster::DepthFormat,
+) -> Vec<f32> {
+    use shadowtruth::technique::{ShadeContext, ShadeOrder, shade_evaluated};
+    let technique = spec.build().expect("a shaded technique");
+    let view = shadowtruth::raster::LightView::new(&scene.lights[0], scene.bounds(), resolution);
+    let layers = shadowtruth::technique::BuiltLayers::build(scene, &view, format, &technique.layer_needs());
+    let ctx = ShadeContext::new(scene, &view, layers.as_layers());
+    shade_evaluated(technique.as_ref(), &ShadeOrder::new(g, &view), &ctx)
+}
+
 /// Runs one technique on a traced G-buffer and scores it: (counts, visibility per evaluated pixel).
 pub fn score_technique(
     scene: &Scene,
@@ -57,12 +74,7 @@ pub fn score_technique(
     resolution: u32,
     format: shadowtruth::raster::DepthFormat,
 ) -> (shadowtruth::metrics::Counts, Vec<f32>) {
-    use shadowtruth::technique::{ShadeContext, ShadeOrder, shade_evaluated};
-    let technique = spec.build().expect("a shaded technique");
-    let view = shadowtruth::raster::LightView::new(&scene.lights[0], scene.bounds(), resolution);
-    let layers = shadowtruth::technique::BuiltLayers::build(scene, &view, format, &technique.layer_needs());
-    let ctx = ShadeContext::new(scene, &view, layers.as_layers());
-    let v = shade_evaluated(technique.as_ref(), &ShadeOrder::new(g, &view), &ctx);
+    let v = shade_technique(scene, g, spec, resolution, format);
     (shadowtruth::metrics::score_hard(g, r, &v), v)
 }
 
