@@ -41,8 +41,10 @@ fn sphere_over_plane(rings: usize, segments: usize) -> Scene {
             Object { name: "sphere".into(), closed: true, first_triangle: 0, triangle_count: sphere_count },
             Object { name: "ground".into(), closed: false, first_triangle: sphere_count, triangle_count: 2 },
         ],
-        triangles,
-        triangle_object,
+        flat_triangles: triangles,
+        flat_triangle_object: triangle_object,
+        meshes: vec![],
+        instances: vec![],
         cameras: vec![],
         lights: vec![],
         dropped_degenerate: 0,
@@ -58,7 +60,7 @@ fn bench_raster(c: &mut Criterion) {
             angular_diameter_deg: None,
         },
     };
-    let mut group = c.benchmark_group(format!("rasterize_nearest_{}_triangles", scene.triangles.len()));
+    let mut group = c.benchmark_group(format!("rasterize_nearest_{}_triangles", scene.flat_triangles.len()));
     group.sample_size(10);
     for resolution in [1024, 4096] {
         let view = LightView::new(&sun, scene.bounds(), resolution);

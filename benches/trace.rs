@@ -15,7 +15,7 @@ fn trace(c: &mut Criterion) {
 
     let mut g = c.benchmark_group("trace/rocks");
     g.sample_size(10);
-    g.throughput(Throughput::Elements(scene.triangles.len() as u64));
+    g.throughput(Throughput::Elements(scene.flat_triangles.len() as u64));
     g.bench_function("bvh_build", |b| b.iter(|| SceneBvh::build(&scene)));
     g.throughput(Throughput::Elements(gbuffer.pixel_count() as u64));
     g.bench_function("gbuffer", |b| b.iter(|| GBuffer::trace(&scene, &bvh, camera, light)));

@@ -145,17 +145,20 @@ fn gate_reports() -> &'static (crate::report::CheckedReport, crate::report::Chec
 
 /// What a loaded scene promises every later stage.
 fn check_scene(scene: &Scene) {
-    assert!(!scene.triangles.is_empty(), "a scene without triangles");
-    assert_eq!(scene.triangles.len(), scene.triangle_object.len());
-    assert!(scene.triangles.iter().flatten().all(|v| v.is_finite()), "a non-finite vertex");
+    assert!(scene.triangle_count() > 0, "a scene without triangles");
+    assert_eq!(scene.flat_triangles.len(), scene.flat_triangle_object.len());
+    assert!(scene.triangles().flat_map(|(_, t)| t).all(|v| v.is_finite()), "a non-finite vertex");
+    // Flat objects are contiguous in file order, and instanced ones follow them in theirs.
+    let mut objects: Vec<usize> = (0..scene.objects.len()).collect();
+    objects.sort_by_key(|&i| scene.objects[i].first_triangle);
     let mut next = 0u32;
-    for (i, object) in scene.objects.iter().enumerate() {
+    for i in objects {
+        let object = &scene.objects[i];
         assert_eq!(object.first_triangle, next, "objects are not contiguous");
         next += object.triangle_count;
-        let range = object.first_triangle as usize..next as usize;
-        assert!(scene.triangle_object[range].iter().all(|&o| o as usize == i));
+        assert!((object.first_triangle..next).all(|id| scene.object_of(id) as usize == i));
     }
-    assert_eq!(next as usize, scene.triangles.len());
+    assert_eq!(next as usize, scene.triangle_count());
     let (lo, hi) = scene.bounds();
     assert!(lo.cmple(hi).all());
     let _ = scene.geometry_digest();

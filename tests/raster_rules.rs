@@ -12,8 +12,10 @@ fn scene(objects: Vec<(Vec<[Vec3; 3]>, bool)>) -> Scene {
         name: "test".into(),
         source: Default::default(),
         objects: vec![],
-        triangles: vec![],
-        triangle_object: vec![],
+        flat_triangles: vec![],
+        flat_triangle_object: vec![],
+        meshes: vec![],
+        instances: vec![],
         cameras: vec![],
         lights: vec![],
         dropped_degenerate: 0,
@@ -22,11 +24,11 @@ fn scene(objects: Vec<(Vec<[Vec3; 3]>, bool)>) -> Scene {
         s.objects.push(Object {
             name: format!("o{i}"),
             closed,
-            first_triangle: s.triangles.len() as u32,
+            first_triangle: s.flat_triangles.len() as u32,
             triangle_count: tris.len() as u32,
         });
-        s.triangle_object.extend(std::iter::repeat_n(i as u32, tris.len()));
-        s.triangles.extend(tris);
+        s.flat_triangle_object.extend(std::iter::repeat_n(i as u32, tris.len()));
+        s.flat_triangles.extend(tris);
     }
     s
 }
@@ -477,7 +479,7 @@ fn hostile_input_does_not_panic() {
         [Vec3::ZERO, Vec3::X, Vec3::X * 2.0],
     ];
     let mut s = scene(vec![(tris, true)]);
-    s.triangle_object[0] = 99; // an out-of-range object index is treated as open
+    s.flat_triangle_object[0] = 99; // an out-of-range object index is treated as open
     let lamp = Light {
         name: "lamp".into(),
         kind: LightKind::Spot {

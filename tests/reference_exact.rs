@@ -52,7 +52,7 @@ fn box_over_plane_matches_the_shadow_polygon() {
     // The box's shadow on y = 0: its corners slid along the light direction, then their hull.
     let box_object = &scene.objects[1];
     let first = box_object.first_triangle as usize;
-    let corners: Vec<DVec2> = scene.triangles[first..first + box_object.triangle_count as usize]
+    let corners: Vec<DVec2> = scene.flat_triangles[first..first + box_object.triangle_count as usize]
         .iter()
         .flatten()
         .map(|v| {

@@ -78,7 +78,7 @@ fn check(case: &str, scene: &Scene, occluded: bool, max_band_fraction: f64) -> V
 
 /// Appends an object made of `triangles` to a scene.
 fn append(scene: &mut Scene, name: &str, triangles: Vec<[Vec3; 3]>, closed: bool) {
-    let first = scene.triangles.len() as u32;
+    let first = scene.flat_triangles.len() as u32;
     let object = scene.objects.len() as u32;
     scene.objects.push(Object {
         name: name.into(),
@@ -86,8 +86,8 @@ fn append(scene: &mut Scene, name: &str, triangles: Vec<[Vec3; 3]>, closed: bool
         first_triangle: first,
         triangle_count: triangles.len() as u32,
     });
-    scene.triangle_object.extend(std::iter::repeat_n(object, triangles.len()));
-    scene.triangles.extend(triangles);
+    scene.flat_triangle_object.extend(std::iter::repeat_n(object, triangles.len()));
+    scene.flat_triangles.extend(triangles);
 }
 
 fn camera(name: &str, position: DVec3, look_at: DVec3, width: u32, height: u32) -> Value {
@@ -267,8 +267,8 @@ fn sliver_triangles_of_aspect_ratio_1e4() {
         vec![directional("sun", 50.0, 30.0), spot("spot", DVec3::ZERO, 8.0, 40.0, -60.0, 0.5, 30.0)],
     );
     s.objects.clear();
-    s.triangles.clear();
-    s.triangle_object.clear();
+    s.flat_triangles.clear();
+    s.flat_triangle_object.clear();
     let w = 1e-3f32;
     let strips = 1000;
     let mut ground = Vec::new();
@@ -319,7 +319,7 @@ fn closed_meshes_with_shared_edges_have_no_cracks() {
     );
     check("closed sphere", &s, true, 0.002);
     let ball = &s.objects[1];
-    let inscribed = s.triangles
+    let inscribed = s.flat_triangles
         [ball.first_triangle as usize..(ball.first_triangle + ball.triangle_count) as usize]
         .iter()
         .map(|t| {

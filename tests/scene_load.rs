@@ -337,7 +337,7 @@ fn example_scene_loads_with_lights_normalized() {
     let scene = load_scene(&path).unwrap();
     assert_eq!(scene.name, "test");
     assert_eq!(scene.source, path);
-    assert_eq!(scene.triangles.len(), 14);
+    assert_eq!(scene.flat_triangles.len(), 14);
     assert_eq!(scene.objects[1].name, "ground");
     assert!(!scene.objects[1].closed && scene.objects[0].closed);
     assert_eq!((scene.objects[1].first_triangle, scene.objects[1].triangle_count), (12, 2));
@@ -371,11 +371,11 @@ fn closed_shapes_are_watertight_and_outward() {
         for transform in &transforms {
             let scene = load(&box_scene(shape.clone(), transform.clone())).unwrap();
             if let Some(n) = count {
-                assert_eq!(scene.triangles.len(), n, "{shape}");
+                assert_eq!(scene.flat_triangles.len(), n, "{shape}");
             }
             assert_eq!(scene.dropped_degenerate, 0, "{shape}");
-            assert_watertight(&scene.triangles);
-            assert!(signed_volume(&scene.triangles) > 0.0, "{shape} {transform}");
+            assert_watertight(&scene.flat_triangles);
+            assert!(signed_volume(&scene.flat_triangles) > 0.0, "{shape} {transform}");
         }
     }
 }
@@ -383,7 +383,7 @@ fn closed_shapes_are_watertight_and_outward() {
 #[test]
 fn box_volume_matches_its_size() {
     let scene = load(&box_scene(json!({ "type": "box", "size": [1, 2, 3] }), json!({}))).unwrap();
-    assert_eq!(signed_volume(&scene.triangles), 6.0);
+    assert_eq!(signed_volume(&scene.flat_triangles), 6.0);
     assert_eq!(scene.bounds(), (Vec3::new(-0.5, -1.0, -1.5), Vec3::new(0.5, 1.0, 1.5)));
 }
 
@@ -391,8 +391,8 @@ fn box_volume_matches_its_size() {
 fn plane_faces_up_and_is_subdivided() {
     let shape = json!({ "type": "plane", "size": [4, 2], "subdivisions": 4 });
     let scene = load(&box_scene(shape, json!({ "translate": [0, 1, 0] }))).unwrap();
-    assert_eq!(scene.triangles.len(), 32);
-    for [a, b, c] in &scene.triangles {
+    assert_eq!(scene.flat_triangles.len(), 32);
+    for [a, b, c] in &scene.flat_triangles {
         assert!((*b - *a).cross(*c - *a).y > 0.0);
     }
     assert_eq!(scene.bounds(), (Vec3::new(-2.0, 1.0, -1.0), Vec3::new(2.0, 1.0, 1.0)));
@@ -418,8 +418,8 @@ fn mirrored_scale_keeps_closed_objects_outward() {
     for scale in [[-1, 1, 1], [-1, -2, 3], [-1, -1, -1]] {
         let shape = json!({ "type": "box", "size": [1, 2, 3] });
         let scene = load(&box_scene(shape, json!({ "scale": scale }))).unwrap();
-        assert_watertight(&scene.triangles);
-        let volume = signed_volume(&scene.triangles);
+        assert_watertight(&scene.flat_triangles);
+        let volume = signed_volume(&scene.flat_triangles);
         assert!(volume > 0.0, "scale {scale:?}: volume {volume}");
     }
 }
@@ -438,12 +438,12 @@ fn degenerate_obj_triangles_are_dropped_and_counted() {
     });
     let scene = load_in(dir.path(), &text).unwrap();
     assert_eq!(scene.dropped_degenerate, 2);
-    assert_eq!(scene.triangles.len(), 2 + 12);
+    assert_eq!(scene.flat_triangles.len(), 2 + 12);
     let ranges: Vec<_> = scene.objects.iter().map(|o| (o.first_triangle, o.triangle_count)).collect();
     assert_eq!(ranges, [(0, 2), (2, 12)]);
     let expected: Vec<u32> = [0, 0].into_iter().chain([1; 12]).collect();
-    assert_eq!(scene.triangle_object, expected);
-    assert_eq!(scene.triangles[1], [Vec3::Z, Vec3::new(1.0, 0.0, 1.0), Vec3::new(0.0, 1.0, 1.0)]);
+    assert_eq!(scene.flat_triangle_object, expected);
+    assert_eq!(scene.flat_triangles[1], [Vec3::Z, Vec3::new(1.0, 0.0, 1.0), Vec3::new(0.0, 1.0, 1.0)]);
 }
 
 #[test]

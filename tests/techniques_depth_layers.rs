@@ -50,7 +50,7 @@ fn dual_with_infinite_offset_is_midpoint_and_with_zero_offset_is_none() {
 fn silhouette_edges(scene: &shadowtruth::scene::Scene, to_light: Vec3) -> Vec<(Vec3, Vec3)> {
     let key = |v: Vec3| v.to_array().map(f32::to_bits);
     let mut faces: HashMap<([u32; 3], [u32; 3]), Vec<bool>> = HashMap::new();
-    for t in &scene.triangles {
+    for t in &scene.flat_triangles {
         let lit = (t[1] - t[0]).cross(t[2] - t[0]).dot(to_light) > 0.0;
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);

@@ -282,7 +282,7 @@ fn the_glb_reloads_as_the_scene() {
             }
         }
         let first = object.first_triangle as usize;
-        let expected = &scene.triangles[first..first + object.triangle_count as usize];
+        let expected = &scene.flat_triangles[first..first + object.triangle_count as usize];
         assert_eq!(triangles.len(), expected.len(), "{}", object.name);
         for (got, want) in triangles.iter().zip(expected) {
             let bits = |v: &[Vec3]| v.iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>();

@@ -20,7 +20,7 @@ fn load_generated(island: &Island) -> Scene {
 }
 
 fn triangle_bits(scene: &Scene) -> Vec<u32> {
-    scene.triangles.iter().flatten().flat_map(|v| v.to_array().map(f32::to_bits)).collect()
+    scene.flat_triangles.iter().flatten().flat_map(|v| v.to_array().map(f32::to_bits)).collect()
 }
 
 fn object_index(scene: &Scene, name: &str) -> u32 {
@@ -41,7 +41,7 @@ fn papers_island_same_seed_same_bytes_other_seed_other_terrain() {
     let terrain = |s: &Scene| {
         let o = &s.objects[object_index(s, "terrain") as usize];
         let range = o.first_triangle as usize..(o.first_triangle + o.triangle_count) as usize;
-        s.triangles[range].iter().flatten().map(|v| v.y.to_bits()).collect::<Vec<_>>()
+        s.flat_triangles[range].iter().flatten().map(|v| v.y.to_bits()).collect::<Vec<_>>()
     };
     assert_ne!(terrain(&sa), terrain(&sc));
     // Another seed still gives a valid island with its featured trunk.
@@ -115,7 +115,7 @@ fn papers_island_light_covers_the_island() {
             && along <= 0.9 * far as f64
     };
     let mut land = 0;
-    for (tri, &o) in scene.triangles.iter().zip(&scene.triangle_object) {
+    for (tri, &o) in scene.flat_triangles.iter().zip(&scene.flat_triangle_object) {
         if scene.objects[o as usize].name == "sea" {
             continue;
         }

@@ -202,12 +202,8 @@ fn depth_bias(settings: &RasterSettings) -> Result<wgpu::DepthBiasState, GpuErro
 /// World-space vertices of the triangles of closed objects and of the others, three per triangle.
 fn casters(scene: &Scene) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
     let (mut closed, mut open) = (Vec::new(), Vec::new());
-    for (index, tri) in scene.triangles.iter().enumerate() {
-        let is_closed = scene
-            .triangle_object
-            .get(index)
-            .and_then(|&o| scene.objects.get(o as usize))
-            .is_some_and(|o| o.closed);
+    for (id, tri) in scene.triangles() {
+        let is_closed = scene.is_closed(id);
         let list = if is_closed { &mut closed } else { &mut open };
         list.extend(tri.iter().map(|p| p.to_array()));
     }

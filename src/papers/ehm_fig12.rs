@@ -77,8 +77,8 @@ fn scene_scale(scene: &Scene, scale: Scale) -> f32 {
     match scale {
         Scale::Scene => (hi - lo).length(),
         Scale::AboveSea => {
-            let above = scene.triangles.iter().flatten().filter(|v| v.y >= 0.0);
-            let (a, b) = above.fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), v| (a.min(*v), b.max(*v)));
+            let above = scene.triangles().flat_map(|(_, t)| t).filter(|v| v.y >= 0.0);
+            let (a, b) = above.fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
             (b - a).length()
         }
         Scale::OpenSea => Vec3::new(OPEN_SEA_M, hi.y - lo.y, OPEN_SEA_M).length(),
@@ -104,8 +104,8 @@ fn at_trunk_feet(v: &View) -> Vec<bool> {
         .iter()
         .filter(|o| o.name.ends_with("_trunk"))
         .map(|o| {
-            let range = o.first_triangle as usize..(o.first_triangle + o.triangle_count) as usize;
-            let sum = scene.triangles[range].iter().flatten().fold(Vec3::ZERO, |a, p| a + *p);
+            let range = o.first_triangle..o.first_triangle + o.triangle_count;
+            let sum = scene.triangles_in(range).flat_map(|(_, t)| t).fold(Vec3::ZERO, |a, p| a + p);
             let mean = sum / (3 * o.triangle_count) as f32;
             (mean.x, mean.z)
         })

@@ -47,7 +47,7 @@ fn setups() -> Vec<PagotSetup> {
 /// The two filters with the bias that covers the extra depths of the plane in `map`.
 fn filters(scene: &Scene, map: &LightMap) -> [TechniqueSpec; 2] {
     let plane = scene.objects.iter().find(|o| o.name == PLANE).expect("casters.json has its plane");
-    let tri = &scene.triangles[plane.first_triangle as usize];
+    let tri = &scene.triangle(plane.first_triangle);
     let (z_u, z_v) = receiver_plane_slope(&map.view, tri).unwrap_or((0.0, 0.0));
     let bias = REACH_TEXELS * (z_u.abs() + z_v.abs()) / map.view.resolution as f64;
     let mdsm = |depths, size| {

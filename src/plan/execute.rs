@@ -130,7 +130,7 @@ impl Schedule<'_, '_, '_> {
         let record = SceneRecord {
             name: scene.name.clone(),
             file: scene.source.display().to_string(),
-            triangles: scene.triangles.len() as u64,
+            triangles: scene.triangle_count() as u64,
             dropped_degenerate: scene.dropped_degenerate as u64,
             bvh_build_ms: sw.ms(),
         };

@@ -160,7 +160,7 @@ const HALF_TEXEL: i64 = SUBTEXEL / 2;
 /// Rows per parallel band (fixed: it never changes the arithmetic, only the scheduling).
 const BAND_ROWS: u32 = 32;
 /// Triangles per parallel setup chunk.
-const SETUP_CHUNK: usize = 2048;
+const SETUP_CHUNK: u32 = 2048;
 
 /// One screen-space triangle ready for scan conversion.
 #[derive(Clone, Copy, Debug)]
@@ -301,20 +301,14 @@ fn bin_by_band(chunks: &[Vec<RasterTriangle>], resolution: u32) -> Bands<'_> {
 /// Projects, clips, culls and sets up every scene triangle, in scene order (parallel over
 /// fixed chunks of the scene, kept in order: deterministic).
 fn setup_triangles(scene: &Scene, view: &LightView, settings: &RasterSettings) -> Vec<Vec<RasterTriangle>> {
-    scene
-        .triangles
-        .par_chunks(SETUP_CHUNK)
-        .enumerate()
-        .map(|(chunk, tris)| {
-            let mut out = Vec::with_capacity(tris.len());
-            for (k, tri) in tris.iter().enumerate() {
-                let index = chunk * SETUP_CHUNK + k;
-                let closed = scene
-                    .triangle_object
-                    .get(index)
-                    .and_then(|&o| scene.objects.get(o as usize))
-                    .is_some_and(|o| o.closed);
-                setup_triangle(tri, closed, view, settings, &mut out);
+    let count = scene.triangle_count() as u32;
+    (0..count.div_ceil(SETUP_CHUNK))
+        .into_par_iter()
+        .map(|chunk| {
+            let ids = chunk * SETUP_CHUNK..count.min((chunk + 1) * SETUP_CHUNK);
+            let mut out = Vec::with_capacity(ids.len());
+            for (id, tri) in scene.triangles_in(ids) {
+                setup_triangle(&tri, scene.is_closed(id), view, settings, &mut out);
             }
             out
         })

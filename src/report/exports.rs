@@ -12,10 +12,9 @@ pub fn world_obj(scene: &Scene) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "# {} — world-space triangles written by shadowtruth", scene.name);
     let mut next_vertex = 1usize;
-    for object in &scene.objects {
+    for (index, object) in scene.objects.iter().enumerate() {
         let _ = writeln!(out, "o {}", object.name.replace(char::is_whitespace, "_"));
-        let first = object.first_triangle as usize;
-        for tri in &scene.triangles[first..first + object.triangle_count as usize] {
+        for tri in scene.object_triangles(index) {
             for v in tri {
                 let _ = writeln!(out, "v {} {} {}", v.x as f64, v.y as f64, v.z as f64);
             }

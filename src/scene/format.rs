@@ -25,6 +25,11 @@ pub(crate) const MAX_SHAPE_TRIANGLES: u64 = 1 << 22;
 /// Most triangles of one scene, meshes and shapes together (16 777 216; about 1.5 GB to load).
 /// A mesh file may be named by many objects, each adding its triangles again.
 pub(crate) const MAX_SCENE_TRIANGLES: u64 = 1 << 24;
+/// Most triangles of a scene counting every instance's placement (2 147 483 648): triangle ids
+/// are u32, and memory grows with unique triangles only, so the bound is the id range.
+pub(crate) const MAX_INSTANCED_TRIANGLES: u64 = 1 << 31;
+/// Most instances of one object.
+pub(crate) const MAX_INSTANCES: u64 = 1 << 20;
 
 /// Where an object's triangles come from.
 #[derive(Clone, Debug)]
@@ -43,6 +48,10 @@ pub(crate) struct ObjectDesc {
     pub geometry: Option<Geometry>,
     pub closed: bool,
     pub transform: Option<Transform>,
+    /// `instances`: one transform per placement of the geometry, stored once and traced
+    /// through a two-level BVH (src/trace/instances.rs). Empty when the field is absent;
+    /// `transform` is then the one placement.
+    pub instances: Vec<Transform>,
 }
 
 /// A scene file's content, before meshes are loaded.
@@ -107,7 +116,36 @@ fn read_object(r: &mut Reader) -> ObjectDesc {
         None => Some(Transform::default()),
         Some(t) => t,
     };
-    ObjectDesc { path: r.path.clone(), name, geometry, closed, transform }
+    let (transform, instances) = read_instances(r, transform);
+    ObjectDesc { path: r.path.clone(), name, geometry, closed, transform, instances }
+}
+
+/// The `instances` list, which replaces `transform`: (`None` when either is invalid, the
+/// instance transforms).
+fn read_instances(r: &mut Reader, transform: Option<Transform>) -> (Option<Transform>, Vec<Transform>) {
+    if !r.has("instances") {
+        return (transform, Vec::new());
+    }
+    if r.has("transform") {
+        r.problem("instances", "has both `transform` and `instances`; give one transform per instance instead");
+    }
+    let Some(items) = r.array("instances") else {
+        return (None, Vec::new());
+    };
+    if items.is_empty() {
+        r.problem("instances", "must contain at least one transform");
+        return (None, Vec::new());
+    }
+    if items.len() as u64 > MAX_INSTANCES {
+        r.problem("instances", format!("{} instances; an object may have at most {MAX_INSTANCES}", items.len()));
+        return (None, Vec::new());
+    }
+    let read: Vec<Option<Transform>> = r.each("instances", items, read_transform);
+    let valid = read.len() == items.len() && read.iter().all(Option::is_some) && !r.has("transform");
+    match valid {
+        true => (Some(Transform::default()), read.into_iter().flatten().collect()),
+        false => (None, Vec::new()),
+    }
 }
 
 fn read_transform(r: &mut Reader) -> Option<Transform> {

@@ -1,12 +1,13 @@
 //! Reads a scene file, validates it and builds its world-space triangles.
 
 use super::format::{Geometry, ObjectDesc, read_scene};
-use super::format::{MAX_SCENE_TRIANGLES, MAX_SHAPE_TRIANGLES};
+use super::format::{MAX_INSTANCED_TRIANGLES, MAX_SCENE_TRIANGLES, MAX_SHAPE_TRIANGLES};
+use super::instance::{Instance, SharedMesh, box_corners, is_degenerate, world_vertex};
 use super::obj::read_obj;
 use super::shapes::IndexedMesh;
 use super::{Object, Problem, Scene, SceneError};
 use crate::json_input::{Problems, parse_json};
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use std::path::Path;
 
 /// Loads and validates the scene at `path`; mesh paths are relative to its folder.
@@ -56,6 +57,8 @@ struct Budget {
     limits: Limits,
     total: u64,
     procedural: u64,
+    /// Triangles counting every placement of instanced meshes.
+    placed: u64,
 }
 
 impl Budget {
@@ -90,6 +93,23 @@ impl Budget {
         true
     }
 
+    /// Whether `placements` more copies of a mesh of `count` triangles may join the scene.
+    fn admit_placements(&mut self, object_path: &str, count: u64, placements: u64, problems: &mut Problems) -> bool {
+        let before = self.placed;
+        self.placed += count * placements;
+        if self.placed > MAX_INSTANCED_TRIANGLES {
+            if before <= MAX_INSTANCED_TRIANGLES {
+                let message = format!(
+                    "the instances up to this object place {} triangles; a scene may place at most {}",
+                    self.placed, MAX_INSTANCED_TRIANGLES
+                );
+                problems.report(&format!("{object_path}.instances"), message);
+            }
+            return false;
+        }
+        true
+    }
+
     fn over_scene_limit(&mut self, object_path: &str, count: u64, key: &str, problems: &mut Problems) {
         let before = self.total;
         self.total += count;
@@ -113,13 +133,15 @@ fn load_with_limits(text: &str, source: &Path, base_dir: &Path, limits: Limits) 
         name: desc.name,
         source: source.to_path_buf(),
         objects: Vec::new(),
-        triangles: Vec::new(),
-        triangle_object: Vec::new(),
+        flat_triangles: Vec::new(),
+        flat_triangle_object: Vec::new(),
+        meshes: Vec::new(),
+        instances: Vec::new(),
         cameras: desc.cameras,
         lights: desc.lights,
         dropped_degenerate: 0,
     };
-    let mut budget = Budget { limits, total: 0, procedural: 0 };
+    let mut budget = Budget { limits, total: 0, procedural: 0, placed: 0 };
     for object in &desc.objects {
         // Meshes are read even when other fields are wrong, so that their problems show too.
         let mesh = match &object.geometry {
@@ -136,13 +158,21 @@ fn load_with_limits(text: &str, source: &Path, base_dir: &Path, limits: Limits) 
             }
             None => None,
         };
+        let count = mesh.as_ref().map_or(0, |m| m.triangles.len() as u64);
         if let Some(mesh) = mesh
-            && budget.admit_mesh(&object.path, mesh.triangles.len() as u64, &mut problems)
+            && budget.admit_mesh(&object.path, count, &mut problems)
         {
-            add_object(&mut scene, object, &mesh, &mut problems);
+            if object.instances.len() > 1 {
+                if budget.admit_placements(&object.path, count, object.instances.len() as u64, &mut problems) {
+                    add_instances(&mut scene, object, mesh, &mut problems);
+                }
+            } else {
+                add_object(&mut scene, object, &mesh, &mut problems);
+            }
         }
     }
-    if problems.list.is_empty() && scene.triangles.is_empty() {
+    number_instances(&mut scene);
+    if problems.list.is_empty() && scene.triangle_count() == 0 {
         problems.report("objects", "the scene has no triangles");
     }
     if problems.list.is_empty() { Ok(scene) } else { Err(SceneError { problems: problems.list }) }
@@ -152,7 +182,7 @@ fn load_with_limits(text: &str, source: &Path, base_dir: &Path, limits: Limits) 
 /// shared), keeps closed objects counter-clockwise from outside under a mirroring scale, drops
 /// zero-area triangles and appends the rest as one contiguous object.
 fn add_object(scene: &mut Scene, object: &ObjectDesc, mesh: &IndexedMesh, problems: &mut Problems) {
-    let Some(transform) = &object.transform else {
+    let Some(transform) = object.instances.first().or(object.transform.as_ref()) else {
         return;
     };
     let key = match object.geometry {
@@ -161,12 +191,12 @@ fn add_object(scene: &mut Scene, object: &ObjectDesc, mesh: &IndexedMesh, proble
     };
     let path = format!("{}.{key}", object.path);
     let affine = transform.affine();
-    let world: Vec<Vec3> = mesh.positions.iter().map(|&p| affine.transform_point3(p).as_vec3()).collect();
+    let world: Vec<Vec3> = mesh.positions.iter().map(|&p| world_vertex(&affine, p)).collect();
     if world.iter().any(|v| !v.is_finite()) {
         problems.report(&path, "a vertex leaves the f32 range after the transform");
         return;
     }
-    let first = scene.triangles.len();
+    let first = scene.flat_triangles.len();
     let index = scene.objects.len() as u32;
     let mirrored = transform.mirrors();
     let mut dropped = 0;
@@ -176,11 +206,11 @@ fn add_object(scene: &mut Scene, object: &ObjectDesc, mesh: &IndexedMesh, proble
         if is_degenerate(&tri) {
             dropped += 1;
         } else {
-            scene.triangles.push(tri);
-            scene.triangle_object.push(index);
+            scene.flat_triangles.push(tri);
+            scene.flat_triangle_object.push(index);
         }
     }
-    let count = scene.triangles.len() - first;
+    let count = scene.flat_triangles.len() - first;
     scene.dropped_degenerate += dropped;
     if count == 0 {
         problems.report(&path, format!("has no triangles ({dropped} degenerate dropped)"));
@@ -196,15 +226,49 @@ fn add_object(scene: &mut Scene, object: &ObjectDesc, mesh: &IndexedMesh, proble
     }
 }
 
-/// Zero area in f32 world space: two vertices equal or the edges parallel. The cross product is
-/// taken in f64, where the differences and products of f32 coordinates are (nearly) exact, so
-/// tiny but valid triangles are kept.
-fn is_degenerate([a, b, c]: &[Vec3; 3]) -> bool {
-    if a == b || b == c || a == c {
-        return true;
+/// Stores `mesh` once, without the triangles degenerate in its own space, and adds one object
+/// per placement (`name#k`), each an instance of it. Their triangle ids are given once every
+/// object is read (`number_instances`): instanced ids follow the flat ones.
+fn add_instances(scene: &mut Scene, object: &ObjectDesc, mesh: IndexedMesh, problems: &mut Problems) {
+    let path = format!("{}.instances", object.path);
+    let local = |t: &[u32; 3]| t.map(|i| mesh.positions[i as usize]);
+    let triangles: Vec<[u32; 3]> = mesh.triangles.iter().copied().filter(|t| !is_local_degenerate(local(t))).collect();
+    if triangles.is_empty() {
+        problems.report(&path, "the instanced geometry has no triangles (all degenerate)");
+        return;
     }
-    let (a, b, c) = (a.as_dvec3(), b.as_dvec3(), c.as_dvec3());
-    (b - a).cross(c - a) == glam::DVec3::ZERO
+    let triangle_count = triangles.len() as u32;
+    let mesh_index = scene.meshes.len() as u32;
+    scene.meshes.push(SharedMesh { positions: mesh.positions, triangles });
+    let (lo, hi) = scene.meshes[mesh_index as usize].bounds();
+    for (k, transform) in object.instances.iter().enumerate() {
+        let affine = transform.affine();
+        // Every vertex lies in the box of the mesh's bounds, and rounding is monotonic.
+        if !box_corners(lo, hi).iter().all(|&p| world_vertex(&affine, p).is_finite()) {
+            problems.report(&format!("{path}[{k}]"), "a vertex leaves the f32 range after the transform");
+            continue;
+        }
+        let index = scene.objects.len() as u32;
+        scene.instances.push(Instance::new(mesh_index, index, affine, 0));
+        let name = format!("{}#{k}", object.name);
+        scene.objects.push(Object { name, closed: object.closed, first_triangle: 0, triangle_count });
+    }
+}
+
+/// Gives each instance, and its object, the triangle ids after the flat triangles.
+fn number_instances(scene: &mut Scene) {
+    let mut next = scene.flat_triangles.len() as u64;
+    for instance in &mut scene.instances {
+        let count = scene.meshes[instance.mesh as usize].triangles.len() as u64;
+        instance.first_triangle = next as u32;
+        scene.objects[instance.object as usize].first_triangle = next as u32;
+        next += count;
+    }
+}
+
+/// A triangle with a repeated vertex or parallel edges in the mesh's own (f64) space.
+fn is_local_degenerate([a, b, c]: [DVec3; 3]) -> bool {
+    a == b || b == c || a == c || (b - a).cross(c - a) == DVec3::ZERO
 }
 
 #[cfg(test)]
@@ -230,7 +294,7 @@ mod tests {
         let text = boxes(4);
         let scene =
             load_with_limits(&boxes(2), Path::new("s.json"), Path::new(""), Limits { scene: 24, shapes: 24 });
-        assert_eq!(scene.map(|s| s.triangles.len()).ok(), Some(24));
+        assert_eq!(scene.map(|s| s.flat_triangles.len()).ok(), Some(24));
         let found = problems(&text, Limits { scene: 30, shapes: 1000 });
         assert_eq!(found.len(), 1, "{found:?}");
         assert_eq!(found[0].path, "objects[2].shape");

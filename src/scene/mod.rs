@@ -4,15 +4,19 @@
 mod camera;
 mod error;
 mod format;
+mod instance;
 mod light;
 mod load;
 mod obj;
 mod shapes;
 mod transform;
+mod triangles;
 mod view_key;
 
 pub use camera::Camera;
 pub use error::{Problem, SceneError};
+pub use instance::{Instance, SharedMesh, box_corners, is_degenerate, world_vertex};
+pub use triangles::TriangleSource;
 pub use light::{Light, LightKind, LightSize, NoLightSize};
 pub(crate) use load::load_scene_str_within;
 pub use load::{load_scene, load_scene_str};
@@ -26,7 +30,8 @@ use glam::Vec3;
 /// The format tag every scene file carries.
 pub const SCENE_FORMAT: &str = "shadowtruth/scene/v1";
 
-/// One object of a scene: a contiguous range of `Scene::triangles`.
+/// One object of a scene: a contiguous range of scene triangle ids (`Scene::triangle`). A
+/// flattened object's range lies in `flat_triangles`; an instance's is its own.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Object {
     pub name: String,
@@ -43,11 +48,16 @@ pub struct Scene {
     /// The file it was read from (empty for scenes built in memory).
     pub source: std::path::PathBuf,
     pub objects: Vec<Object>,
-    /// World-space triangles, counter-clockwise seen from the outside of closed objects.
-    /// Degenerate triangles (zero area in f32) are already dropped.
-    pub triangles: Vec<[Vec3; 3]>,
-    /// Object index of every triangle.
-    pub triangle_object: Vec<u32>,
+    /// World-space triangles stored one by one, counter-clockwise seen from the outside of
+    /// closed objects: scene triangle ids `0 .. flat_triangles.len()`. Degenerate triangles (zero
+    /// area in f32) are already dropped.
+    pub flat_triangles: Vec<[Vec3; 3]>,
+    /// Object index of every flat triangle.
+    pub flat_triangle_object: Vec<u32>,
+    /// Meshes stored once and placed by `instances` (src/scene/instance.rs).
+    pub meshes: Vec<SharedMesh>,
+    /// The placements of `meshes`, whose triangle ids follow the flat ones in this order.
+    pub instances: Vec<Instance>,
     pub cameras: Vec<Camera>,
     pub lights: Vec<Light>,
     /// Degenerate triangles dropped while loading, per the whole scene.
@@ -57,15 +67,24 @@ pub struct Scene {
 impl Scene {
     /// Axis-aligned bounds (min, max) of all triangles.
     pub fn bounds(&self) -> (Vec3, Vec3) {
-        let mut lo = Vec3::splat(f32::INFINITY);
-        let mut hi = Vec3::splat(f32::NEG_INFINITY);
-        for tri in &self.triangles {
-            for v in tri {
-                lo = lo.min(*v);
-                hi = hi.max(*v);
-            }
-        }
-        (lo, hi)
+        use rayon::prelude::*;
+        let empty = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        let grow = |(lo, hi): (Vec3, Vec3), tri: &[Vec3; 3]| {
+            tri.iter().fold((lo, hi), |(lo, hi), v| (lo.min(*v), hi.max(*v)))
+        };
+        let join = |a: (Vec3, Vec3), b: (Vec3, Vec3)| (a.0.min(b.0), a.1.max(b.1));
+        let flat = self.flat_triangles.iter().fold(empty, grow);
+        let instanced = self
+            .instances
+            .par_iter()
+            .map(|instance| {
+                let mesh = &self.meshes[instance.mesh as usize];
+                (0..mesh.triangles.len())
+                    .filter_map(|local| instance.world_triangle(mesh, local))
+                    .fold(empty, |b, tri| grow(b, &tri))
+            })
+            .reduce(|| empty, join);
+        join(flat, instanced)
     }
 
     pub fn camera(&self, name: &str) -> Option<&Camera> {
@@ -87,11 +106,28 @@ impl Scene {
             h.update(o.first_triangle.to_le_bytes());
             h.update(o.triangle_count.to_le_bytes());
         }
-        for tri in &self.triangles {
+        for tri in &self.flat_triangles {
             for v in tri {
                 for c in v.to_array() {
                     h.update(c.to_bits().to_le_bytes());
                 }
+            }
+        }
+        // Instanced geometry by its meshes and placements; a scene without it keeps the digest
+        // it always had.
+        for mesh in &self.meshes {
+            h.update((mesh.positions.len() as u64).to_le_bytes());
+            for c in mesh.positions.iter().flat_map(|p| p.to_array()) {
+                h.update(c.to_bits().to_le_bytes());
+            }
+            for i in mesh.triangles.iter().flatten() {
+                h.update(i.to_le_bytes());
+            }
+        }
+        for instance in &self.instances {
+            h.update(instance.mesh.to_le_bytes());
+            for c in instance.world_from_local.to_cols_array() {
+                h.update(c.to_bits().to_le_bytes());
             }
         }
         hex(&h.finalize())

@@ -9,6 +9,7 @@ use crate::raster::{
 use crate::scene::Scene;
 
 /// The depth layers of one group of techniques.
+#[derive(Clone, Debug, PartialEq)]
 pub enum BuiltLayers {
     Nearest(DepthLayer),
     TwoNearest(DepthPairLayer),

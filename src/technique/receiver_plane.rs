@@ -45,7 +45,7 @@ impl Technique for ReceiverPlane {
         let map = ctx.layers.nearest();
         let (x, row) = texel_at(map.resolution, uvd.x, uvd.y);
         let (u_c, v_c) = texel_centre(map.resolution, x, row);
-        let tri = &ctx.scene.triangles[s.triangle as usize];
+        let tri = &ctx.scene.triangle(s.triangle);
         let z_c = match receiver_plane_slope(ctx.view, tri) {
             Some((z_u, z_v)) => uvd.z + (z_u * (u_c - uvd.x) as f64 + z_v * (v_c - uvd.y) as f64) as f32,
             None => uvd.z,

@@ -12,6 +12,7 @@
 //!   sized to the tree's depth;
 //! - `Triangle::compute_barycentric` is wrong: barycentrics come from the watertight test.
 
+use super::instances::InstanceLevel;
 use super::shadow_ray::ShadowRay;
 use super::simd4::{F4, Span4};
 use super::watertight::WatertightRay;
@@ -26,14 +27,16 @@ use obvhs::faststack::{FastStack, HeapStack};
 use obvhs::ploc::PlocBuilder;
 use obvhs::triangle::Triangle;
 
-/// The BVH of a scene with its triangles in traversal order.
+/// The BVH of a scene: its flat triangles in traversal order, and its instanced meshes
+/// behind a second level (src/trace/instances.rs).
 pub struct SceneBvh {
-    bvh: CwBvh,
+    pub(super) bvh: CwBvh,
     /// Triangles in BVH order: `triangles[i]` is scene triangle `scene_ids[i]`.
-    triangles: Vec<[Vec3A; 3]>,
-    scene_ids: Vec<u32>,
+    pub(super) triangles: Vec<[Vec3A; 3]>,
+    pub(super) scene_ids: Vec<u32>,
     /// Deepest level of the tree: the traversal stack never holds more entries.
-    depth: usize,
+    pub(super) depth: usize,
+    instances: Option<InstanceLevel>,
 }
 
 /// A closest hit: the scene triangle, the distance along the unit direction, barycentrics.
@@ -44,8 +47,27 @@ pub struct Hit {
     pub barycentric: [f32; 3],
 }
 
-/// Per-thread traversal state, reused across rays (no allocation per ray).
+impl Hit {
+    /// Whether this hit replaces `best`: nearer, or as near with a lower scene triangle id, so
+    /// that the closest hit does not depend on the tree's shape.
+    #[inline]
+    pub(super) fn beats(&self, best: &Option<Hit>) -> bool {
+        match best {
+            Some(b) => self.t < b.t || (self.t == b.t && self.triangle < b.triangle),
+            None => true,
+        }
+    }
+}
+
+/// Per-thread traversal state, reused across rays (no allocation per ray): one walk state for
+/// the flat and top levels, one for an instance's mesh.
 pub struct TraversalScratch {
+    pub(super) outer: WalkState,
+    pub(super) inner: WalkState,
+}
+
+/// The state of one walk down one tree.
+pub(super) struct WalkState {
     stack: HeapStack<UVec2>,
     current_group: UVec2,
     primitive_group: UVec2,
@@ -54,9 +76,24 @@ pub struct TraversalScratch {
     hitmask: u32,
 }
 
+impl WalkState {
+    pub(super) fn new(depth: usize) -> Self {
+        WalkState {
+            stack: HeapStack::new_with_capacity(depth + 2),
+            current_group: UVec2::ZERO,
+            primitive_group: UVec2::ZERO,
+            oct_inv4: 0,
+            primitive_id: 0,
+            hitmask: 0,
+        }
+    }
+}
+
 impl SceneBvh {
     pub fn build(scene: &Scene) -> Self {
-        Self::build_from_triangles(&scene.triangles)
+        let mut bvh = Self::build_from_triangles(&scene.flat_triangles);
+        bvh.instances = InstanceLevel::build(scene);
+        bvh
     }
 
     pub fn build_from_triangles(tris: &[[Vec3; 3]]) -> Self {
@@ -66,23 +103,12 @@ impl SceneBvh {
                 triangles: Vec::new(),
                 scene_ids: Vec::new(),
                 depth: 0,
+                instances: None,
             };
         }
         let obvhs_tris: Vec<Triangle> =
             tris.iter().map(|t| Triangle { v0: t[0].into(), v1: t[1].into(), v2: t[2].into() }).collect();
-        // obvhs's `build_cwbvh_from_tris` without its debug validation, which panics on trees
-        // deeper than its traversal stack (ours is sized to the tree). No spatial splits, so
-        // every triangle is referenced once and the reordering below is a permutation.
-        let params = BvhBuildParams::medium_build();
-        let mut bvh2 = PlocBuilder::with_capacity(obvhs_tris.len()).build(
-            params.ploc_search_distance,
-            &obvhs_tris,
-            (0..obvhs_tris.len() as u32).collect(),
-            params.sort_precision,
-            params.search_depth_threshold,
-        );
-        ReinsertionOptimizer::default().run(&mut bvh2, params.reinsertion_batch_ratio, None);
-        let bvh = bvh2_to_cwbvh(&bvh2, params.max_prims_per_leaf.clamp(1, 3), true, false);
+        let bvh = build_cwbvh(&obvhs_tris);
         let scene_ids = bvh.primitive_indices.clone();
         let triangles = scene_ids
             .iter()
@@ -92,7 +118,7 @@ impl SceneBvh {
             })
             .collect();
         let depth = tree_depth(&bvh);
-        SceneBvh { bvh, triangles, scene_ids, depth }
+        SceneBvh { bvh, triangles, scene_ids, depth, instances: None }
     }
 
     /// The obvhs tree, whose primitive order is that of `triangles_in_tree_order`.
@@ -112,28 +138,14 @@ impl SceneBvh {
         self.depth
     }
 
+    /// The flat triangles (instanced ones are stored once per mesh, in the instance level).
     pub fn triangle_count(&self) -> usize {
         self.triangles.len()
     }
 
     pub fn scratch(&self) -> TraversalScratch {
-        TraversalScratch {
-            stack: HeapStack::new_with_capacity(self.depth + 2),
-            current_group: UVec2::ZERO,
-            primitive_group: UVec2::ZERO,
-            oct_inv4: 0,
-            primitive_id: 0,
-            hitmask: 0,
-        }
-    }
-
-    fn reset(&self, s: &mut TraversalScratch, direction: Vec3A) {
-        s.stack.clear();
-        s.current_group = if self.bvh.nodes.is_empty() { UVec2::ZERO } else { uvec2(0, 0x8000_0000) };
-        s.primitive_group = UVec2::ZERO;
-        s.oct_inv4 = octant_inv4(direction);
-        s.primitive_id = 0;
-        s.hitmask = 0;
+        let (top, mesh) = self.instances.as_ref().map_or((0, 0), InstanceLevel::depths);
+        TraversalScratch { outer: WalkState::new(self.depth.max(top)), inner: WalkState::new(mesh) }
     }
 
     /// The nearest hit with t ∈ [tmin, tmax]; among hits at the same t the lowest scene triangle
@@ -150,30 +162,20 @@ impl SceneBvh {
         let node_ray = NodeRay::new(ray.origin, ray.direction);
         let mut best: Option<Hit> = None;
         let mut best_t = tmax;
-        self.reset(scratch, ray.direction);
-        let state = scratch;
-        let mut node: &CwBvhNode;
-        obvhs::traverse!(
-            self.bvh,
-            node,
-            state,
-            intersect_node(node, &node_ray, tmin, best_t, state.oct_inv4),
-            {
-                let i = state.primitive_id as usize;
-                let [v0, v1, v2] = self.triangles[i];
-                if let Some(h) = ray.intersect(v0, v1, v2, tmin, best_t) {
-                    let id = self.scene_ids[i];
-                    let better = match best {
-                        Some(b) => h.t < b.t || (h.t == b.t && id < b.triangle),
-                        None => true,
-                    };
-                    if better {
-                        best = Some(Hit { triangle: id, t: h.t, barycentric: h.barycentric });
-                        best_t = h.t;
-                    }
+        walk(&self.bvh, &mut scratch.outer, &node_ray, tmin, &mut best_t, 0.0, |i, best_t| {
+            let [v0, v1, v2] = self.triangles[i];
+            if let Some(h) = ray.intersect(v0, v1, v2, tmin, *best_t) {
+                let hit = Hit { triangle: self.scene_ids[i], t: h.t, barycentric: h.barycentric };
+                if hit.beats(&best) {
+                    best = Some(hit);
+                    *best_t = h.t;
                 }
             }
-        );
+            false
+        });
+        if let Some(instances) = &self.instances {
+            instances.closest_hit(scratch, &ray, tmin, &mut best);
+        }
         best
     }
 
@@ -188,26 +190,16 @@ impl SceneBvh {
     ) -> bool {
         let ray = WatertightRay::new(origin.into(), direction.into());
         let node_ray = NodeRay::new(ray.origin, ray.direction);
-        self.reset(scratch, ray.direction);
-        let state = scratch;
-        let mut node: &CwBvhNode;
         let mut hit = false;
-        'search: {
-            obvhs::traverse!(
-                self.bvh,
-                node,
-                state,
-                intersect_node(node, &node_ray, tmin, tmax, state.oct_inv4),
-                {
-                    let [v0, v1, v2] = self.triangles[state.primitive_id as usize];
-                    if ray.intersect(v0, v1, v2, tmin, tmax).is_some() {
-                        hit = true;
-                        break 'search;
-                    }
-                }
-            );
+        walk(&self.bvh, &mut scratch.outer, &node_ray, tmin, &mut tmax.clone(), 0.0, |i, _| {
+            let [v0, v1, v2] = self.triangles[i];
+            hit = ray.intersect(v0, v1, v2, tmin, tmax).is_some();
+            hit
+        });
+        match &self.instances {
+            Some(instances) if !hit => instances.any_hit(scratch, &ray, tmin, tmax, u32::MAX, false).is_some(),
+            _ => hit,
         }
-        hit
     }
 }
 
@@ -218,31 +210,69 @@ impl SceneBvh {
     pub fn shadow_occluder(&self, scratch: &mut TraversalScratch, shadow: &ShadowRay) -> Option<u32> {
         let ray = WatertightRay::new(shadow.origin.into(), shadow.direction.into());
         let node_ray = NodeRay::new(ray.origin, ray.direction);
-        self.reset(scratch, ray.direction);
-        let state = scratch;
-        let mut node: &CwBvhNode;
         let mut occluder = None;
-        'search: {
-            obvhs::traverse!(
-                self.bvh,
-                node,
-                state,
-                intersect_node(node, &node_ray, 0.0, shadow.tmax, state.oct_inv4),
-                {
-                    let i = state.primitive_id as usize;
-                    let id = self.scene_ids[i];
-                    let [v0, v1, v2] = self.triangles[i];
-                    if id != shadow.skip_triangle
-                        && ray.intersect_beyond_error(v0, v1, v2, shadow.tmax).is_some()
-                    {
-                        occluder = Some(id);
-                        break 'search;
-                    }
-                }
-            );
+        walk(&self.bvh, &mut scratch.outer, &node_ray, 0.0, &mut shadow.tmax.clone(), 0.0, |i, _| {
+            let id = self.scene_ids[i];
+            let [v0, v1, v2] = self.triangles[i];
+            if id != shadow.skip_triangle && ray.intersect_beyond_error(v0, v1, v2, shadow.tmax).is_some() {
+                occluder = Some(id);
+            }
+            occluder.is_some()
+        });
+        match &self.instances {
+            Some(instances) if occluder.is_none() => {
+                instances.any_hit(scratch, &ray, 0.0, shadow.tmax, shadow.skip_triangle, true)
+            }
+            _ => occluder,
         }
-        occluder
     }
+}
+
+/// Walks the nodes of `bvh` that the ray may meet within [tmin, *tmax], their boxes widened by
+/// `margin` more, and calls `leaf(i, tmax)` for each primitive `i` (in tree order) of the
+/// leaves it reaches. `leaf` may shrink `*tmax` (closest hits), and ends the walk by
+/// returning true.
+#[inline(always)]
+pub(super) fn walk(
+    bvh: &CwBvh,
+    state: &mut WalkState,
+    ray: &NodeRay,
+    tmin: f32,
+    tmax: &mut f32,
+    margin: f32,
+    mut leaf: impl FnMut(usize, &mut f32) -> bool,
+) {
+    state.stack.clear();
+    state.current_group = if bvh.nodes.is_empty() { UVec2::ZERO } else { uvec2(0, 0x8000_0000) };
+    state.primitive_group = UVec2::ZERO;
+    state.oct_inv4 = ray.oct_inv4;
+    state.primitive_id = 0;
+    state.hitmask = 0;
+    let mut node: &CwBvhNode;
+    'walk: {
+        obvhs::traverse!(bvh, node, state, intersect_node(node, ray, tmin, *tmax, margin), {
+            if leaf(state.primitive_id as usize, tmax) {
+                break 'walk;
+            }
+        });
+    }
+}
+
+/// obvhs's PLOC build of a CWBVH over `primitives`, as `build_cwbvh_from_tris` does it but
+/// without its debug validation, which panics on trees deeper than its traversal stack (ours
+/// is sized to the tree). No spatial splits, so every primitive is referenced once and
+/// `primitive_indices` is a permutation.
+pub(super) fn build_cwbvh<T: obvhs::Boundable>(primitives: &[T]) -> CwBvh {
+    let params = BvhBuildParams::medium_build();
+    let mut bvh2 = PlocBuilder::with_capacity(primitives.len()).build(
+        params.ploc_search_distance,
+        primitives,
+        (0..primitives.len() as u32).collect(),
+        params.sort_precision,
+        params.search_depth_threshold,
+    );
+    ReinsertionOptimizer::default().run(&mut bvh2, params.reinsertion_batch_ratio, None);
+    bvh2_to_cwbvh(&bvh2, params.max_prims_per_leaf.clamp(1, 3), true, false)
 }
 
 /// obvhs's child-ordering code for a direction (private in obvhs, same bits).
@@ -258,10 +288,10 @@ fn octant_inv4(dir: Vec3A) -> u32 {
 /// by a few ulps (Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013). An axis along which the ray
 /// does not move keeps the children whose slab holds the origin. Four children at a time.
 #[inline(always)]
-fn intersect_node(node: &CwBvhNode, ray: &NodeRay, tmin: f32, tmax: f32, oct_inv4: u32) -> u32 {
+fn intersect_node(node: &CwBvhNode, ray: &NodeRay, tmin: f32, tmax: f32, margin: f32) -> u32 {
     let p = Vec3A::from(node.p);
     let e = node.compute_extent();
-    let widen = (p.abs() + e * 255.0) * (4.0 * f32::EPSILON);
+    let widen = (p.abs() + e * 255.0) * (4.0 * f32::EPSILON) + Vec3A::splat(margin);
     let (lo_base, hi_base) = ((p - widen).to_array(), (p + widen).to_array());
     let e = e.to_array();
     let quantized = [
@@ -286,7 +316,7 @@ fn intersect_node(node: &CwBvhNode, ray: &NodeRay, tmin: f32, tmax: f32, oct_inv
         }
         hits |= span.hit_bits() << (half * 4);
     }
-    let (child_bits8, bit_index8) = node.get_child_and_index_bits(oct_inv4);
+    let (child_bits8, bit_index8) = node.get_child_and_index_bits(ray.oct_inv4);
     let mut hit_mask = 0;
     for c in 0..8 {
         if hits & (1 << c) != 0 && node.child_meta[c] != 0 {
@@ -297,26 +327,29 @@ fn intersect_node(node: &CwBvhNode, ray: &NodeRay, tmin: f32, tmax: f32, oct_inv
 }
 
 /// What the node test needs of a ray.
-struct NodeRay {
+pub(super) struct NodeRay {
     origin: Vec3A,
     inv_dir: Vec3A,
     /// Whether the ray moves along each axis (a zero component has no slab distances).
     moves: [bool; 3],
+    /// The child order for the ray's direction.
+    oct_inv4: u32,
 }
 
 impl NodeRay {
-    fn new(origin: Vec3A, direction: Vec3A) -> Self {
+    pub(super) fn new(origin: Vec3A, direction: Vec3A) -> Self {
         NodeRay {
             origin,
             inv_dir: Vec3A::ONE / direction,
             // A component so small that its reciprocal overflows counts as no motion.
             moves: (Vec3A::ONE / direction).is_finite_mask().into(),
+            oct_inv4: octant_inv4(direction),
         }
     }
 }
 
 /// Depth of a CWBVH in nodes, by walking it.
-fn tree_depth(bvh: &CwBvh) -> usize {
+pub(super) fn tree_depth(bvh: &CwBvh) -> usize {
     if bvh.nodes.is_empty() {
         return 0;
     }

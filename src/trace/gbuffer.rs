@@ -102,7 +102,7 @@ pub(super) fn primary_sample(
     light: &Light,
 ) -> Option<SurfaceSample> {
     let hit = bvh.closest_hit(scratch, origin, dir, 0.0, f32::INFINITY)?;
-    let verts = &scene.triangles[hit.triangle as usize];
+    let verts = &scene.triangle(hit.triangle);
     let p = barycentric_point(verts, hit.barycentric);
     let (v0, v1, v2) = (verts[0].as_dvec3(), verts[1].as_dvec3(), verts[2].as_dvec3());
     let mut ng = (v1 - v0).cross(v2 - v0).normalize();
@@ -162,7 +162,7 @@ impl GBuffer {
                         err[x] = p.error;
                         nrm[x] = p.normal;
                         tri[x] = p.triangle;
-                        obj[x] = scene.triangle_object[p.triangle as usize];
+                        obj[x] = scene.object_of(p.triangle);
                     }
                 },
             );

@@ -10,6 +10,7 @@ mod bvh;
 mod cache;
 mod coverage;
 mod gbuffer;
+mod instances;
 mod reference;
 mod sampling;
 mod shadow_ray;

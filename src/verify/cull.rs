@@ -24,7 +24,8 @@ const LEAF_SIZE: usize = 4;
 const WIDEN: f64 = 1.0 / 4096.0;
 
 impl Cull {
-    pub fn new(triangles: &[[Vec3; 3]]) -> Cull {
+    /// A tree over the triangles that `include` keeps (by id, their index in `triangles`).
+    pub fn new(triangles: &[[Vec3; 3]], include: impl Fn(&[Vec3; 3]) -> bool) -> Cull {
         let bounds: Vec<(DVec3, DVec3)> = triangles
             .iter()
             .map(|t| {
@@ -32,10 +33,11 @@ impl Cull {
                 (a.min(b).min(c), a.max(b).max(c))
             })
             .collect();
-        let mut cull = Cull { nodes: Vec::new(), order: (0..triangles.len() as u32).collect() };
-        if !triangles.is_empty() {
+        let order: Vec<u32> = (0..triangles.len() as u32).filter(|&i| include(&triangles[i as usize])).collect();
+        let mut cull = Cull { nodes: Vec::new(), order };
+        if !cull.order.is_empty() {
             cull.nodes.push(Node { lo: DVec3::ZERO, hi: DVec3::ZERO, first: 0, count: 0 });
-            cull.split(0, 0, triangles.len(), &bounds);
+            cull.split(0, 0, cull.order.len(), &bounds);
         }
         cull
     }

@@ -16,7 +16,9 @@ pub use band::{Frame, Robustness};
 pub use exact::{Diff, det2_sign, det3_sign};
 pub use segment::{Contact, Toward, contact};
 
-use crate::scene::{Camera, Light, LightKind, Scene};
+use crate::scene::{Camera, Light, LightKind, Scene, is_degenerate};
+use glam::Vec3;
+use std::borrow::Cow;
 use crate::trace::{GBuffer, PixelClass, SceneBvh, SurfacePoint, hard_shadow_ray, trace_hard_reference};
 use cull::Cull;
 use rayon::prelude::*;
@@ -47,13 +49,20 @@ pub struct Judgement {
 
 /// The scene's triangles behind their own cull.
 pub struct Adjudicator<'a> {
-    scene: &'a Scene,
+    /// Every scene triangle by id, in world space.
+    triangles: Cow<'a, [[Vec3; 3]]>,
     cull: Cull,
 }
 
 impl<'a> Adjudicator<'a> {
     pub fn new(scene: &'a Scene) -> Self {
-        Adjudicator { scene, cull: Cull::new(&scene.triangles) }
+        // Instanced triangles are judged in world space, as flattened (src/scene/instance.rs).
+        let triangles: Cow<'a, [[Vec3; 3]]> = match scene.instances.is_empty() {
+            true => Cow::Borrowed(&scene.flat_triangles),
+            false => Cow::Owned((0..scene.triangle_count() as u32).map(|id| scene.triangle(id)).collect()),
+        };
+        let cull = Cull::new(&triangles, |t| !is_degenerate(t));
+        Adjudicator { triangles, cull }
     }
 
     /// Judges the segment from `point` to `light`'s centre. `stack` is reused between calls.
@@ -69,13 +78,13 @@ impl<'a> Adjudicator<'a> {
             }
         };
         let frame = Frame::new(point, direction, length);
-        let own = SamePlane::new(&self.scene.triangles[point.triangle as usize], direction);
+        let own = SamePlane::new(&self.triangles[point.triangle as usize], direction);
         let (mut meets, mut fragile, mut robust_hit, mut inconsistent) = (None, None, None, false);
         self.cull.for_each_near(p.as_dvec3(), direction, s_max, stack, |t| {
             if t == point.triangle {
                 return true;
             }
-            let triangle = &self.scene.triangles[t as usize];
+            let triangle = &self.triangles[t as usize];
             let exact = contact(p, toward, triangle);
             if exact == Contact::Meets {
                 meets.get_or_insert(t);

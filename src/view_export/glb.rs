@@ -4,7 +4,7 @@
 
 use super::{num, nums};
 use crate::raster::LightView;
-use crate::scene::{Camera, Light, LightKind, LightSize, Object, Scene};
+use crate::scene::{Camera, Light, LightKind, LightSize, Scene};
 use glam::{DMat3, DQuat, DVec3, Vec3};
 use serde_json::{Value, json};
 use std::collections::HashMap;
@@ -46,10 +46,10 @@ pub(crate) fn light_node(scene: &Scene, i: usize) -> usize {
 pub(crate) fn scene_glb(scene: &Scene, cameras: &[GlbCamera], lights: &[GlbLight]) -> Vec<u8> {
     let mut bin = Vec::new();
     let (mut buffer_views, mut accessors, mut meshes, mut nodes) = (vec![], vec![], vec![], vec![]);
-    for object in &scene.objects {
+    for (index, object) in scene.objects.iter().enumerate() {
         let mut node = json!({ "name": object.name, "extras": { "closed": object.closed } });
         if object.triangle_count > 0 {
-            let primitive = write_mesh(scene, object, &mut bin, &mut buffer_views, &mut accessors);
+            let primitive = write_mesh(scene, index, &mut bin, &mut buffer_views, &mut accessors);
             node["mesh"] = json!(meshes.len());
             meshes.push(json!({ "name": object.name, "primitives": [primitive] }));
         }
@@ -106,13 +106,12 @@ pub(crate) fn scene_glb(scene: &Scene, cameras: &[GlbCamera], lights: &[GlbLight
 /// indices into `bin`; returns its primitive.
 fn write_mesh(
     scene: &Scene,
-    object: &Object,
+    object: usize,
     bin: &mut Vec<u8>,
     buffer_views: &mut Vec<Value>,
     accessors: &mut Vec<Value>,
 ) -> Value {
-    let first = object.first_triangle as usize;
-    let triangles = &scene.triangles[first..first + object.triangle_count as usize];
+    let triangles: Vec<[Vec3; 3]> = scene.object_triangles(object).collect();
     let mut index_of: HashMap<[u32; 3], u32> = HashMap::new();
     let (mut vertices, mut indices) = (Vec::<Vec3>::new(), Vec::<u32>::with_capacity(3 * triangles.len()));
     for v in triangles.iter().flatten() {
@@ -138,7 +137,7 @@ fn write_mesh(
         "bufferView": buffer_views.len() - 1, "componentType": UNSIGNED_INT, "count": indices.len(),
         "type": "SCALAR",
     }));
-    let material = if object.closed { CLOSED_MATERIAL } else { OPEN_MATERIAL };
+    let material = if scene.objects[object].closed { CLOSED_MATERIAL } else { OPEN_MATERIAL };
     json!({
         "attributes": { "POSITION": position_accessor },
         "indices": position_accessor + 1,
