@@ -23,8 +23,10 @@ fn placements() -> Vec<Value> {
             1 => json!([0.7, 1.9, 0.9]),
             _ => json!([-0.8, 1.1, 0.8]),
         };
-        out.push(json!({ "scale": scale, "rotate_deg": [7.0 * i as f64, 33.0 * i as f64 + 11.0, -5.0 * i as f64],
-                         "translate": [x, 0.4 + 0.1 * i as f64, z] }));
+        out.push(
+            json!({ "scale": scale, "rotate_deg": [7.0 * i as f64, 33.0 * i as f64 + 11.0, -5.0 * i as f64],
+                         "translate": [x, 0.4 + 0.1 * i as f64, z] }),
+        );
     }
     out.push(json!({ "scale": [3e-3, 3e-3, 3e-3], "translate": [0.3, 2.2, 0.1] }));
     out
@@ -83,7 +85,8 @@ fn instancing_stores_each_mesh_once_and_numbers_its_triangles_after_the_flat_one
     assert_eq!(instanced.objects.len(), flat.objects.len());
     for (i, (a, b)) in instanced.objects.iter().zip(&flat.objects).enumerate() {
         assert_eq!((&a.name, a.closed, a.triangle_count), (&b.name, b.closed, b.triangle_count));
-        let (ta, tb): (Vec<_>, Vec<_>) = (instanced.object_triangles(i).collect(), flat.object_triangles(i).collect());
+        let (ta, tb): (Vec<_>, Vec<_>) =
+            (instanced.object_triangles(i).collect(), flat.object_triangles(i).collect());
         assert_eq!(ta, tb, "object {}", a.name);
         let ids = a.first_triangle..a.first_triangle + a.triangle_count;
         assert!(ids.clone().all(|id| instanced.object_of(id) == i as u32));
@@ -112,7 +115,14 @@ fn instancing_gives_the_flattened_scenes_gbuffer_reference_and_verdicts() {
         let shadowed = gi.evaluated.iter().filter(|&&p| ri.lit[p as usize] == 0).count();
         assert!(shadowed > 1000 && shadowed < gi.evaluated.len() - 1000, "{}: {shadowed}", light.name);
 
-        let verdict = verify_view(&instanced, &bvh_i, &Adjudicator::new(&instanced), camera, light, PixelSelection::All);
+        let verdict = verify_view(
+            &instanced,
+            &bvh_i,
+            &Adjudicator::new(&instanced),
+            camera,
+            light,
+            PixelSelection::All,
+        );
         assert_eq!(verdict.disagree_outside_band, 0, "{}", light.name);
         assert_eq!(verdict.checked, gi.evaluated.len());
     }
@@ -139,7 +149,12 @@ fn instancing_keeps_every_hit_at_vertices_and_edges() {
     let (instanced, flat) = forests();
     let (bvh_i, bvh_f) = (SceneBvh::build(&instanced), SceneBvh::build(&flat));
     let (mut si, mut sf) = (bvh_i.scratch(), bvh_f.scratch());
-    let origins = [Vec3::new(-7.0, 6.0, 8.0), Vec3::new(5.0, 9.0, -2.0), Vec3::new(0.1, 0.05, 0.2), Vec3::new(9.0, 0.3, 9.0)];
+    let origins = [
+        Vec3::new(-7.0, 6.0, 8.0),
+        Vec3::new(5.0, 9.0, -2.0),
+        Vec3::new(0.1, 0.05, 0.2),
+        Vec3::new(9.0, 0.3, 9.0),
+    ];
     let mut rays = 0;
     for id in instanced.flat_triangles.len() as u32..instanced.triangle_count() as u32 {
         let [a, b, c] = instanced.triangle(id);

@@ -127,7 +127,10 @@ fn read_instances(r: &mut Reader, transform: Option<Transform>) -> (Option<Trans
         return (transform, Vec::new());
     }
     if r.has("transform") {
-        r.problem("instances", "has both `transform` and `instances`; give one transform per instance instead");
+        r.problem(
+            "instances",
+            "has both `transform` and `instances`; give one transform per instance instead",
+        );
     }
     let Some(items) = r.array("instances") else {
         return (None, Vec::new());
@@ -137,7 +140,10 @@ fn read_instances(r: &mut Reader, transform: Option<Transform>) -> (Option<Trans
         return (None, Vec::new());
     }
     if items.len() as u64 > MAX_INSTANCES {
-        r.problem("instances", format!("{} instances; an object may have at most {MAX_INSTANCES}", items.len()));
+        r.problem(
+            "instances",
+            format!("{} instances; an object may have at most {MAX_INSTANCES}", items.len()),
+        );
         return (None, Vec::new());
     }
     let read: Vec<Option<Transform>> = r.each("instances", items, read_transform);

@@ -53,7 +53,8 @@ impl Instance {
     /// World triangle `local` of this instance, degenerate or not.
     #[inline]
     pub fn triangle(&self, mesh: &SharedMesh, local: usize) -> [Vec3; 3] {
-        let [a, b, c] = mesh.triangles[local].map(|i| world_vertex(&self.world_from_local, mesh.positions[i as usize]));
+        let [a, b, c] =
+            mesh.triangles[local].map(|i| world_vertex(&self.world_from_local, mesh.positions[i as usize]));
         if self.mirrored { [a, c, b] } else { [a, b, c] }
     }
 

@@ -94,7 +94,13 @@ impl Budget {
     }
 
     /// Whether `placements` more copies of a mesh of `count` triangles may join the scene.
-    fn admit_placements(&mut self, object_path: &str, count: u64, placements: u64, problems: &mut Problems) -> bool {
+    fn admit_placements(
+        &mut self,
+        object_path: &str,
+        count: u64,
+        placements: u64,
+        problems: &mut Problems,
+    ) -> bool {
         let before = self.placed;
         self.placed += count * placements;
         if self.placed > MAX_INSTANCED_TRIANGLES {
@@ -163,7 +169,8 @@ fn load_with_limits(text: &str, source: &Path, base_dir: &Path, limits: Limits) 
             && budget.admit_mesh(&object.path, count, &mut problems)
         {
             if object.instances.len() > 1 {
-                if budget.admit_placements(&object.path, count, object.instances.len() as u64, &mut problems) {
+                if budget.admit_placements(&object.path, count, object.instances.len() as u64, &mut problems)
+                {
                     add_instances(&mut scene, object, mesh, &mut problems);
                 }
             } else {
@@ -232,7 +239,8 @@ fn add_object(scene: &mut Scene, object: &ObjectDesc, mesh: &IndexedMesh, proble
 fn add_instances(scene: &mut Scene, object: &ObjectDesc, mesh: IndexedMesh, problems: &mut Problems) {
     let path = format!("{}.instances", object.path);
     let local = |t: &[u32; 3]| t.map(|i| mesh.positions[i as usize]);
-    let triangles: Vec<[u32; 3]> = mesh.triangles.iter().copied().filter(|t| !is_local_degenerate(local(t))).collect();
+    let triangles: Vec<[u32; 3]> =
+        mesh.triangles.iter().copied().filter(|t| !is_local_degenerate(local(t))).collect();
     if triangles.is_empty() {
         problems.report(&path, "the instanced geometry has no triangles (all degenerate)");
         return;

@@ -16,13 +16,13 @@ mod view_key;
 pub use camera::Camera;
 pub use error::{Problem, SceneError};
 pub use instance::{Instance, SharedMesh, box_corners, is_degenerate, world_vertex};
-pub use triangles::TriangleSource;
 pub use light::{Light, LightKind, LightSize, NoLightSize};
 pub(crate) use load::load_scene_str_within;
 pub use load::{load_scene, load_scene_str};
 pub(crate) use obj::parse_obj;
 pub use shapes::{IndexedMesh, Shape};
 pub use transform::Transform;
+pub use triangles::TriangleSource;
 pub use view_key::ViewKey;
 
 use glam::Vec3;

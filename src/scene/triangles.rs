@@ -69,7 +69,8 @@ impl Scene {
     pub fn triangles_in(&self, ids: Range<u32>) -> impl Iterator<Item = (u32, [Vec3; 3])> + '_ {
         let flat_end = (self.flat_triangles.len() as u32).clamp(ids.start, ids.end.max(ids.start));
         let flat = (ids.start..flat_end).map(|id| (id, self.flat_triangles[id as usize]));
-        let first_instance = self.instances.partition_point(|i| i.first_triangle <= flat_end).saturating_sub(1);
+        let first_instance =
+            self.instances.partition_point(|i| i.first_triangle <= flat_end).saturating_sub(1);
         let instanced = self.instances[first_instance.min(self.instances.len())..]
             .iter()
             .take_while(move |i| i.first_triangle < ids.end)

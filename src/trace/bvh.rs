@@ -197,7 +197,9 @@ impl SceneBvh {
             hit
         });
         match &self.instances {
-            Some(instances) if !hit => instances.any_hit(scratch, &ray, tmin, tmax, u32::MAX, false).is_some(),
+            Some(instances) if !hit => {
+                instances.any_hit(scratch, &ray, tmin, tmax, u32::MAX, false).is_some()
+            }
             _ => hit,
         }
     }

@@ -59,13 +59,12 @@ impl InstanceLevel {
         let meshes: Vec<MeshTree> = scene.meshes.iter().map(MeshTree::build).collect();
         let placements: Vec<Placement> =
             scene.instances.iter().map(|i| Placement::new(i, &scene.meshes[i.mesh as usize])).collect();
-        let boxes: Vec<Aabb> = placements
-            .iter()
-            .map(|p| Aabb::new(p.world_lo.as_vec3a(), p.world_hi.as_vec3a()))
-            .collect();
+        let boxes: Vec<Aabb> =
+            placements.iter().map(|p| Aabb::new(p.world_lo.as_vec3a(), p.world_hi.as_vec3a())).collect();
         let top = build_cwbvh(&boxes);
         let mut by_index: Vec<Option<Placement>> = placements.into_iter().map(Some).collect();
-        let placements = top.primitive_indices.iter().map(|&i| by_index[i as usize].take().unwrap()).collect();
+        let placements =
+            top.primitive_indices.iter().map(|&i| by_index[i as usize].take().unwrap()).collect();
         let top_depth = tree_depth(&top);
         Some(InstanceLevel { top, top_depth, placements, meshes })
     }
@@ -90,7 +89,8 @@ impl InstanceLevel {
             let placement = &self.placements[i];
             let mesh = &self.meshes[placement.mesh as usize];
             placement.walk(mesh, inner, ray, tmin, best_t, |local, best_t| {
-                let Some(h) = ray.intersect(local.world[0], local.world[1], local.world[2], tmin, *best_t) else {
+                let Some(h) = ray.intersect(local.world[0], local.world[1], local.world[2], tmin, *best_t)
+                else {
                     return false;
                 };
                 let hit = Hit { triangle: local.id, t: h.t, barycentric: h.barycentric };
@@ -211,7 +211,8 @@ impl Placement {
         let mut local_tmax = tmax.min(t_exit as f32);
         let mut stopped = false;
         walk(&mesh.tree.bvh, state, &local_ray, tmin, &mut local_tmax, margin, |i, local_tmax| {
-            let [a, b, c] = mesh.local_triangles[i].map(|p| Vec3A::from(world_vertex(&self.world_from_local, p)));
+            let [a, b, c] =
+                mesh.local_triangles[i].map(|p| Vec3A::from(world_vertex(&self.world_from_local, p)));
             let world = if self.mirrored { [a, c, b] } else { [a, b, c] };
             let triangle = LocalTriangle { id: self.first_triangle + mesh.local_ids[i], world };
             stopped = leaf(&triangle, tmax);

@@ -33,7 +33,8 @@ impl Cull {
                 (a.min(b).min(c), a.max(b).max(c))
             })
             .collect();
-        let order: Vec<u32> = (0..triangles.len() as u32).filter(|&i| include(&triangles[i as usize])).collect();
+        let order: Vec<u32> =
+            (0..triangles.len() as u32).filter(|&i| include(&triangles[i as usize])).collect();
         let mut cull = Cull { nodes: Vec::new(), order };
         if !cull.order.is_empty() {
             cull.nodes.push(Node { lo: DVec3::ZERO, hi: DVec3::ZERO, first: 0, count: 0 });

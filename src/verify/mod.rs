@@ -17,12 +17,12 @@ pub use exact::{Diff, det2_sign, det3_sign};
 pub use segment::{Contact, Toward, contact};
 
 use crate::scene::{Camera, Light, LightKind, Scene, is_degenerate};
-use glam::Vec3;
-use std::borrow::Cow;
 use crate::trace::{GBuffer, PixelClass, SceneBvh, SurfacePoint, hard_shadow_ray, trace_hard_reference};
 use cull::Cull;
+use glam::Vec3;
 use rayon::prelude::*;
 use serde::Serialize;
+use std::borrow::Cow;
 
 /// What the tracer must answer for a pixel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
