@@ -645,10 +645,7 @@ fn run_plan(a: RunArgs) -> Result<u8> {
 /// finished maps the schedule then skips.
 fn open_run_folder(a: &RunArgs, plan: &Plan) -> Result<(ReportWriter, Portion)> {
     let shard = a.shard.map(|s| s.record());
-    let resumed = match a.resume {
-        true => crate::report::open_resumed(&a.out, plan.figures, shard)?,
-        false => None,
-    };
+    let resumed = if a.resume { crate::report::open_resumed(&a.out, plan.figures, shard)? } else { None };
     let mut portion = Portion { shard: a.shard, ..Portion::default() };
     let mut writer = match resumed {
         Some(r) => {

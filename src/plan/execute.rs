@@ -102,7 +102,8 @@ pub fn execute_portion(
 /// The number of runs of `portion`.
 fn portion_runs(plan: &Plan, schedule: &ScheduleRecord, portion: &Portion) -> usize {
     let mut maps = 0;
-    for (_, v) in schedule.views.iter().enumerate().filter(|(p, _)| portion.owns_view(*p)) {
+    let owned = schedule.views.iter().enumerate().filter(|(position, _)| portion.owns_view(*position));
+    for (_, v) in owned {
         let key = ViewKey::new(&v.scene, &v.camera, &v.light);
         for &resolution in &plan.resolutions {
             maps += plan.depth_formats.iter().filter(|f| portion.runs_map(key, resolution, f.name())).count();

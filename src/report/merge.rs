@@ -51,8 +51,8 @@ fn read_shard(dir: &Path) -> Result<ShardFolder> {
     let not_a_shard = |field: &str| {
         anyhow!("{file}: {field}: missing: not a shard folder (`shadowtruth run --shard K/N` writes one)")
     };
-    let schedule = report.schedule.clone().ok_or_else(|| not_a_shard("schedule"))?;
     let shard = report.shard.ok_or_else(|| not_a_shard("shard"))?;
+    let schedule = report.schedule.clone().ok_or_else(|| not_a_shard("schedule"))?;
     if Shard::new(shard.index, shard.count).is_err() {
         bail!("{file}: shard: {shard} is not shard K of N with 1 ≤ K ≤ N");
     }
