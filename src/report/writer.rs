@@ -115,16 +115,16 @@ impl ReportWriter {
         if !self.tracks_schedule {
             return Ok(());
         }
-        if let Some(identity) = &self.resumed_identity {
-            if *identity != schedule.identity {
-                return Err(PlanError::Invalid(format!(
-                    "{}: schedule.identity: the folder holds a run of another plan, other scenes or other \
+        if let Some(identity) = &self.resumed_identity
+            && *identity != schedule.identity
+        {
+            return Err(PlanError::Invalid(format!(
+                "{}: schedule.identity: the folder holds a run of another plan, other scenes or other \
                      options ({identity}, this run: {}); run without --resume to replace it, or write to \
                      another folder",
-                    self.path.display(),
-                    schedule.identity
-                )));
-            }
+                self.path.display(),
+                schedule.identity
+            )));
         }
         self.report.schedule = Some(schedule.clone());
         self.flush().map_err(|source| PlanError::Io { path: self.path.clone(), source })
