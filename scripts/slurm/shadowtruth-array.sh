@@ -6,7 +6,8 @@
 #
 # Task K writes SHARDS_DIR/shard-K with `shadowtruth run ... --shard K/N --resume`, N being the
 # array's highest task id (or $SHADOWTRUTH_SHARDS). --resume makes a requeued or restarted task
-# finish its folder instead of starting over. Merge the N folders afterwards with
+# finish its folder instead of starting over. The script adds --shard, --resume, --quiet,
+# --threads ($SLURM_CPUS_PER_TASK) and -o: pass the scenes, the plan and other options only. Merge the N folders afterwards with
 # `shadowtruth merge SHARDS_DIR/shard-* -o OUT` (scripts/slurm/submit.sh submits both; see
 # docs/cluster.md). The binary is $SHADOWTRUTH (default: `shadowtruth` on the PATH).
 #SBATCH --job-name=shadowtruth-shard
