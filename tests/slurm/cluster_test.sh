@@ -4,7 +4,8 @@
 # scripts/slurm/submit.sh, and checks that the merged report folder equals an unsharded run's
 # apart from timings (report.json without `created`, `bvh_build_ms` and `timings`; report.csv
 # without its timing columns; the figures byte for byte; the same plots). Prints the cluster's
-# wall time. .ci/run calls it after `cargo test`, once munge, slurmctld, slurmd and
+# wall time, then checks that a failing shard gets the merge job cancelled instead of left
+# pending. .ci/run calls it after `cargo test`, once munge, slurmctld, slurmd and
 # slurm-client are installed.
 #
 # Usage (as root): bash tests/slurm/cluster_test.sh
@@ -169,6 +170,25 @@ for f in whole/plots/*; do
   [[ ${f##*/} == cost_* ]] || cmp "$f" "merged/plots/${f##*/}" || fail "plots/${f##*/} differs"
 done
 [[ -s merged/index.html ]] || fail "no merged/index.html"
+# --- a failing shard: the merge's dependency can never be met, so Slurm cancels it.
+jobs=$(SHADOWTRUTH=$bin "$root/scripts/slurm/submit.sh" -n 2 -o broken -- "$root/scenes" --plan missing.json)
+broken_merge=$(sed -n 's/^MERGE_JOB=//p' <<<"$jobs")
+merge_job=$broken_merge array_job=$(sed -n 's/^ARRAY_JOB=//p' <<<"$jobs")
+merge_cancelled() {
+  case $(job_state "$broken_merge") in
+    CANCELLED) return 0 ;;
+    COMPLETED | RUNNING) fail "the merge after a failed shard ran ($(job_state "$broken_merge"))" ;;
+    *) return 1 ;;
+  esac
+}
+deadline=$((SECONDS + poll_timeout_s))
+until merge_cancelled; do
+  ((SECONDS < deadline)) || fail "timed out after ${poll_timeout_s} s waiting for merge job $broken_merge to be cancelled"
+  sleep 0.5
+done
+[[ ! -e broken ]] || fail "a merge folder was written after a failed shard"
+echo "slurm: a failed shard cancels the merge job"
+
 runs=$(($(wc -l <merged/report.csv) - 1))
 figures=$(ls merged/figures | wc -l)
 echo "cluster_test: passed: merged report of $shards shards equals the unsharded run ($runs runs, $figures figures)"
