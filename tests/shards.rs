@@ -378,3 +378,33 @@ fn bad_shard_values_are_refused() {
     }
     assert!(!dir.path().join("out").exists());
 }
+
+#[test]
+fn a_killed_run_resumes_to_the_fresh_run() {
+    let dir = tempfile::tempdir().unwrap();
+    write_suite(dir.path());
+    run(dir.path(), "whole", &["--quiet"]);
+    let args = ["run", "scenes", "--plan", "plan.json", "--references", "refs", "-o", "killed", "--quiet"];
+    let mut child = Command::new(env!("CARGO_BIN_EXE_shadowtruth"))
+        .args([&args[..], &["--threads", "1"]].concat())
+        .current_dir(dir.path())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    // Killed (SIGKILL) as soon as report.json holds a run.
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    let runs_on_disk = || {
+        let bytes = std::fs::read(dir.path().join("killed/report.json")).ok()?;
+        Some(serde_json::from_slice::<Value>(&bytes).ok()?["runs"].as_array()?.len())
+    };
+    while runs_on_disk().unwrap_or(0) == 0 && child.try_wait().unwrap().is_none() {
+        assert!(std::time::Instant::now() < deadline, "the run wrote no run in 60 s");
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let stdout = run(dir.path(), "killed", &["--resume"]);
+    assert!(stdout.contains("resuming killed:"), "{stdout}");
+    assert_same_folder(&dir.path().join("whole"), &dir.path().join("killed"), dir.path());
+}
