@@ -103,7 +103,7 @@ pub fn execute_portion(
 fn portion_runs(plan: &Plan, schedule: &ScheduleRecord, portion: &Portion) -> usize {
     let mut maps = 0;
     let owned = schedule.views.iter().enumerate().filter(|(position, _)| portion.owns_view(*position));
-    for (_, v) in owned {
+    for v in owned.map(|(_, view)| view) {
         let key = ViewKey::new(&v.scene, &v.camera, &v.light);
         for &resolution in &plan.resolutions {
             maps += plan.depth_formats.iter().filter(|f| portion.runs_map(key, resolution, f.name())).count();
