@@ -5,7 +5,7 @@ use crate::atomic_file::write_atomic;
 use crate::metrics::{Stopwatch, median_ms};
 use crate::plan::{
     DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_MAX_RUNS, Event, MAX_REFERENCE_GRID, MAX_REPEATS,
-    Plan, PlanError, Sink, execute, read_plan,
+    Plan, PlanError, Portion, Sink, execute_portion, read_plan,
 };
 use crate::raster::MAX_SHADOW_MAP_RESOLUTION;
 use crate::report::{
@@ -88,6 +88,15 @@ enum Command {
     /// Re-render report.csv, the plots and index.html of a report folder from its report.json,
     /// without running anything.
     Report(ReportArgs),
+    /// Join the report folders of `run --shard K/N` (K = 1..N, any order) into one report
+    /// folder, as the whole run would have written it apart from timings.
+    ///
+    /// OUT gets report.json (the runs in the whole run's order), the shards' figures, and
+    /// report.csv, plots and index.html rendered from the merged report. Refused, naming the
+    /// folder: a folder that is no shard, shards of different plans, scenes or options, a
+    /// missing or repeated shard, a run in a view of another shard, an unfinished shard.
+    /// docs/cluster.md runs shards as a Slurm job array or a CI matrix.
+    Merge(MergeArgs),
     /// Reproduce the papers' results and judge each claim: Ehm et al.'s Figure 12 on the island
     /// (scenes/papers/island.json), Fig. 4 and Table 1 and Pagot et al.'s Table 1 and Fig. 6 on
     /// scenes/papers/casters.json, Weiskopf & Ertl's Fig. 5 on scenes/papers/l_above.json.
@@ -201,6 +210,19 @@ struct ViewExportArgs {
 }
 
 #[derive(Args)]
+struct MergeArgs {
+    /// The shard folders (each written by `run --shard K/N`).
+    #[arg(required = true, value_name = "DIR")]
+    dirs: Vec<PathBuf>,
+    /// Output folder (created if missing; an earlier report there is replaced).
+    #[arg(short, long, value_name = "OUT")]
+    out: PathBuf,
+    /// No summary line.
+    #[arg(short, long)]
+    quiet: bool,
+}
+
+#[derive(Args)]
 struct ReportArgs {
     /// A report folder (holding report.json).
     dir: PathBuf,
@@ -251,6 +273,20 @@ struct RunArgs {
     /// (`apt-get install mesa-vulkan-drivers libvulkan1`) is one.
     #[arg(long, value_enum)]
     pipeline: Option<crate::plan::Pipeline>,
+    /// Run only shard K of N (1 ≤ K ≤ N): the plan's (scene, camera, light) views are dealt out
+    /// round-robin in schedule order (view i, from 0, to shard i mod N + 1), so that what a view
+    /// shares (G-buffer, references, shadow maps) is built in one shard. OUT_DIR is a report
+    /// folder of its own, with the shard and the plan's identity in report.json; `shadowtruth
+    /// merge` joins the N folders. A shard without views still writes its folder.
+    #[arg(long, value_name = "K/N", value_parser = crate::plan::Shard::parse)]
+    shard: Option<crate::plan::Shard>,
+    /// Finish an interrupted run in OUT_DIR: the runs its report.json already holds are kept
+    /// (a map — view, resolution, depth format — whose runs or grid figure are incomplete is run
+    /// again whole) and only the rest are run; the result equals a fresh run apart from timings.
+    /// The folder must hold a run of the same plan, scenes and options (and the same --shard);
+    /// without a report.json the run starts afresh.
+    #[arg(long)]
+    resume: bool,
 }
 
 /// Which reference `shadowtruth reference` writes.
@@ -387,6 +423,19 @@ fn run(cli: Cli) -> Result<u8> {
         Command::Verify(a) => verify(a),
         Command::DepthMap(a) => depth_map(a),
         Command::Score(a) => score::score(a),
+        Command::Merge(a) => {
+            let report = crate::report::merge_shards(&a.dirs, &a.out)?;
+            if !a.quiet {
+                println!(
+                    "merged {} shards: {} runs; report: {} (open {})",
+                    a.dirs.len(),
+                    report.runs.len(),
+                    a.out.join("report.json").display(),
+                    a.out.join("index.html").display()
+                );
+            }
+            Ok(0)
+        }
         Command::Report(a) => {
             let (report, file) = load_report(&a.dir)?;
             let dir = file.parent().unwrap_or(Path::new(".")).to_path_buf();
@@ -489,7 +538,7 @@ impl Progress {
 impl Sink for Progress {
     fn on_event(&mut self, event: &Event) -> Result<(), PlanError> {
         match event {
-            Event::Planned { runs } => self.0.inc_length(*runs as u64),
+            Event::Planned { runs, .. } => self.0.inc_length(*runs as u64),
             Event::Stage(s) => self.0.set_message(s.to_string()),
             Event::RunDone { .. } => self.0.inc(1),
             _ => {}
@@ -570,8 +619,8 @@ fn run_plan(a: RunArgs) -> Result<u8> {
         plan.scenes = vec![PathBuf::from("scenes")];
     }
     plan.scenes = expand_scenes(&plan.scenes)?;
-    if let Some(r) = a.resolutions {
-        plan.resolutions = r;
+    if let Some(r) = &a.resolutions {
+        plan.resolutions = r.clone();
     }
     if let Some(p) = a.pipeline {
         plan.pipeline = p;
@@ -587,8 +636,35 @@ fn run_plan(a: RunArgs) -> Result<u8> {
         plan.repeats = n;
     }
     let cache = (!a.no_cache).then(|| crate::trace::ReferenceCache::new(&a.references));
-    write_plan_report(&plan, &a.out, cache.as_ref(), a.quiet)?;
+    let (writer, portion) = open_run_folder(&a, &plan)?;
+    finish_plan_report(&plan, writer, &portion, cache.as_ref(), a.quiet)?;
     Ok(0)
+}
+
+/// Opens `run`'s report folder: afresh, or with `--resume` the interrupted run there, whose
+/// finished maps the schedule then skips.
+fn open_run_folder(a: &RunArgs, plan: &Plan) -> Result<(ReportWriter, Portion)> {
+    let shard = a.shard.map(|s| s.record());
+    let resumed = if a.resume { crate::report::open_resumed(&a.out, plan.figures, shard)? } else { None };
+    let mut portion = Portion { shard: a.shard, ..Portion::default() };
+    let mut writer = match resumed {
+        Some(r) => {
+            if !a.quiet {
+                println!(
+                    "resuming {}: {} finished runs kept, {} runs of unfinished maps run again",
+                    a.out.display(),
+                    r.report.runs.len(),
+                    r.dropped_runs
+                );
+            }
+            portion.done = r.done;
+            ReportWriter::resume(&a.out, r.report)
+        }
+        None => ReportWriter::create(&a.out),
+    }
+    .with_context(|| format!("opening {}", a.out.display()))?;
+    writer.track_schedule(shard);
+    Ok((writer, portion))
 }
 
 /// Runs `plan` into the report folder `out` (report.json, figures unless the plan has none, then
@@ -599,16 +675,30 @@ fn write_plan_report(
     cache: Option<&crate::trace::ReferenceCache>,
     quiet: bool,
 ) -> Result<()> {
-    let mut writer = ReportWriter::create(out).with_context(|| format!("opening {}", out.display()))?;
+    let writer = ReportWriter::create(out).with_context(|| format!("opening {}", out.display()))?;
+    finish_plan_report(plan, writer, &Portion::default(), cache, quiet)
+}
+
+/// Runs the `portion` of `plan` through `writer` and the figures, then writes the CSV, plots and
+/// page of the whole report, and prints the table and summary unless `quiet`.
+fn finish_plan_report(
+    plan: &Plan,
+    mut writer: ReportWriter,
+    portion: &Portion,
+    cache: Option<&crate::trace::ReferenceCache>,
+    quiet: bool,
+) -> Result<()> {
+    let out = writer.dir().to_path_buf();
+    let runs_before = writer.report().runs.len();
     let started = Instant::now();
     let mut progress = Progress::new(quiet);
     let mut figures = plan.figures.then(|| FigureSink::new(&out.join("figures"), plan.zoom));
-    execute(plan, cache, &mut sinks(&mut writer, figures.as_mut(), &mut progress))?;
+    execute_portion(plan, cache, &mut sinks(&mut writer, figures.as_mut(), &mut progress), portion)?;
     let figures_ms = figures.as_ref().map_or(0.0, FigureSink::spent_ms);
     let bar = progress.0;
     let outputs_started = Instant::now();
     bar.set_message("figures, plots and index.html");
-    write_report_outputs(out, writer.report()).with_context(|| format!("writing into {}", out.display()))?;
+    write_report_outputs(&out, writer.report()).with_context(|| format!("writing into {}", out.display()))?;
     bar.finish_and_clear();
     // What the figures, plots, CSV and page cost beside the runs themselves.
     let outputs_s = (figures_ms / 1e3) + outputs_started.elapsed().as_secs_f64();
@@ -617,9 +707,10 @@ fn write_plan_report(
     if !quiet {
         print_table(writer.report());
         println!(
-            "{} runs in {runs_s:.1} s, then figures, plots and page in {outputs_s:.1} s ({:.1} % of the runs' \
-             time); report: {} (open {})",
+            "{} runs in {runs_s:.1} s ({} of them run now), then figures, plots and page in {outputs_s:.1} s \
+             ({:.1} % of the runs' time); report: {} (open {})",
             writer.report().runs.len(),
+            writer.report().runs.len() - runs_before,
             100.0 * outputs_s / runs_s.max(1e-9),
             writer.path().display(),
             out.join("index.html").display()

@@ -113,6 +113,62 @@ pub struct Report {
     pub created: String,
     pub scenes: Vec<SceneRecord>,
     pub runs: Vec<RunRecord>,
+    /// What `run` was asked to do, for `run --resume` and `merge` (absent in other reports).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub schedule: Option<ScheduleRecord>,
+    /// The share of the schedule a `run --shard K/N` folder holds (absent in a whole run).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shard: Option<ShardRecord>,
+}
+
+/// A plan's schedule as `run` expands it: its identity (a digest of every view's inputs, the
+/// techniques in canonical form and the options that change results or outputs) and the order
+/// of its views and maps, so that shards merge and interrupted runs resume in that order.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ScheduleRecord {
+    /// SHA-256, hex.
+    pub identity: String,
+    /// Every (scene, camera, light) view of the plan, in schedule order.
+    pub views: Vec<ViewName>,
+    /// The shadow-map resolutions in schedule order.
+    pub resolutions: Vec<u32>,
+    /// The depth formats in schedule order.
+    pub depth_formats: Vec<String>,
+    /// Runs per (view, resolution, depth format): one per technique setting.
+    pub runs_per_map: usize,
+}
+
+/// The names of one (scene, camera, light) view.
+#[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct ViewName {
+    pub scene: String,
+    pub camera: String,
+    pub light: String,
+}
+
+impl ViewName {
+    pub fn of_run(run: &RunRecord) -> Self {
+        ViewName { scene: run.scene.clone(), camera: run.camera.clone(), light: run.light.clone() }
+    }
+}
+
+impl std::fmt::Display for ViewName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}/{}", self.scene, self.camera, self.light)
+    }
+}
+
+/// Shard `index` of `count` (1-based), as `run --shard index/count` wrote it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ShardRecord {
+    pub index: u32,
+    pub count: u32,
+}
+
+impl std::fmt::Display for ShardRecord {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.index, self.count)
+    }
 }
 
 impl Report {
@@ -124,6 +180,8 @@ impl Report {
             created: humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string(),
             scenes: Vec::new(),
             runs: Vec::new(),
+            schedule: None,
+            shard: None,
         }
     }
 }

@@ -25,7 +25,7 @@ struct Case {
 }
 
 /// Every command the binary has; each must have bad-input cases.
-const COMMANDS: [&str; 11] = [
+const COMMANDS: [&str; 12] = [
     "run",
     "reference",
     "verify",
@@ -37,6 +37,7 @@ const COMMANDS: [&str; 11] = [
     "island",
     "view-export",
     "score",
+    "merge",
 ];
 
 fn copy_dir(from: &Path, to: &Path) {

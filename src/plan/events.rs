@@ -5,7 +5,7 @@
 use super::PlanError;
 use super::references::ViewReferences;
 use crate::raster::DepthFormat;
-use crate::record::{RunRecord, SceneRecord};
+use crate::record::{RunRecord, SceneRecord, ScheduleRecord};
 use crate::scene::{Camera, Light, Scene, ViewKey};
 use crate::trace::GBuffer;
 
@@ -27,8 +27,9 @@ impl TracedView<'_> {
 
 /// Progress of a plan, in schedule order.
 pub enum Event<'a> {
-    /// The number of runs the plan expands to.
-    Planned { runs: usize },
+    /// The number of runs to do (the plan's, or its portion's: `portion.rs`), and the whole
+    /// plan's schedule.
+    Planned { runs: usize, schedule: &'a ScheduleRecord },
     /// A stage began (a short description, for progress bars and logs).
     Stage(&'a str),
     /// A scene was loaded and its BVH built.

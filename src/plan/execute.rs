@@ -4,6 +4,8 @@
 //! (`events.rs`); the schedule itself writes nothing.
 
 use super::events::{Event, Sink, TracedView, emit};
+use super::identity::schedule_record;
+use super::portion::Portion;
 use super::references::ViewReferences;
 use super::select::{Selected, check_area_light_sizes, check_plan, check_run_count, load_selected};
 use super::{Pipeline, Plan, PlanInputError, build_layers_timed};
@@ -11,8 +13,8 @@ use crate::gpu::{GpuDepthMap, GpuDevice, GpuTechnique, shade_visibility};
 use crate::import::{ReadOptions, evaluated_visibility, read_depth, read_visibility};
 use crate::metrics::{LightUv, Stopwatch, attribute, median_ms, score_hard, score_soft};
 use crate::raster::{DepthFormat, LightView};
-use crate::record::{PipelineUsed, RunRecord, SceneRecord, Timings};
-use crate::scene::{Camera, Light, Scene, SceneError};
+use crate::record::{PipelineUsed, RunRecord, SceneRecord, ScheduleRecord, Timings};
+use crate::scene::{Camera, Light, Scene, SceneError, ViewKey};
 use crate::technique::{
     BuiltLayers, ExternalParams, LayerNeeds, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated,
 };
@@ -47,6 +49,9 @@ struct Schedule<'p, 's, 'k> {
     sinks: &'s mut [&'k mut dyn Sink],
     /// The device of a plan on the GPU pipeline.
     gpu: Option<GpuDevice>,
+    portion: &'p Portion,
+    /// The schedule position of the next view (from 0).
+    position: usize,
 }
 
 /// One shadow map's set-up within a view: the light view and what is built from it once.
@@ -65,11 +70,21 @@ pub fn execute(
     cache: Option<&ReferenceCache>,
     sinks: &mut [&mut dyn Sink],
 ) -> Result<(), PlanError> {
+    execute_portion(plan, cache, sinks, &Portion::default())
+}
+
+/// Runs the `portion` of `plan` (a shard's views, less the maps already done), as `execute`.
+pub fn execute_portion(
+    plan: &Plan,
+    cache: Option<&ReferenceCache>,
+    sinks: &mut [&mut dyn Sink],
+    portion: &Portion,
+) -> Result<(), PlanError> {
     check_plan(plan)?;
     let selected = load_selected(plan)?;
     check_area_light_sizes(plan, &selected)?;
-    let runs = check_run_count(plan, selected.iter().map(|s| s.pairs.len()).sum())?;
-    emit(sinks, &Event::Planned { runs })?;
+    // The limit holds for the whole plan, whatever share of it runs here.
+    check_run_count(plan, selected.iter().map(|s| s.pairs.len()).sum())?;
     let groups = layer_groups(&plan.techniques);
     check_imported_map(plan, &groups)?;
     // Before anything is traced: a machine without a Vulkan adapter is told at once.
@@ -77,8 +92,24 @@ pub fn execute(
         Pipeline::Cpu => None,
         Pipeline::Gpu => Some(GpuDevice::new().map_err(|e| PlanError::Invalid(e.to_string()))?),
     };
-    let mut schedule = Schedule { plan, cache, groups, sinks, gpu };
+    let schedule = schedule_record(plan, &selected);
+    let runs = portion_runs(plan, &schedule, portion);
+    emit(sinks, &Event::Planned { runs, schedule: &schedule })?;
+    let mut schedule = Schedule { plan, cache, groups, sinks, gpu, portion, position: 0 };
     selected.iter().try_for_each(|sel| schedule.scene(sel))
+}
+
+/// The number of runs of `portion`.
+fn portion_runs(plan: &Plan, schedule: &ScheduleRecord, portion: &Portion) -> usize {
+    let mut maps = 0;
+    let owned = schedule.views.iter().enumerate().filter(|(position, _)| portion.owns_view(*position));
+    for v in owned.map(|(_, view)| view) {
+        let key = ViewKey::new(&v.scene, &v.camera, &v.light);
+        for &resolution in &plan.resolutions {
+            maps += plan.depth_formats.iter().filter(|f| portion.runs_map(key, resolution, f.name())).count();
+        }
+    }
+    maps * plan.techniques.len()
 }
 
 /// An imported shadow map is one nearest layer at one resolution: every technique must read just
@@ -124,6 +155,20 @@ impl Schedule<'_, '_, '_> {
 
     fn scene(&mut self, sel: &Selected) -> Result<(), PlanError> {
         let scene = &sel.scene;
+        // The views of this portion with something left to run; a scene without one is not built.
+        let first = self.position;
+        self.position += sel.pairs.len();
+        let pairs: Vec<(usize, usize)> = (first..)
+            .zip(&sel.pairs)
+            .filter(|&(position, &(ci, li))| {
+                let key = ViewKey::from_view(scene, &scene.cameras[ci], &scene.lights[li]);
+                self.portion.owns_view(position) && self.any_map_left(key)
+            })
+            .map(|(_, &pair)| pair)
+            .collect();
+        if pairs.is_empty() {
+            return Ok(());
+        }
         self.stage(&format!("{}: building the BVH", scene.name))?;
         let sw = Stopwatch::start();
         let bvh = SceneBvh::build(scene);
@@ -135,10 +180,18 @@ impl Schedule<'_, '_, '_> {
             bvh_build_ms: sw.ms(),
         };
         emit(self.sinks, &Event::SceneBuilt(&record))?;
-        for &(ci, li) in &sel.pairs {
+        for (ci, li) in pairs {
             self.view(scene, &bvh, &scene.cameras[ci], &scene.lights[li])?;
         }
         Ok(())
+    }
+
+    /// Whether any map of the view is still to be run.
+    fn any_map_left(&self, key: ViewKey) -> bool {
+        let plan = self.plan;
+        plan.resolutions
+            .iter()
+            .any(|&r| plan.depth_formats.iter().any(|f| self.portion.runs_map(key, r, f.name())))
     }
 
     fn view(
@@ -155,14 +208,20 @@ impl Schedule<'_, '_, '_> {
         emit(self.sinks, &Event::ViewTraced(&traced))?;
         let external = load_imported(self.plan, &traced)?;
         let bounds = scene.bounds();
+        let key = traced.key();
         for &resolution in &self.plan.resolutions {
+            let left = |f: &&DepthFormat| self.portion.runs_map(key, resolution, f.name());
+            let formats: Vec<DepthFormat> = self.plan.depth_formats.iter().filter(left).copied().collect();
+            if formats.is_empty() {
+                continue;
+            }
             let view = match &self.plan.shadow_map {
                 Some(map_file) => map_file.light_view(light).map_err(PlanError::Import)?,
                 None => LightView::new(light, bounds, resolution),
             };
             let light_uv = LightUv::new(&gbuffer, &view);
             let order = ShadeOrder::new(&gbuffer, &view);
-            for &format in &self.plan.depth_formats {
+            for format in formats {
                 let map = MapSetting { view: &view, light_uv: &light_uv, order: &order, resolution, format };
                 self.map(&traced, &map)?;
                 self.imported_runs(&traced, &map, &external)?;

@@ -6,18 +6,23 @@ mod area_light;
 mod events;
 mod execute;
 mod file;
+mod identity;
 mod layers;
+mod portion;
 mod references;
 mod select;
+mod shard;
 mod size;
 mod spec;
 
 #[cfg(test)]
 pub use events::Watch;
 pub use events::{Event, Sink, TracedView, emit};
-pub use execute::{PlanError, execute};
+pub use execute::{PlanError, execute, execute_portion};
 pub use file::{DEFAULT_MAX_RUNS, PlanInputError, parse_plan, parse_plan_limited, read_plan};
 pub use layers::build_layers_timed;
+pub use portion::{MapKey, Portion};
+pub use shard::Shard;
 pub use spec::{
     DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, MAX_REFERENCE_GRID, MAX_REPEATS, Pipeline, Plan,
 };

@@ -12,6 +12,7 @@ use crate::metrics::Stopwatch;
 use crate::plan::{Event, PlanError, Sink, TracedView};
 use crate::raster::DepthFormat;
 use crate::record::RunRecord;
+use crate::scene::ViewKey;
 use crate::technique::ReferenceKind;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
@@ -25,6 +26,12 @@ struct PendingRun {
     caption: String,
     visibility: Vec<f32>,
     kind: ReferenceKind,
+}
+
+/// The file under `figures/` of the grid of one (view, resolution, depth format), written after
+/// every figure of its runs: `run --resume` takes it as the sign that the map's figures are done.
+pub fn grid_file_name(view: ViewKey, resolution: u32, depth_format: &str) -> String {
+    format!("{}.r{resolution}.{depth_format}.grid.png", view_stem(view))
 }
 
 /// Writes figures under a report folder's `figures/`.
@@ -109,8 +116,7 @@ impl FigureSink {
             .map_err(self.io())?;
         let cells: Vec<GridCell> =
             cells.iter().map(|(caption, image)| GridCell { image, caption: caption.clone() }).collect();
-        let stem = view_stem(view.key());
-        let path = self.dir.join(format!("{stem}.r{resolution}.{}.grid.png", format.name()));
+        let path = self.dir.join(grid_file_name(view.key(), resolution, format.name()));
         grid(&cells, 4, GRID_CELL_WIDTH).write_png(&path).map_err(self.io())?;
         self.spent_ms += sw.ms();
         Ok(())

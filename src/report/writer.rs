@@ -7,10 +7,15 @@
 //! earlier run stays beside the new report, while a plan rejected before its first run leaves the
 //! earlier report whole. They are removed only from a folder whose report.json is a shadowtruth
 //! report, and only the kinds of files this tool writes: whatever else a user keeps there stays.
+//!
+//! `ReportWriter::resume` reopens an interrupted folder instead (`run --resume`): its finished
+//! runs and figures stay, the new runs join them, and the report is kept in schedule order
+//! (`schedule_order.rs`).
 
 use super::{Report, RunRecord, SceneRecord};
 use crate::atomic_file::{remove_stray_temp_files, write_atomic};
 use crate::plan::{Event, PlanError, Sink};
+use crate::record::ScheduleRecord;
 use std::path::{Path, PathBuf};
 
 /// Files of an earlier run removed from a report folder (report.json is replaced instead).
@@ -27,13 +32,40 @@ pub struct ReportWriter {
     report: Report,
     /// Whether the outputs of an earlier run are still to be removed (before the first write).
     earlier_run_pending: bool,
+    /// Whether the plan's schedule is recorded in the report (`run`'s reports).
+    tracks_schedule: bool,
+    /// The schedule identity the plan must have: that of the report being resumed.
+    resumed_identity: Option<String>,
 }
 
 impl ReportWriter {
     /// A writer of `dir/report.json` that leaves everything else in `dir` as it is; the file
     /// appears with the first write. `create` is what opens a report folder for a run.
     pub fn new(dir: &Path) -> Self {
-        ReportWriter { path: dir.join("report.json"), report: Report::new(), earlier_run_pending: false }
+        ReportWriter {
+            path: dir.join("report.json"),
+            report: Report::new(),
+            earlier_run_pending: false,
+            tracks_schedule: false,
+            resumed_identity: None,
+        }
+    }
+
+    /// Reopens `dir`, an interrupted run's folder, to finish `report` (its finished runs): only
+    /// the temporary files of killed runs are removed. The plan's schedule must have the
+    /// identity of `report`'s, or the plan stops before anything is built.
+    pub fn resume(dir: &Path, report: Report) -> std::io::Result<Self> {
+        remove_stray_report_temp_files(dir)?;
+        let identity = report.schedule.as_ref().map(|s| s.identity.clone()).unwrap_or_default();
+        Ok(ReportWriter { report, tracks_schedule: true, resumed_identity: Some(identity), ..Self::new(dir) })
+    }
+
+    /// Records the plan's schedule (and `shard`, the share of it run here) in the report, and
+    /// writes the report as soon as the plan is known, so that even a shard without views
+    /// leaves a report folder.
+    pub fn track_schedule(&mut self, shard: Option<crate::record::ShardRecord>) {
+        self.tracks_schedule = true;
+        self.report.shard = shard;
     }
 
     /// Opens `dir` as the report folder of a new run: creates it, removes the temporary files of
@@ -58,8 +90,18 @@ impl ReportWriter {
         &self.report
     }
 
+    /// Replaces the report to be written (`merge` writes a report it assembled).
+    pub fn replace_report(&mut self, report: Report) {
+        self.report = report;
+    }
+
     pub fn add_scene(&mut self, scene: SceneRecord) -> std::io::Result<()> {
-        self.report.scenes.push(scene);
+        let resumed = self.resumed_identity.is_some();
+        match self.report.scenes.iter_mut().find(|s| resumed && s.name == scene.name) {
+            // A resumed run builds the scene again: its record replaces the interrupted one's.
+            Some(earlier) => *earlier = scene,
+            None => self.report.scenes.push(scene),
+        }
         self.flush()
     }
 
@@ -68,10 +110,33 @@ impl ReportWriter {
         self.flush()
     }
 
+    /// Takes the plan's schedule, refusing one that is not the resumed report's.
+    fn planned(&mut self, schedule: &ScheduleRecord) -> Result<(), PlanError> {
+        if !self.tracks_schedule {
+            return Ok(());
+        }
+        if let Some(identity) = &self.resumed_identity
+            && *identity != schedule.identity
+        {
+            return Err(PlanError::Invalid(format!(
+                "{}: schedule.identity: the folder holds a run of another plan, other scenes or other \
+                     options ({identity}, this run: {}); run without --resume to replace it, or write to \
+                     another folder",
+                self.path.display(),
+                schedule.identity
+            )));
+        }
+        self.report.schedule = Some(schedule.clone());
+        self.flush().map_err(|source| PlanError::Io { path: self.path.clone(), source })
+    }
+
     pub fn flush(&mut self) -> std::io::Result<()> {
         if self.earlier_run_pending {
             remove_earlier_run_outputs(self.dir())?;
             self.earlier_run_pending = false;
+        }
+        if self.resumed_identity.is_some() {
+            super::schedule_order::put_in_schedule_order(&mut self.report);
         }
         let mut text = serde_json::to_string_pretty(&self.report).map_err(std::io::Error::other)?;
         text.push('\n');
@@ -88,6 +153,7 @@ impl ReportWriter {
 impl Sink for ReportWriter {
     fn on_event(&mut self, event: &Event) -> Result<(), PlanError> {
         let written = match event {
+            Event::Planned { schedule, .. } => return self.planned(schedule),
             Event::SceneBuilt(record) => self.add_scene((*record).clone()),
             Event::RunDone { record, .. } => self.add_run((*record).clone()),
             _ => return Ok(()),
