@@ -2,15 +2,22 @@
 
 use super::format::{Geometry, ObjectDesc, read_scene};
 use super::format::{MAX_SCENE_TRIANGLES, MAX_SHAPE_TRIANGLES};
+use super::gltf::{ImportOptions, import_gltf};
+use super::load_gltf::{is_gltf_path, load_gltf_scene};
 use super::obj::read_obj;
+use super::placement::Placement;
 use super::shapes::IndexedMesh;
 use super::{Object, Problem, Scene, SceneError};
 use crate::json_input::{Problems, parse_json};
 use glam::Vec3;
 use std::path::Path;
 
-/// Loads and validates the scene at `path`; mesh paths are relative to its folder.
+/// Loads and validates the scene at `path`: a scene file (mesh paths relative to its folder), or
+/// a glTF file (`.gltf`, `.glb`) as a whole scene (docs/gltf.md).
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
+    if is_gltf_path(path) {
+        return load_gltf_scene(path, Limits { scene: MAX_SCENE_TRIANGLES, shapes: MAX_SHAPE_TRIANGLES });
+    }
     let text = std::fs::read_to_string(path).map_err(|e| SceneError {
         problems: vec![Problem {
             file: path.to_path_buf(),
@@ -43,22 +50,31 @@ pub(crate) fn load_scene_str_within(
 
 /// Most triangles of a scene, in all and made by its procedural shapes together.
 #[derive(Clone, Copy)]
-struct Limits {
-    scene: u64,
-    shapes: u64,
+pub(super) struct Limits {
+    pub scene: u64,
+    pub shapes: u64,
 }
 
 /// Triangles asked for so far (before degenerate ones are dropped), in all and by shapes:
 /// checked before each mesh joins the scene and before each shape is built, so that a scene
 /// over the limits fails with a message instead of exhausting memory. Each limit is named at the
 /// first object over it only.
-struct Budget {
+pub(super) struct Budget {
     limits: Limits,
     total: u64,
     procedural: u64,
 }
 
 impl Budget {
+    pub(super) fn new(limits: Limits) -> Self {
+        Budget { limits, total: 0, procedural: 0 }
+    }
+
+    /// Triangles the scene may still take.
+    pub(super) fn remaining(&self) -> u64 {
+        self.limits.scene.saturating_sub(self.total)
+    }
+
     /// Whether a shape of `count` triangles may be built (reported before it is).
     fn admit_shape(&mut self, object_path: &str, count: u64, problems: &mut Problems) -> bool {
         self.procedural += count;
@@ -74,31 +90,39 @@ impl Budget {
             return false;
         }
         if self.total + count > self.limits.scene {
-            self.over_scene_limit(object_path, count, "shape", problems);
+            self.over_scene_limit(&format!("{object_path}.shape"), count, problems);
             return false;
         }
         true
     }
 
-    /// Whether a mesh of `count` triangles may join the scene.
-    fn admit_mesh(&mut self, object_path: &str, count: u64, problems: &mut Problems) -> bool {
-        if self.total + count > self.limits.scene {
-            self.over_scene_limit(object_path, count, "mesh", problems);
+    /// Whether a mesh of `count` triangles may join the scene `placements` times (every
+    /// placement counts, instanced or not); a problem is reported at `at`.
+    pub(super) fn admit_mesh(
+        &mut self,
+        at: &str,
+        count: u64,
+        placements: usize,
+        problems: &mut Problems,
+    ) -> bool {
+        let count = count.saturating_mul(placements as u64);
+        if self.total.saturating_add(count) > self.limits.scene {
+            self.over_scene_limit(at, count, problems);
             return false;
         }
         self.total += count;
         true
     }
 
-    fn over_scene_limit(&mut self, object_path: &str, count: u64, key: &str, problems: &mut Problems) {
+    fn over_scene_limit(&mut self, at: &str, count: u64, problems: &mut Problems) {
         let before = self.total;
-        self.total += count;
+        self.total = self.total.saturating_add(count);
         if before <= self.limits.scene {
             let message = format!(
                 "the objects up to this one have {} triangles; a scene may have at most {}",
                 self.total, self.limits.scene
             );
-            problems.report(&format!("{object_path}.{key}"), message);
+            problems.report(at, message);
         }
     }
 }
@@ -119,28 +143,9 @@ fn load_with_limits(text: &str, source: &Path, base_dir: &Path, limits: Limits) 
         lights: desc.lights,
         dropped_degenerate: 0,
     };
-    let mut budget = Budget { limits, total: 0, procedural: 0 };
+    let mut budget = Budget::new(limits);
     for object in &desc.objects {
-        // Meshes are read even when other fields are wrong, so that their problems show too.
-        let mesh = match &object.geometry {
-            Some(Geometry::Mesh(relative)) => match read_obj(&base_dir.join(relative)) {
-                Ok(mesh) => Some(mesh),
-                Err(messages) => {
-                    let path = format!("{}.mesh", object.path);
-                    messages.into_iter().for_each(|m| problems.report(&path, m));
-                    None
-                }
-            },
-            Some(Geometry::Shape(shape)) => {
-                budget.admit_shape(&object.path, shape.triangle_count(), &mut problems).then(|| shape.mesh())
-            }
-            None => None,
-        };
-        if let Some(mesh) = mesh
-            && budget.admit_mesh(&object.path, mesh.triangles.len() as u64, &mut problems)
-        {
-            add_object(&mut scene, object, &mesh, &mut problems);
-        }
+        add_object(&mut scene, object, base_dir, &mut budget, &mut problems);
     }
     if problems.list.is_empty() && scene.triangles.is_empty() {
         problems.report("objects", "the scene has no triangles");
@@ -148,51 +153,121 @@ fn load_with_limits(text: &str, source: &Path, base_dir: &Path, limits: Limits) 
     if problems.list.is_empty() { Ok(scene) } else { Err(SceneError { problems: problems.list }) }
 }
 
-/// Transforms `mesh` to world space (each vertex rounded to f32 once, so shared vertices stay
-/// shared), keeps closed objects counter-clockwise from outside under a mirroring scale, drops
-/// zero-area triangles and appends the rest as one contiguous object.
-fn add_object(scene: &mut Scene, object: &ObjectDesc, mesh: &IndexedMesh, problems: &mut Problems) {
-    let Some(transform) = &object.transform else {
-        return;
+/// Reads an object's geometry and adds it. Meshes are read even when other fields are wrong, so
+/// that their problems show too.
+fn add_object(
+    scene: &mut Scene,
+    object: &ObjectDesc,
+    base_dir: &Path,
+    budget: &mut Budget,
+    problems: &mut Problems,
+) {
+    let (key, mesh) = match &object.geometry {
+        Some(Geometry::Mesh(relative)) => ("mesh", read_obj(&base_dir.join(relative))),
+        Some(Geometry::Shape(shape)) => {
+            if !budget.admit_shape(&object.path, shape.triangle_count(), problems) {
+                return;
+            }
+            ("shape", Ok(shape.mesh()))
+        }
+        Some(Geometry::Gltf(relative)) => {
+            return add_gltf_object(scene, object, &base_dir.join(relative), budget, problems);
+        }
+        None => return,
     };
-    let key = match object.geometry {
-        Some(Geometry::Mesh(_)) => "mesh",
-        _ => "shape",
-    };
-    let path = format!("{}.{key}", object.path);
-    let affine = transform.affine();
-    let world: Vec<Vec3> = mesh.positions.iter().map(|&p| affine.transform_point3(p).as_vec3()).collect();
-    if world.iter().any(|v| !v.is_finite()) {
-        problems.report(&path, "a vertex leaves the f32 range after the transform");
-        return;
+    let at = format!("{}.{key}", object.path);
+    match mesh {
+        Ok(mesh) => {
+            let Some(transform) = &object.transform else { return };
+            let placement = Placement::from_transform(transform, &object.name, at.clone(), object.closed);
+            if budget.admit_mesh(&at, mesh.triangles.len() as u64, 1, problems) {
+                add_mesh_placements(scene, &mesh, &[placement], problems);
+            }
+        }
+        Err(messages) => messages.into_iter().for_each(|m| problems.report(&at, m)),
     }
-    let first = scene.triangles.len();
-    let index = scene.objects.len() as u32;
-    let mirrored = transform.mirrors();
-    let mut dropped = 0;
-    for &[a, b, c] in &mesh.triangles {
-        let (a, b, c) = (world[a as usize], world[b as usize], world[c as usize]);
-        let tri = if mirrored { [a, c, b] } else { [a, b, c] };
-        if is_degenerate(&tri) {
-            dropped += 1;
-        } else {
-            scene.triangles.push(tri);
-            scene.triangle_object.push(index);
+}
+
+/// A scene-file object naming a glTF: every placement of every mesh becomes an object
+/// `OBJECT/NODE`, moved by the object's transform and closed when the object or the node says so.
+fn add_gltf_object(
+    scene: &mut Scene,
+    object: &ObjectDesc,
+    file: &Path,
+    budget: &mut Budget,
+    problems: &mut Problems,
+) {
+    let at = format!("{}.gltf", object.path);
+    let options = ImportOptions { max_triangles: budget.remaining(), views: false };
+    let imported = match import_gltf(file, options) {
+        Ok(imported) => imported,
+        Err(list) => {
+            for p in list {
+                let inner = if p.path.is_empty() { String::new() } else { format!("{}: ", p.path) };
+                problems.report(&at, format!("{}: {inner}{}", file.display(), p.message));
+            }
+            return;
+        }
+    };
+    let Some(transform) = &object.transform else { return };
+    for placed in &imported.meshes {
+        let placements: Vec<Placement> = (placed.placements.iter())
+            .map(|p| {
+                let name = format!("{}/{}", object.name, p.name);
+                p.within(transform, name, format!("{at} ({})", p.path), object.closed || p.closed)
+            })
+            .collect();
+        if budget.admit_mesh(&at, placed.mesh.triangles.len() as u64, placements.len(), problems) {
+            add_mesh_placements(scene, &placed.mesh, &placements, problems);
         }
     }
-    let count = scene.triangles.len() - first;
-    scene.dropped_degenerate += dropped;
-    if count == 0 {
-        problems.report(&path, format!("has no triangles ({dropped} degenerate dropped)"));
-    }
-    match (u32::try_from(first), u32::try_from(count)) {
-        (Ok(first_triangle), Ok(triangle_count)) => scene.objects.push(Object {
-            name: object.name.clone(),
-            closed: object.closed,
-            first_triangle,
-            triangle_count,
-        }),
-        _ => problems.report(&path, "too many triangles in the scene"),
+}
+
+/// Adds `mesh` once per placement, each as one contiguous object named after it: the one place
+/// where placements become world-space triangles (an instanced scene would keep the mesh once).
+/// Each vertex is transformed in f64 and rounded to f32 once, so shared vertices stay shared;
+/// mirroring placements flip their triangles (closed objects stay counter-clockwise from
+/// outside); zero-area triangles are dropped and counted.
+pub(super) fn add_mesh_placements(
+    scene: &mut Scene,
+    mesh: &IndexedMesh,
+    placements: &[Placement],
+    problems: &mut Problems,
+) {
+    for placement in placements {
+        let world: Vec<Vec3> =
+            mesh.positions.iter().map(|&p| placement.world_from_mesh.transform_point3(p).as_vec3()).collect();
+        if world.iter().any(|v| !v.is_finite()) {
+            problems.report(&placement.path, "a vertex leaves the f32 range after the transform");
+            continue;
+        }
+        let first = scene.triangles.len();
+        let index = scene.objects.len() as u32;
+        let mut dropped = 0;
+        for &[a, b, c] in &mesh.triangles {
+            let (a, b, c) = (world[a as usize], world[b as usize], world[c as usize]);
+            let tri = if placement.mirrored { [a, c, b] } else { [a, b, c] };
+            if is_degenerate(&tri) {
+                dropped += 1;
+            } else {
+                scene.triangles.push(tri);
+                scene.triangle_object.push(index);
+            }
+        }
+        let count = scene.triangles.len() - first;
+        scene.dropped_degenerate += dropped;
+        if count == 0 {
+            problems.report(&placement.path, format!("has no triangles ({dropped} degenerate dropped)"));
+        }
+        match (u32::try_from(first), u32::try_from(count)) {
+            (Ok(first_triangle), Ok(triangle_count)) => scene.objects.push(Object {
+                name: placement.name.clone(),
+                closed: placement.closed,
+                first_triangle,
+                triangle_count,
+            }),
+            _ => problems.report(&placement.path, "too many triangles in the scene"),
+        }
     }
 }
 

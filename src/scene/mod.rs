@@ -4,9 +4,12 @@
 mod camera;
 mod error;
 mod format;
+mod gltf;
 mod light;
 mod load;
+mod load_gltf;
 mod obj;
+mod placement;
 mod shapes;
 mod transform;
 mod view_key;

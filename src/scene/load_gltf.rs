@@ -1,0 +1,48 @@
+//! A glTF file as a whole scene (docs/gltf.md): named after the file's stem, every placement of
+//! every mesh an object, with the file's cameras and lights.
+
+use super::gltf::{ImportOptions, import_gltf};
+use super::load::{Budget, Limits, add_mesh_placements};
+use super::{Scene, SceneError};
+use crate::json_input::Problems;
+use std::path::Path;
+
+/// Whether `path` names a glTF file (`.gltf` or `.glb`, in any case) rather than a scene file.
+pub(super) fn is_gltf_path(path: &Path) -> bool {
+    let extension = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    matches!(extension.as_deref(), Some("gltf" | "glb"))
+}
+
+/// Loads the glTF at `path` as a scene; problems name the file and the glTF JSON path.
+pub(super) fn load_gltf_scene(path: &Path, limits: Limits) -> Result<Scene, SceneError> {
+    let mut problems = Problems::new(path);
+    let options = ImportOptions { max_triangles: limits.scene, views: true };
+    let imported = match import_gltf(path, options) {
+        Ok(imported) => imported,
+        Err(list) => {
+            list.into_iter().for_each(|p| problems.report(&p.path, p.message));
+            return Err(SceneError { problems: problems.list });
+        }
+    };
+    let mut scene = Scene {
+        name: path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
+        source: path.to_path_buf(),
+        objects: Vec::new(),
+        triangles: Vec::new(),
+        triangle_object: Vec::new(),
+        cameras: imported.cameras,
+        lights: imported.lights,
+        dropped_degenerate: 0,
+    };
+    let mut budget = Budget::new(limits);
+    for placed in &imported.meshes {
+        let count = placed.mesh.triangles.len() as u64;
+        if budget.admit_mesh(&placed.path, count, placed.placements.len(), &mut problems) {
+            add_mesh_placements(&mut scene, &placed.mesh, &placed.placements, &mut problems);
+        }
+    }
+    if problems.list.is_empty() && scene.triangles.is_empty() {
+        problems.report("", "the glTF's scene has no triangles");
+    }
+    if problems.list.is_empty() { Ok(scene) } else { Err(SceneError { problems: problems.list }) }
+}
