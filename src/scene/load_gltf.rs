@@ -46,3 +46,34 @@ pub(super) fn load_gltf_scene(path: &Path, limits: Limits) -> Result<Scene, Scen
     }
     if problems.list.is_empty() { Ok(scene) } else { Err(SceneError { problems: problems.list }) }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fixture() -> std::path::PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/gltf/hierarchy.glb")
+    }
+
+    /// The fixture's quad mesh (2 triangles) is placed by two nodes, its triangle by one: 5 in all.
+    #[test]
+    fn scene_gltf_limits_count_every_placement() {
+        let load = |scene| load_gltf_scene(&fixture(), Limits { scene, shapes: scene });
+        assert_eq!(load(5).map(|s| s.triangles.len()).ok(), Some(5));
+        let found = load(4).expect_err("5 triangles over a limit of 4").problems;
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert_eq!(found[0].path, "meshes[1]");
+        let found = load(3).expect_err("the quad's two placements are over 3").problems;
+        assert_eq!(found[0].path, "meshes[0]");
+        assert!(
+            found[0].message.starts_with("its 2 placements bring the file's triangles to 4"),
+            "{found:?}"
+        );
+    }
+
+    #[test]
+    fn scene_gltf_paths_are_recognized_by_extension() {
+        assert!(is_gltf_path(Path::new("a/b.GLB")) && is_gltf_path(Path::new("x.gltf")));
+        assert!(!is_gltf_path(Path::new("x.json")) && !is_gltf_path(Path::new("gltf")));
+    }
+}

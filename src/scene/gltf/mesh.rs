@@ -41,7 +41,8 @@ pub(super) fn read_placed(
         if total > max_triangles {
             if before <= max_triangles {
                 let message = format!(
-                    "its {} placements bring the triangles up to {total}; a scene may have at most {max_triangles}",
+                    "its {} placements bring the file's triangles to {total}, over the {max_triangles} the scene \
+                     has room for",
                     placements.len()
                 );
                 problems.push(GltfProblem::new(format!("meshes[{index}]"), message));
@@ -106,7 +107,7 @@ fn plan_primitive<'a>(
     let indices = primitive.indices();
     let corners = indices.as_ref().map_or(positions.count(), |i| i.count()) as u64;
     let triangles = match mode {
-        Mode::Triangles if corners % 3 != 0 => {
+        Mode::Triangles if !corners.is_multiple_of(3) => {
             let at = if indices.is_some() { "indices" } else { "attributes.POSITION" };
             let message = format!("has {corners} triangle corners, not a multiple of 3");
             return Err(GltfProblem::new(format!("{path}.{at}"), message));

@@ -95,7 +95,7 @@ fn local(node: &gltf::Node, at: &str) -> Result<DAffine3, GltfProblem> {
         }
         gltf::scene::Transform::Decomposed { translation, rotation, scale } => {
             let q = DQuat::from_array(rotation.map(f64::from));
-            if !(q.length() > 0.0) || !q.is_finite() {
+            if !q.is_finite() || q.length() == 0.0 {
                 return Err(GltfProblem::new(format!("{at}.rotation"), "must be a non-zero quaternion"));
             }
             let (s, t) = (DVec3::from(scale.map(f64::from)), DVec3::from(translation.map(f64::from)));
