@@ -219,3 +219,20 @@ fn a_scene_file_object_places_a_gltf_under_its_transform() {
         assert_eq!(bits(object_triangles(&scene, &format!("h/{name}"))), bits(&want), "{name}");
     }
 }
+
+#[test]
+fn the_command_takes_a_gltf_wherever_it_takes_a_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let glb = fixture("hierarchy.glb");
+    let mask_png = dir.path().join("mask.png");
+    let run = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_shadowtruth")).args(args).output().unwrap();
+        assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    };
+    run(&["reference", glb.to_str().unwrap(), "--light", "lamp", "-o", mask_png.to_str().unwrap()]);
+    let mask = image::open(&mask_png).unwrap().into_luma8();
+    assert_eq!(mask.dimensions(), (1080, 720));
+    // The camera sees the matrix node's quad and the triangle (the lamp's cone misses them).
+    assert!(mask.pixels().any(|p| p.0[0] == 192), "no surface outside the lamp's cone in view");
+    run(&["verify", glb.to_str().unwrap(), "--pixels", "2000"]);
+}
