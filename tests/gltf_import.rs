@@ -118,6 +118,11 @@ fn bad_gltf_files_name_the_file_and_the_json_path() {
     assert_eq!(found[0].1, "meshes[0].primitives[0].mode");
     assert!(found[0].2.contains("only triangles"), "{}", found[0].2);
 
+    let found = problems("scenes/gltf_bad_accessor.gltf");
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!(found[0].1, "accessors[0]");
+    assert!(found[0].2.contains("run past the end of bufferViews[0]"), "{}", found[0].2);
+
     let found = problems("scenes/gltf_bad_index.gltf");
     assert_eq!(found.len(), 1, "{found:?}");
     assert_eq!(found[0].1, "meshes[0].primitives[0].indices");
@@ -235,4 +240,16 @@ fn the_command_takes_a_gltf_wherever_it_takes_a_scene() {
     // The camera sees the matrix node's quad and the triangle (the lamp's cone misses them).
     assert!(mask.pixels().any(|p| p.0[0] == 192), "no surface outside the lamp's cone in view");
     run(&["verify", glb.to_str().unwrap(), "--pixels", "2000"]);
+}
+
+#[test]
+fn a_node_cycle_is_refused_not_followed() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("cycle.gltf");
+    let text = r#"{ "asset": { "version": "2.0" }, "scene": 0, "scenes": [ { "nodes": [0] } ],
+      "nodes": [ { "name": "a", "children": [1] }, { "name": "b", "children": [0] } ] }"#;
+    std::fs::write(&path, text).unwrap();
+    let error = load_scene(&path).expect_err("a cycle");
+    let cycle = error.problems.iter().find(|p| p.message.contains("a second time"));
+    assert_eq!(cycle.map(|p| p.path.as_str()), Some("nodes[1].children"), "{error}");
 }
