@@ -13,7 +13,7 @@ use glam::{DAffine3, DVec3};
 use gltf::khr_lights_punctual::Kind;
 
 /// Image height when the camera's extras give no size; the width follows `aspectRatio`.
-pub(crate) const DEFAULT_HEIGHT: u32 = 720;
+const DEFAULT_HEIGHT: u32 = 720;
 /// `aspectRatio` when the camera has none (glTF leaves it to the viewport).
 const DEFAULT_ASPECT: f64 = 16.0 / 9.0;
 /// A spot light's default near distance, as a fraction of its far distance.
@@ -59,7 +59,7 @@ fn camera_of(
         problems.push(GltfProblem::new(format!("{at}.type"), message));
         return None;
     };
-    let fov_y_deg = (p.yfov() as f64).to_degrees();
+    let fov_y_deg = (p.yfov() as f64).to_degrees() as f32;
     if !(fov_y_deg > 0.0 && fov_y_deg < 180.0) {
         problems.push(GltfProblem::new(format!("{at}.perspective.yfov"), "must be between 0 and π radians"));
         return None;
@@ -90,7 +90,7 @@ fn camera_of(
     // A look_at far enough from a distant position that f32 rounding keeps the direction.
     let look_at = position + forward * position.length().max(1.0);
     let (position, look_at, up) = (position.as_vec3(), look_at.as_vec3(), up.as_vec3());
-    Some(Camera { name, position, look_at, up, fov_y_deg: fov_y_deg as f32, width, height })
+    Some(Camera { name, position, look_at, up, fov_y_deg, width, height })
 }
 
 pub(super) fn lights(
