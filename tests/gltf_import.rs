@@ -253,3 +253,29 @@ fn a_node_cycle_is_refused_not_followed() {
     let cycle = error.problems.iter().find(|p| p.message.contains("a second time"));
     assert_eq!(cycle.map(|p| p.path.as_str()), Some("nodes[1].children"), "{error}");
 }
+
+#[test]
+fn primitives_sharing_their_positions_index_the_same_vertices() {
+    // A quad's 4 vertices, then indices 0 1 2 and 0 2 3: two primitives, one POSITION accessor.
+    let data = "data:application/octet-stream;base64,\
+                AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAACAPwAAAAAAAIC/AAAAAAAAAAAAAIC/AAABAAIAAAACAAMA";
+    let text = format!(
+        r#"{{ "asset": {{ "version": "2.0" }}, "scenes": [ {{ "nodes": [0] }} ],
+          "nodes": [ {{ "name": "q", "mesh": 0, "translation": [0, 0, 5] }} ],
+          "meshes": [ {{ "primitives": [ {{ "attributes": {{ "POSITION": 0 }}, "indices": 1 }},
+                                         {{ "attributes": {{ "POSITION": 0 }}, "indices": 2 }} ] }} ],
+          "accessors": [
+            {{ "bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+               "min": [0, 0, -1], "max": [1, 0, 0] }},
+            {{ "bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR" }},
+            {{ "bufferView": 1, "byteOffset": 6, "componentType": 5123, "count": 3, "type": "SCALAR" }} ],
+          "bufferViews": [ {{ "buffer": 0, "byteLength": 48 }}, {{ "buffer": 0, "byteOffset": 48, "byteLength": 12 }} ],
+          "buffers": [ {{ "byteLength": 60, "uri": "{data}" }} ] }}"#
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("shared.gltf");
+    std::fs::write(&path, text).unwrap();
+    let scene = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let q = [v(0.0, 0.0, 5.0), v(1.0, 0.0, 5.0), v(1.0, 0.0, 4.0), v(0.0, 0.0, 4.0)];
+    assert_eq!(bits(&scene.triangles), bits(&[[q[0], q[1], q[2]], [q[0], q[2], q[3]]]));
+}

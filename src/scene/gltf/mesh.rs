@@ -10,6 +10,7 @@ use crate::scene::shapes::IndexedMesh;
 use glam::DVec3;
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
+use std::collections::HashMap;
 
 /// A triangle primitive, checked and ready to read.
 struct Primitive<'a> {
@@ -172,34 +173,24 @@ fn check_accessor(
     Ok(())
 }
 
-/// Reads a mesh's primitives into one vertex list; indices are checked against their
-/// primitive's vertex count.
+/// Reads a mesh's primitives into one vertex list (primitives that share a POSITION accessor
+/// share its vertices); indices are checked against their primitive's vertex count.
 fn read_mesh(primitives: &[Primitive], buffers: &[Vec<u8>]) -> Result<IndexedMesh, GltfProblem> {
-    let vertices: usize =
-        primitives.iter().map(|p| p.gltf.get(&gltf::Semantic::Positions).map_or(0, |a| a.count())).sum();
     let triangles: u64 = primitives.iter().map(|p| p.triangles).sum();
-    let mut mesh = IndexedMesh {
-        positions: Vec::with_capacity(vertices),
-        triangles: Vec::with_capacity(triangles as usize),
-    };
+    let mut mesh = IndexedMesh { positions: Vec::new(), triangles: Vec::with_capacity(triangles as usize) };
+    // POSITION accessor index → (first vertex in `mesh`, vertex count).
+    let mut read: HashMap<usize, (u32, usize)> = HashMap::new();
     for primitive in primitives {
         let reader = primitive.gltf.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
-        let first = mesh.positions.len();
-        let too_large = || GltfProblem::new(&primitive.path, "the mesh has more than 2³² vertices");
-        let base = u32::try_from(first).map_err(|_| too_large())?;
-        let positions = reader
-            .read_positions()
-            .ok_or_else(|| GltfProblem::new(&primitive.path, "unreadable positions"))?;
-        for p in positions {
-            let p = DVec3::from(p.map(f64::from));
-            if !p.is_finite() {
-                let message = format!("vertex {} has a non-finite coordinate", mesh.positions.len() - first);
-                return Err(GltfProblem::new(format!("{}.attributes.POSITION", primitive.path), message));
+        let accessor = primitive.gltf.get(&gltf::Semantic::Positions).map_or(usize::MAX, |a| a.index());
+        let (base, count) = match read.get(&accessor) {
+            Some(&known) => known,
+            None => {
+                let known = read_positions(&reader, &mut mesh.positions, &primitive.path)?;
+                read.insert(accessor, known);
+                known
             }
-            mesh.positions.push(p);
-        }
-        let count = mesh.positions.len() - first;
-        u32::try_from(mesh.positions.len()).map_err(|_| too_large())?;
+        };
         let indices: Vec<u32> = match reader.read_indices() {
             Some(indices) => indices.into_u32().collect(),
             None => (0..count as u32).collect(),
@@ -211,6 +202,33 @@ fn read_mesh(primitives: &[Primitive], buffers: &[Vec<u8>]) -> Result<IndexedMes
         push_triangles(&mut mesh.triangles, primitive.mode, &indices, base);
     }
     Ok(mesh)
+}
+
+/// Appends a primitive's positions (f32 in the buffer, widened to f64) straight from its buffer
+/// slice; returns the first one's index and their count.
+fn read_positions<'a, 's, F>(
+    reader: &gltf::mesh::Reader<'a, 's, F>,
+    positions: &mut Vec<DVec3>,
+    path: &str,
+) -> Result<(u32, usize), GltfProblem>
+where
+    F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
+{
+    let first = positions.len();
+    let too_large = || GltfProblem::new(path, "the mesh has more than 2³² vertices");
+    let base = u32::try_from(first).map_err(|_| too_large())?;
+    let iter = reader.read_positions().ok_or_else(|| GltfProblem::new(path, "unreadable positions"))?;
+    positions.reserve(iter.len());
+    for p in iter {
+        let p = DVec3::from(p.map(f64::from));
+        if !p.is_finite() {
+            let message = format!("vertex {} has a non-finite coordinate", positions.len() - first);
+            return Err(GltfProblem::new(format!("{path}.attributes.POSITION"), message));
+        }
+        positions.push(p);
+    }
+    u32::try_from(positions.len()).map_err(|_| too_large())?;
+    Ok((base, positions.len() - first))
 }
 
 /// Appends the triangles of a list, strip or fan of corner indices, offset by `base`.
