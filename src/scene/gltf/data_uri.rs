@@ -1,4 +1,4 @@
-//! `data:` URIs of embedded glTF buffers (RFC 2397, base64 only) and the percent-decoding of
+//! `data:` URIs of embedded glTF buffers (base64 only) and the percent-decoding of
 //! relative file URIs.
 
 /// The bytes of a `data:[<media type>];base64,<data>` URI.
@@ -11,7 +11,7 @@ pub(super) fn decode_data_uri(uri: &str) -> Result<Vec<u8>, String> {
     decode_base64(data)
 }
 
-/// Standard base64 (RFC 4648 §4), padding optional.
+/// Standard base64 (alphabet `A–Z a–z 0–9 + /`), padding optional.
 fn decode_base64(text: &str) -> Result<Vec<u8>, String> {
     let digits = text.trim_end_matches('=').as_bytes();
     let mut out = Vec::with_capacity(digits.len() / 4 * 3 + 3);

@@ -232,8 +232,8 @@ where
 }
 
 /// Appends the triangles of a list, strip or fan of corner indices, offset by `base`.
-/// Strips alternate their winding so that every triangle keeps the first one's orientation
-/// (glTF 2.0, "Primitive topology").
+/// Strips alternate their winding so that every triangle keeps the first one's orientation, in
+/// the corner order the glTF specification gives (docs/gltf.md).
 fn push_triangles(out: &mut Vec<[u32; 3]>, mode: Mode, indices: &[u32], base: u32) {
     let n = indices.len();
     match mode {
