@@ -164,6 +164,7 @@ struct IslandArgs {
 
 #[derive(Args)]
 struct DepthMapArgs {
+    /// The scene file, or a glTF file (.gltf, .glb) as a scene.
     scene: PathBuf,
     /// Light name (default: the scene's first light).
     #[arg(long)]
@@ -186,7 +187,7 @@ struct DepthMapArgs {
 
 #[derive(Args)]
 struct ViewExportArgs {
-    /// The scene file (shadowtruth/scene/v1).
+    /// The scene file (shadowtruth/scene/v1), or a glTF file (.gltf, .glb) as a scene.
     scene: PathBuf,
     /// Camera name (default: the scene's first camera).
     #[arg(long)]
@@ -230,7 +231,8 @@ struct ReportArgs {
 
 #[derive(Args)]
 struct RunArgs {
-    /// Scene files or folders of scene files (default: scenes/).
+    /// Scene files (shadowtruth/scene/v1, or glTF .gltf/.glb as whole scenes) or folders of
+    /// scene files (their *.json; default: scenes/).
     scenes: Vec<PathBuf>,
     /// A plan file (shadowtruth/plan/v1); its scenes are used when no scene is given.
     #[arg(long)]
@@ -302,6 +304,7 @@ enum ReferenceKind {
 
 #[derive(Args)]
 struct ReferenceArgs {
+    /// The scene file, or a glTF file (.gltf, .glb) as a scene.
     scene: PathBuf,
     /// Camera name (default: the scene's first camera).
     #[arg(long)]
@@ -334,6 +337,7 @@ struct ReferenceArgs {
 
 #[derive(Args)]
 struct VerifyArgs {
+    /// The scene file, or a glTF file (.gltf, .glb) as a scene.
     scene: PathBuf,
     /// Camera name (default: every camera of the scene).
     #[arg(long)]
@@ -365,6 +369,7 @@ fn parse_pixel_selection(text: &str) -> std::result::Result<PixelSelection, Stri
 
 #[derive(Args)]
 struct ExportObjArgs {
+    /// The scene file, or a glTF file (.gltf, .glb) as a scene.
     scene: PathBuf,
     #[arg(short, long)]
     out: PathBuf,
@@ -494,8 +499,9 @@ fn set_threads(threads: Option<usize>) -> Result<()> {
     Ok(())
 }
 
-/// Scene files named on the command line: files as given, folders expanded to their `*.json`
-/// files in name order.
+/// Scene files named on the command line: files as given (a glTF file is a scene of its own),
+/// folders expanded to their `*.json` files in name order (a glTF in a folder is usually a
+/// scene file's mesh, so it is not a scene there).
 fn expand_scenes(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
     let mut out = Vec::new();
     for p in paths {

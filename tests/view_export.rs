@@ -262,7 +262,8 @@ fn look_direction(node: &gltf::Node) -> Vec3 {
 fn the_glb_reloads_as_the_scene() {
     let e = export("wide", "sun");
     let bytes = std::fs::read(e.out.join("scene.glb")).unwrap();
-    let (document, buffers, _) = gltf::import_slice(&bytes).expect("a valid glb");
+    let gltf::Gltf { document, blob } = gltf::Gltf::from_slice(&bytes).expect("a valid glb");
+    let buffers = [blob.expect("a binary chunk")];
     assert!(document.extensions_used().any(|x| x == "KHR_lights_punctual"));
     let nodes: Vec<gltf::Node> = document.nodes().collect();
     let scene = &e.scene;
@@ -274,7 +275,7 @@ fn the_glb_reloads_as_the_scene() {
         let mut triangles = Vec::new();
         for primitive in mesh.primitives() {
             assert_eq!(primitive.material().double_sided(), !object.closed);
-            let reader = primitive.reader(|b| Some(&buffers[b.index()]));
+            let reader = primitive.reader(|b| Some(buffers[b.index()].as_slice()));
             let positions: Vec<[f32; 3]> = reader.read_positions().unwrap().collect();
             let indices: Vec<u32> = reader.read_indices().unwrap().into_u32().collect();
             for t in indices.chunks(3) {

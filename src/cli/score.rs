@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 
 #[derive(Args)]
 pub(super) struct ScoreArgs {
-    /// The scene the buffer was rendered from.
+    /// The scene the buffer was rendered from (a scene file, or a glTF file as a scene).
     scene: PathBuf,
     /// The camera it was rendered with (its size is the buffer's).
     #[arg(long)]

@@ -37,6 +37,9 @@ pub(crate) enum Geometry {
     /// An OBJ path, relative to the scene file's folder.
     Mesh(String),
     Shape(Shape),
+    /// A glTF path (`.gltf` or `.glb`), relative to the scene file's folder: its meshes, each
+    /// node an object; its cameras and lights are not read (docs/gltf.md).
+    Gltf(String),
 }
 
 /// One object as written in the file; fields that failed to read are `None`.
@@ -94,20 +97,22 @@ pub(crate) fn read_scene(root: &Value, problems: &mut Problems) -> SceneDesc {
 
 fn read_object(r: &mut Reader) -> ObjectDesc {
     let name = r.required("name", as_name).unwrap_or_default();
-    let mesh = r.optional("mesh", as_string);
+    let mesh = r.optional("mesh", as_string).map(Geometry::Mesh);
+    let gltf = r.optional("gltf", as_string).map(Geometry::Gltf);
     let shape = r.optional_object("shape", read_shape);
-    let geometry = match (mesh, shape) {
-        (Some(mesh), None) => Some(Geometry::Mesh(mesh)),
-        (None, Some(shape)) => shape.map(Geometry::Shape),
-        (Some(_), Some(_)) => {
-            r.problem("", "has both `mesh` and `shape`; give exactly one");
+    let given: Vec<&str> = ["mesh", "gltf", "shape"].into_iter().filter(|k| r.has(k)).collect();
+    let geometry = match given.as_slice() {
+        [] => {
+            r.problem("", "needs a `mesh` (OBJ path), a `gltf` (glTF path) or a `shape`");
             None
         }
-        (None, None) => {
-            // Only complain when neither field is present (a bad one was reported already).
-            if !r.has("mesh") && !r.has("shape") {
-                r.problem("", "needs a `mesh` (OBJ path) or a `shape`");
-            }
+        [_] => mesh.or(gltf).or(shape.flatten().map(Geometry::Shape)),
+        [a, b] => {
+            r.problem("", format!("has both `{a}` and `{b}`; give exactly one"));
+            None
+        }
+        _ => {
+            r.problem("", "has `mesh`, `gltf` and `shape`; give exactly one");
             None
         }
     };

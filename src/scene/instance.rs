@@ -45,9 +45,10 @@ pub struct Instance {
 }
 
 impl Instance {
-    pub fn new(mesh: u32, object: u32, world_from_local: DAffine3, first_triangle: u32) -> Self {
-        let mirrored = world_from_local.matrix3.determinant() < 0.0;
-        Instance { mesh, object, world_from_local, mirrored, first_triangle }
+    /// An instance whose triangle ids are not numbered yet. `mirrored`: whether the transform
+    /// mirrors, decided from the transform's parts (a determinant of tiny scales underflows).
+    pub fn new(mesh: u32, object: u32, world_from_local: DAffine3, mirrored: bool) -> Self {
+        Instance { mesh, object, world_from_local, mirrored, first_triangle: 0 }
     }
 
     /// World triangle `local` of this instance, degenerate or not.

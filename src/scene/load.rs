@@ -2,16 +2,20 @@
 
 use super::format::{Geometry, ObjectDesc, read_scene};
 use super::format::{MAX_INSTANCED_TRIANGLES, MAX_SCENE_TRIANGLES, MAX_SHAPE_TRIANGLES};
-use super::instance::{Instance, SharedMesh, box_corners, is_degenerate, world_vertex};
+use super::gltf::{ImportOptions, import_gltf};
+use super::load_gltf::{is_gltf_path, load_gltf_scene};
 use super::obj::read_obj;
-use super::shapes::IndexedMesh;
-use super::{Object, Problem, Scene, SceneError};
+use super::placement::{Placement, add_mesh_placements, number_instances};
+use super::{Problem, Scene, SceneError};
 use crate::json_input::{Problems, parse_json};
-use glam::{DVec3, Vec3};
 use std::path::Path;
 
-/// Loads and validates the scene at `path`; mesh paths are relative to its folder.
+/// Loads and validates the scene at `path`: a scene file (mesh paths relative to its folder), or
+/// a glTF file (`.gltf`, `.glb`) as a whole scene (docs/gltf.md).
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
+    if is_gltf_path(path) {
+        return load_gltf_scene(path, Limits { scene: MAX_SCENE_TRIANGLES, shapes: MAX_SHAPE_TRIANGLES });
+    }
     let text = std::fs::read_to_string(path).map_err(|e| SceneError {
         problems: vec![Problem {
             file: path.to_path_buf(),
@@ -44,24 +48,34 @@ pub(crate) fn load_scene_str_within(
 
 /// Most triangles of a scene, in all and made by its procedural shapes together.
 #[derive(Clone, Copy)]
-struct Limits {
-    scene: u64,
-    shapes: u64,
+pub(super) struct Limits {
+    pub scene: u64,
+    pub shapes: u64,
 }
 
 /// Triangles asked for so far (before degenerate ones are dropped), in all and by shapes:
 /// checked before each mesh joins the scene and before each shape is built, so that a scene
 /// over the limits fails with a message instead of exhausting memory. Each limit is named at the
 /// first object over it only.
-struct Budget {
+pub(super) struct Budget {
     limits: Limits,
+    /// Unique triangles: what memory holds.
     total: u64,
     procedural: u64,
-    /// Triangles counting every placement of instanced meshes.
+    /// Triangles counting every placement of instanced meshes: what the ids number.
     placed: u64,
 }
 
 impl Budget {
+    pub(super) fn new(limits: Limits) -> Self {
+        Budget { limits, total: 0, procedural: 0, placed: 0 }
+    }
+
+    /// Triangles the scene may still take.
+    pub(super) fn remaining(&self) -> u64 {
+        self.limits.scene.saturating_sub(self.total)
+    }
+
     /// Whether a shape of `count` triangles may be built (reported before it is).
     fn admit_shape(&mut self, object_path: &str, count: u64, problems: &mut Problems) -> bool {
         self.procedural += count;
@@ -77,54 +91,51 @@ impl Budget {
             return false;
         }
         if self.total + count > self.limits.scene {
-            self.over_scene_limit(object_path, count, "shape", problems);
+            self.over_scene_limit(&format!("{object_path}.shape"), count, problems);
             return false;
         }
         true
     }
 
-    /// Whether a mesh of `count` triangles may join the scene.
-    fn admit_mesh(&mut self, object_path: &str, count: u64, problems: &mut Problems) -> bool {
-        if self.total + count > self.limits.scene {
-            self.over_scene_limit(object_path, count, "mesh", problems);
+    /// Whether a mesh of `count` triangles may join the scene `placements` times: stored once
+    /// when it has several placements (instanced), each placement numbering its triangles; a
+    /// problem is reported at `at`.
+    pub(super) fn admit_mesh(
+        &mut self,
+        at: &str,
+        count: u64,
+        placements: usize,
+        problems: &mut Problems,
+    ) -> bool {
+        if self.total.saturating_add(count) > self.limits.scene {
+            self.over_scene_limit(at, count, problems);
             return false;
         }
         self.total += count;
-        true
-    }
-
-    /// Whether `placements` more copies of a mesh of `count` triangles may join the scene.
-    fn admit_placements(
-        &mut self,
-        object_path: &str,
-        count: u64,
-        placements: u64,
-        problems: &mut Problems,
-    ) -> bool {
         let before = self.placed;
-        self.placed += count * placements;
+        self.placed = self.placed.saturating_add(count.saturating_mul(placements as u64));
         if self.placed > MAX_INSTANCED_TRIANGLES {
             if before <= MAX_INSTANCED_TRIANGLES {
                 let message = format!(
-                    "the instances up to this object place {} triangles; a scene may place at most {}",
+                    "the placements up to this one number {} triangles; a scene may number at most {}",
                     self.placed, MAX_INSTANCED_TRIANGLES
                 );
-                problems.report(&format!("{object_path}.instances"), message);
+                problems.report(at, message);
             }
             return false;
         }
         true
     }
 
-    fn over_scene_limit(&mut self, object_path: &str, count: u64, key: &str, problems: &mut Problems) {
+    fn over_scene_limit(&mut self, at: &str, count: u64, problems: &mut Problems) {
         let before = self.total;
-        self.total += count;
+        self.total = self.total.saturating_add(count);
         if before <= self.limits.scene {
             let message = format!(
                 "the objects up to this one have {} triangles; a scene may have at most {}",
                 self.total, self.limits.scene
             );
-            problems.report(&format!("{object_path}.{key}"), message);
+            problems.report(at, message);
         }
     }
 }
@@ -135,48 +146,10 @@ fn load_with_limits(text: &str, source: &Path, base_dir: &Path, limits: Limits) 
         return Err(SceneError { problems: problems.list });
     };
     let desc = read_scene(&root, &mut problems);
-    let mut scene = Scene {
-        name: desc.name,
-        source: source.to_path_buf(),
-        objects: Vec::new(),
-        flat_triangles: Vec::new(),
-        flat_triangle_object: Vec::new(),
-        meshes: Vec::new(),
-        instances: Vec::new(),
-        cameras: desc.cameras,
-        lights: desc.lights,
-        dropped_degenerate: 0,
-    };
-    let mut budget = Budget { limits, total: 0, procedural: 0, placed: 0 };
+    let mut scene = Scene::empty(desc.name, source, desc.cameras, desc.lights);
+    let mut budget = Budget::new(limits);
     for object in &desc.objects {
-        // Meshes are read even when other fields are wrong, so that their problems show too.
-        let mesh = match &object.geometry {
-            Some(Geometry::Mesh(relative)) => match read_obj(&base_dir.join(relative)) {
-                Ok(mesh) => Some(mesh),
-                Err(messages) => {
-                    let path = format!("{}.mesh", object.path);
-                    messages.into_iter().for_each(|m| problems.report(&path, m));
-                    None
-                }
-            },
-            Some(Geometry::Shape(shape)) => {
-                budget.admit_shape(&object.path, shape.triangle_count(), &mut problems).then(|| shape.mesh())
-            }
-            None => None,
-        };
-        let count = mesh.as_ref().map_or(0, |m| m.triangles.len() as u64);
-        if let Some(mesh) = mesh
-            && budget.admit_mesh(&object.path, count, &mut problems)
-        {
-            if object.instances.len() > 1 {
-                if budget.admit_placements(&object.path, count, object.instances.len() as u64, &mut problems)
-                {
-                    add_instances(&mut scene, object, mesh, &mut problems);
-                }
-            } else {
-                add_object(&mut scene, object, &mesh, &mut problems);
-            }
-        }
+        add_object(&mut scene, object, base_dir, &mut budget, &mut problems);
     }
     number_instances(&mut scene);
     if problems.list.is_empty() && scene.triangle_count() == 0 {
@@ -185,98 +158,85 @@ fn load_with_limits(text: &str, source: &Path, base_dir: &Path, limits: Limits) 
     if problems.list.is_empty() { Ok(scene) } else { Err(SceneError { problems: problems.list }) }
 }
 
-/// Transforms `mesh` to world space (each vertex rounded to f32 once, so shared vertices stay
-/// shared), keeps closed objects counter-clockwise from outside under a mirroring scale, drops
-/// zero-area triangles and appends the rest as one contiguous object.
-fn add_object(scene: &mut Scene, object: &ObjectDesc, mesh: &IndexedMesh, problems: &mut Problems) {
-    let Some(transform) = object.instances.first().or(object.transform.as_ref()) else {
-        return;
+/// Reads an object's geometry and adds it. Meshes are read even when other fields are wrong, so
+/// that their problems show too.
+fn add_object(
+    scene: &mut Scene,
+    object: &ObjectDesc,
+    base_dir: &Path,
+    budget: &mut Budget,
+    problems: &mut Problems,
+) {
+    let (key, mesh) = match &object.geometry {
+        Some(Geometry::Mesh(relative)) => ("mesh", read_obj(&base_dir.join(relative))),
+        Some(Geometry::Shape(shape)) => {
+            if !budget.admit_shape(&object.path, shape.triangle_count(), problems) {
+                return;
+            }
+            ("shape", Ok(shape.mesh()))
+        }
+        Some(Geometry::Gltf(relative)) => {
+            return add_gltf_object(scene, object, &base_dir.join(relative), budget, problems);
+        }
+        None => return,
     };
-    let key = match object.geometry {
-        Some(Geometry::Mesh(_)) => "mesh",
-        _ => "shape",
-    };
-    let path = format!("{}.{key}", object.path);
-    let affine = transform.affine();
-    let world: Vec<Vec3> = mesh.positions.iter().map(|&p| world_vertex(&affine, p)).collect();
-    if world.iter().any(|v| !v.is_finite()) {
-        problems.report(&path, "a vertex leaves the f32 range after the transform");
-        return;
+    let at = format!("{}.{key}", object.path);
+    match mesh {
+        Ok(mesh) => {
+            let Some(placements) = object_placements(object, &at) else { return };
+            if budget.admit_mesh(&at, mesh.triangles.len() as u64, placements.len(), problems) {
+                add_mesh_placements(scene, mesh, &placements, problems);
+            }
+        }
+        Err(messages) => messages.into_iter().for_each(|m| problems.report(&at, m)),
     }
-    let first = scene.flat_triangles.len();
-    let index = scene.objects.len() as u32;
-    let mirrored = transform.mirrors();
-    let mut dropped = 0;
-    for &[a, b, c] in &mesh.triangles {
-        let (a, b, c) = (world[a as usize], world[b as usize], world[c as usize]);
-        let tri = if mirrored { [a, c, b] } else { [a, b, c] };
-        if is_degenerate(&tri) {
-            dropped += 1;
-        } else {
-            scene.flat_triangles.push(tri);
-            scene.flat_triangle_object.push(index);
+}
+
+/// The placements of an OBJ or shape object: its transform, or one per entry of `instances`
+/// (objects `NAME#k`); `None` when they failed to read (reported).
+fn object_placements(object: &ObjectDesc, at: &str) -> Option<Vec<Placement>> {
+    let transform = object.transform.as_ref()?;
+    if object.instances.is_empty() {
+        return Some(vec![Placement::from_transform(transform, &object.name, at.to_string(), object.closed)]);
+    }
+    let placement = |(k, t)| {
+        let (name, path) = (format!("{}#{k}", object.name), format!("{}.instances[{k}]", object.path));
+        Placement::from_transform(t, &name, path, object.closed)
+    };
+    Some(object.instances.iter().enumerate().map(placement).collect())
+}
+
+/// A scene-file object naming a glTF: every placement of every mesh becomes an object
+/// `OBJECT/NODE` (`OBJECT#k/NODE` with `instances`), moved by the object's transform (each of its
+/// instances) and closed when the object or the node says so.
+fn add_gltf_object(
+    scene: &mut Scene,
+    object: &ObjectDesc,
+    file: &Path,
+    budget: &mut Budget,
+    problems: &mut Problems,
+) {
+    let at = format!("{}.gltf", object.path);
+    let options = ImportOptions { max_triangles: budget.remaining(), views: false };
+    let imported = match import_gltf(file, options) {
+        Ok(imported) => imported,
+        Err(list) => {
+            for p in list {
+                let inner = if p.path.is_empty() { String::new() } else { format!("{}: ", p.path) };
+                problems.report(&at, format!("{}: {inner}{}", file.display(), p.message));
+            }
+            return;
+        }
+    };
+    let Some(outer) = object_placements(object, &at) else { return };
+    for placed in imported.meshes {
+        let placements: Vec<Placement> = (outer.iter())
+            .flat_map(|o| placed.placements.iter().map(|p| p.within(o, format!("{at} ({})", p.path))))
+            .collect();
+        if budget.admit_mesh(&at, placed.mesh.triangles.len() as u64, placements.len(), problems) {
+            add_mesh_placements(scene, placed.mesh, &placements, problems);
         }
     }
-    let count = scene.flat_triangles.len() - first;
-    scene.dropped_degenerate += dropped;
-    if count == 0 {
-        problems.report(&path, format!("has no triangles ({dropped} degenerate dropped)"));
-    }
-    match (u32::try_from(first), u32::try_from(count)) {
-        (Ok(first_triangle), Ok(triangle_count)) => scene.objects.push(Object {
-            name: object.name.clone(),
-            closed: object.closed,
-            first_triangle,
-            triangle_count,
-        }),
-        _ => problems.report(&path, "too many triangles in the scene"),
-    }
-}
-
-/// Stores `mesh` once, without the triangles degenerate in its own space, and adds one object
-/// per placement (`name#k`), each an instance of it. Their triangle ids are given once every
-/// object is read (`number_instances`): instanced ids follow the flat ones.
-fn add_instances(scene: &mut Scene, object: &ObjectDesc, mesh: IndexedMesh, problems: &mut Problems) {
-    let path = format!("{}.instances", object.path);
-    let local = |t: &[u32; 3]| t.map(|i| mesh.positions[i as usize]);
-    let triangles: Vec<[u32; 3]> =
-        mesh.triangles.iter().copied().filter(|t| !is_local_degenerate(local(t))).collect();
-    if triangles.is_empty() {
-        problems.report(&path, "the instanced geometry has no triangles (all degenerate)");
-        return;
-    }
-    let triangle_count = triangles.len() as u32;
-    let mesh_index = scene.meshes.len() as u32;
-    scene.meshes.push(SharedMesh { positions: mesh.positions, triangles });
-    let (lo, hi) = scene.meshes[mesh_index as usize].bounds();
-    for (k, transform) in object.instances.iter().enumerate() {
-        let affine = transform.affine();
-        // Every vertex lies in the box of the mesh's bounds, and rounding is monotonic.
-        if !box_corners(lo, hi).iter().all(|&p| world_vertex(&affine, p).is_finite()) {
-            problems.report(&format!("{path}[{k}]"), "a vertex leaves the f32 range after the transform");
-            continue;
-        }
-        let index = scene.objects.len() as u32;
-        scene.instances.push(Instance::new(mesh_index, index, affine, 0));
-        let name = format!("{}#{k}", object.name);
-        scene.objects.push(Object { name, closed: object.closed, first_triangle: 0, triangle_count });
-    }
-}
-
-/// Gives each instance, and its object, the triangle ids after the flat triangles.
-fn number_instances(scene: &mut Scene) {
-    let mut next = scene.flat_triangles.len() as u64;
-    for instance in &mut scene.instances {
-        let count = scene.meshes[instance.mesh as usize].triangles.len() as u64;
-        instance.first_triangle = next as u32;
-        scene.objects[instance.object as usize].first_triangle = next as u32;
-        next += count;
-    }
-}
-
-/// A triangle with a repeated vertex or parallel edges in the mesh's own (f64) space.
-fn is_local_degenerate([a, b, c]: [DVec3; 3]) -> bool {
-    a == b || b == c || a == c || (b - a).cross(c - a) == DVec3::ZERO
 }
 
 #[cfg(test)]

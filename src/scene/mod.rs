@@ -5,9 +5,12 @@ mod camera;
 mod error;
 mod format;
 mod instance;
+mod gltf;
 mod light;
 mod load;
+mod load_gltf;
 mod obj;
+mod placement;
 mod shapes;
 mod transform;
 mod triangles;
@@ -85,6 +88,22 @@ impl Scene {
             })
             .reduce(|| empty, join);
         join(flat, instanced)
+    }
+
+    /// A scene without geometry yet.
+    pub(crate) fn empty(name: String, source: &std::path::Path, cameras: Vec<Camera>, lights: Vec<Light>) -> Self {
+        Scene {
+            name,
+            source: source.to_path_buf(),
+            objects: Vec::new(),
+            flat_triangles: Vec::new(),
+            flat_triangle_object: Vec::new(),
+            meshes: Vec::new(),
+            instances: Vec::new(),
+            cameras,
+            lights,
+            dropped_degenerate: 0,
+        }
     }
 
     pub fn camera(&self, name: &str) -> Option<&Camera> {

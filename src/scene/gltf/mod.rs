@@ -1,0 +1,94 @@
+//! glTF 2.0 scenes (docs/gltf.md), read through the `gltf` crate's document model with our own
+//! buffer loading, so that every problem names the glTF JSON path at fault (`buffers[0].uri`,
+//! `meshes[0].primitives[1].mode`).
+//!
+//! The result is neutral: each glTF mesh once, as an `IndexedMesh` in mesh space, with the list
+//! of its placements (one per node that references it); cameras and lights already converted.
+//! `load.rs` decides how placements become objects.
+
+mod buffers;
+mod data_uri;
+mod document;
+mod extras;
+mod mesh;
+mod names;
+mod nodes;
+mod views;
+
+use super::placement::Placement;
+use super::shapes::IndexedMesh;
+use super::{Camera, Light};
+use glam::DVec3;
+use std::path::Path;
+
+/// A problem in a glTF file: its JSON path (`nodes[3].rotation`) and what is wrong.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct GltfProblem {
+    pub path: String,
+    pub message: String,
+}
+
+impl GltfProblem {
+    pub(crate) fn new(path: impl Into<String>, message: impl Into<String>) -> Self {
+        GltfProblem { path: path.into(), message: message.into() }
+    }
+}
+
+/// One glTF mesh (all its triangle primitives together) and every node that places it.
+#[derive(Clone, Debug)]
+pub(crate) struct PlacedMesh {
+    pub mesh: IndexedMesh,
+    /// `meshes[i]`.
+    pub path: String,
+    pub placements: Vec<Placement>,
+}
+
+/// What a glTF file holds for shadowtruth.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct GltfScene {
+    /// In glTF mesh order; meshes no node of the scene references are left out.
+    pub meshes: Vec<PlacedMesh>,
+    pub cameras: Vec<Camera>,
+    pub lights: Vec<Light>,
+}
+
+/// How much of the file to read.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ImportOptions {
+    /// Most triangles the meshes may have together, each counted once; checked before any mesh
+    /// is read.
+    pub max_triangles: u64,
+    /// Whether cameras and lights are read (a glTF named by a scene-file object ignores them).
+    pub views: bool,
+}
+
+/// Reads the glTF (`.gltf` or `.glb`) at `path`; every problem found is returned.
+pub(crate) fn import_gltf(path: &Path, options: ImportOptions) -> Result<GltfScene, Vec<GltfProblem>> {
+    let mut gltf = document::open(path)?;
+    let buffers = buffers::load(&mut gltf, path)?;
+    let mut problems = Vec::new();
+    let tree = nodes::walk(&gltf.document, &mut problems);
+    let meshes =
+        mesh::read_placed(&gltf.document, &buffers, tree.meshes, options.max_triangles, &mut problems);
+    let mut scene = GltfScene { meshes, ..GltfScene::default() };
+    if options.views {
+        scene.cameras = views::cameras(&gltf.document, &tree.cameras, &mut problems);
+        let bounds = || world_bounds(&scene.meshes);
+        scene.lights = views::lights(&gltf.document, &tree.lights, bounds, &mut problems);
+    }
+    if problems.is_empty() { Ok(scene) } else { Err(problems) }
+}
+
+/// World-space bounds (min, max) of every placed vertex, for the defaults of spot lights.
+fn world_bounds(meshes: &[PlacedMesh]) -> (DVec3, DVec3) {
+    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for placed in meshes {
+        for placement in &placed.placements {
+            for &p in &placed.mesh.positions {
+                let w = placement.world_from_mesh.transform_point3(p);
+                (lo, hi) = (lo.min(w), hi.max(w));
+            }
+        }
+    }
+    (lo, hi)
+}

@@ -1,0 +1,192 @@
+//! glTF cameras and `KHR_lights_punctual` lights as our `Camera`s and `Light`s (docs/gltf.md):
+//! both look down their node's −z with +y up; the numbers glTF lacks come from view-export's
+//! `extras` when present, else from documented defaults.
+
+use super::GltfProblem;
+use super::extras::Extras;
+use super::names::UniqueNames;
+use super::nodes::NodeItem;
+use crate::json_input::{as_positive, count, open_range};
+use crate::scene::format::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE};
+use crate::scene::{Camera, Light, LightKind};
+use glam::{DAffine3, DVec3};
+use gltf::khr_lights_punctual::Kind;
+
+/// Image height when the camera's extras give no size; the width follows `aspectRatio`.
+const DEFAULT_HEIGHT: u32 = 720;
+/// `aspectRatio` when the camera has none (glTF leaves it to the viewport).
+const DEFAULT_ASPECT: f64 = 16.0 / 9.0;
+/// A spot light's default near distance, as a fraction of its far distance.
+const DEFAULT_NEAR_FRACTION: f64 = 1e-3;
+
+/// The node's −z (looking direction) and +y, unit, in world space; `None` when degenerate.
+fn frame(world: &DAffine3) -> Option<(DVec3, DVec3)> {
+    let forward = world.matrix3 * DVec3::NEG_Z;
+    let up = world.matrix3 * DVec3::Y;
+    let ok = forward.length() > 0.0 && up.length() > 0.0 && forward.is_finite() && up.is_finite();
+    let (forward, up) = (forward.normalize(), up.normalize());
+    (ok && forward.cross(up).length() > 1e-6).then_some((forward, up))
+}
+
+pub(super) fn cameras(
+    document: &gltf::Document,
+    items: &[NodeItem],
+    problems: &mut Vec<GltfProblem>,
+) -> Vec<Camera> {
+    let nodes: Vec<gltf::Node> = document.nodes().collect();
+    let mut names = UniqueNames::default();
+    let mut out = Vec::new();
+    for (k, item) in items.iter().enumerate() {
+        let node = &nodes[item.node];
+        let Some(camera) = node.camera() else { continue };
+        let name = names.take(node.name(), || format!("camera{k}"));
+        if let Some(camera) = camera_of(&camera, item, name, problems) {
+            out.push(camera);
+        }
+    }
+    out
+}
+
+fn camera_of(
+    camera: &gltf::Camera,
+    item: &NodeItem,
+    name: String,
+    problems: &mut Vec<GltfProblem>,
+) -> Option<Camera> {
+    let at = format!("cameras[{}]", camera.index());
+    let gltf::camera::Projection::Perspective(p) = camera.projection() else {
+        let message = "orthographic cameras are not supported: shadowtruth's cameras are pinholes";
+        problems.push(GltfProblem::new(format!("{at}.type"), message));
+        return None;
+    };
+    let fov_y_deg = (p.yfov() as f64).to_degrees() as f32;
+    if !(fov_y_deg > 0.0 && fov_y_deg < 180.0) {
+        problems.push(GltfProblem::new(format!("{at}.perspective.yfov"), "must be between 0 and π radians"));
+        return None;
+    }
+    let extras = Extras::read(camera.extras(), &at);
+    let width = extras.get("width", count(1, MAX_IMAGE_SIDE), problems);
+    let height = extras.get("height", count(1, MAX_IMAGE_SIDE), problems);
+    let (width, height) = match (width, height) {
+        (Some(w), Some(h)) => (w, h),
+        _ => {
+            let aspect = p.aspect_ratio().map_or(DEFAULT_ASPECT, f64::from);
+            let width = (aspect * DEFAULT_HEIGHT as f64).round().clamp(1.0, MAX_IMAGE_SIDE as f64);
+            (width as u32, DEFAULT_HEIGHT)
+        }
+    };
+    if width as u64 * height as u64 > MAX_IMAGE_PIXELS {
+        problems.push(extras.problem("", format!("image {width}×{height} has more than 64 megapixels")));
+        return None;
+    }
+    let Some((forward, up)) = frame(&item.world) else {
+        problems.push(GltfProblem::new(
+            format!("nodes[{}]", item.node),
+            "its transform flattens the camera's frame",
+        ));
+        return None;
+    };
+    let position = item.world.translation;
+    // A look_at far enough from a distant position that f32 rounding keeps the direction.
+    let look_at = position + forward * position.length().max(1.0);
+    let (position, look_at, up) = (position.as_vec3(), look_at.as_vec3(), up.as_vec3());
+    Some(Camera { name, position, look_at, up, fov_y_deg, width, height })
+}
+
+pub(super) fn lights(
+    document: &gltf::Document,
+    items: &[NodeItem],
+    bounds: impl Fn() -> (DVec3, DVec3),
+    problems: &mut Vec<GltfProblem>,
+) -> Vec<Light> {
+    let nodes: Vec<gltf::Node> = document.nodes().collect();
+    let mut names = UniqueNames::default();
+    let mut out = Vec::new();
+    for (k, item) in items.iter().enumerate() {
+        let node = &nodes[item.node];
+        let Some(light) = node.light() else { continue };
+        let name = names.take(node.name(), || format!("light{k}"));
+        let extras = Extras::read(node.extras(), &format!("nodes[{}]", item.node));
+        if let Some(kind) = light_kind(&light, item, &extras, &bounds, problems) {
+            out.push(Light { name, kind });
+        }
+    }
+    out
+}
+
+fn light_kind(
+    light: &gltf::khr_lights_punctual::Light,
+    item: &NodeItem,
+    extras: &Extras,
+    bounds: &impl Fn() -> (DVec3, DVec3),
+    problems: &mut Vec<GltfProblem>,
+) -> Option<LightKind> {
+    let at = format!("extensions.KHR_lights_punctual.lights[{}]", light.index());
+    let Some((forward, _)) = frame(&item.world) else {
+        problems.push(GltfProblem::new(
+            format!("nodes[{}]", item.node),
+            "its transform flattens the light's frame",
+        ));
+        return None;
+    };
+    let direction = forward.as_vec3();
+    match light.kind() {
+        Kind::Directional => {
+            let angular = extras.get("angular_diameter_deg", open_range(0.0, 90.0), problems);
+            Some(LightKind::Directional { direction, angular_diameter_deg: angular.map(|a| a as f32) })
+        }
+        Kind::Point => {
+            let message = "point lights are not supported: shadowtruth's lights are directional or spot";
+            problems.push(GltfProblem::new(format!("{at}.type"), message));
+            None
+        }
+        Kind::Spot { outer_cone_angle, .. } => {
+            let cone_deg = match extras.get("cone_deg", open_range(0.0, 180.0), problems) {
+                Some(cone) => cone,
+                None => 2.0 * (outer_cone_angle as f64).to_degrees(),
+            };
+            if !(cone_deg > 0.0 && cone_deg < 180.0) {
+                let message =
+                    "gives a full cone of 180° or more (or 0°); spot cones must lie strictly between";
+                problems.push(GltfProblem::new(format!("{at}.spot.outerConeAngle"), message));
+                return None;
+            }
+            let position = item.world.translation;
+            let (near, far) = spot_range(position, light.range(), extras, bounds, problems)?;
+            let radius = extras.get("radius", as_positive, problems).map(|r| r as f32);
+            let (position, cone_deg) = (position.as_vec3(), cone_deg as f32);
+            Some(LightKind::Spot { position, direction, cone_deg, near, far, radius })
+        }
+    }
+}
+
+/// A spot light's (near, far): the extras' when given; else far is `range`, or the distance to
+/// the farthest corner of the scene's bounds plus 1 %; near is far / 1000.
+fn spot_range(
+    position: DVec3,
+    range: Option<f32>,
+    extras: &Extras,
+    bounds: &impl Fn() -> (DVec3, DVec3),
+    problems: &mut Vec<GltfProblem>,
+) -> Option<(f32, f32)> {
+    let far = extras.get("far", as_positive, problems).or(range.map(f64::from));
+    let far = far.unwrap_or_else(|| {
+        let farthest = farthest_corner(bounds(), position);
+        if farthest.is_finite() && farthest > 0.0 { farthest * 1.01 } else { 1.0 }
+    });
+    let near = extras.get("near", as_positive, problems).unwrap_or(far * DEFAULT_NEAR_FRACTION);
+    if far <= near {
+        problems.push(extras.problem("far", format!("{far} must be greater than near ({near})")));
+        return None;
+    }
+    Some((near as f32, far as f32))
+}
+
+/// The distance from `p` to the farthest corner of the box (lo, hi).
+fn farthest_corner((lo, hi): (DVec3, DVec3), p: DVec3) -> f64 {
+    let corner = |c: u32| {
+        let pick = |bit: u32, l: f64, h: f64| if c & bit == 0 { l } else { h };
+        DVec3::new(pick(1, lo.x, hi.x), pick(2, lo.y, hi.y), pick(4, lo.z, hi.z))
+    };
+    (0..8).map(|c| corner(c).distance(p)).fold(0.0, f64::max)
+}
