@@ -133,34 +133,10 @@ fn bad_gltf_files_name_the_file_and_the_json_path() {
     assert!(found[0].2.contains("index 7"), "{}", found[0].2);
 }
 
-/// The scene of tests/view_export.rs: open and closed objects, a tilted camera with a portrait
-/// image, both kinds of light with their sizes.
-const EXPORTED: &str = r#"{
-  "format": "shadowtruth/scene/v1",
-  "name": "export_test",
-  "objects": [
-    { "name": "ground", "shape": { "type": "plane", "size": [10, 10] } },
-    { "name": "box", "shape": { "type": "box", "size": [1, 1.5, 1] }, "closed": true,
-      "transform": { "rotate_deg": [0, 30, 0], "translate": [0.5, 0.75, -0.3] } },
-    { "name": "ball", "shape": { "type": "sphere", "radius": 0.6, "segments": 24, "rings": 12 }, "closed": true,
-      "transform": { "translate": [-1.3, 0.6, 0.9] } }
-  ],
-  "cameras": [
-    { "name": "wide", "position": [-4, 3, 5], "look_at": [0, 0.5, 0], "fov_y_deg": 45, "width": 96, "height": 54 },
-    { "name": "tilted", "position": [3.5, 4, 3], "look_at": [-0.5, 0.2, 0], "up": [0.3, 1, 0.1],
-      "fov_y_deg": 60, "width": 40, "height": 64 }
-  ],
-  "lights": [
-    { "name": "sun", "type": "directional", "direction": [-0.3, -1, -0.45], "angular_diameter_deg": 0.5 },
-    { "name": "lamp", "type": "spot", "position": [2.5, 5, 1.5], "direction": [-0.4, -1, -0.2],
-      "cone_deg": 60, "near": 0.5, "far": 20, "radius": 0.1 }
-  ]
-}"#;
-
 /// Exports (camera, light) with the binary; returns the original scene and the .glb reloaded.
 fn export_and_reload(dir: &Path, camera: &str, light: &str) -> (Scene, Scene) {
     let scene_path = dir.join("scene.json");
-    std::fs::write(&scene_path, EXPORTED).unwrap();
+    std::fs::write(&scene_path, common::EXPORT_TEST_SCENE).unwrap();
     let out = dir.join(format!("{camera}_{light}"));
     let status = Command::new(env!("CARGO_BIN_EXE_shadowtruth"))
         .args(["view-export", scene_path.to_str().unwrap(), "--camera", camera, "--light", light])

@@ -3,6 +3,8 @@
 //! centre and at the light-space coordinates of the CPU rasterizer's `LightView`; the EXRs read
 //! back bit for bit as the G-buffer.
 
+mod common;
+
 use exr::prelude::*;
 use glam::{DMat4, DVec3, DVec4, Quat, Vec3};
 use serde_json::Value;
@@ -19,29 +21,6 @@ const PIXEL_BOUND: f64 = 1e-3;
 const LIGHT_BOUND: f64 = 1e-5;
 const RESOLUTION: u32 = 1024;
 
-/// Two cameras (one with a tilted up vector and a portrait image) and both kinds of light.
-const SCENE: &str = r#"{
-  "format": "shadowtruth/scene/v1",
-  "name": "export_test",
-  "objects": [
-    { "name": "ground", "shape": { "type": "plane", "size": [10, 10] } },
-    { "name": "box", "shape": { "type": "box", "size": [1, 1.5, 1] }, "closed": true,
-      "transform": { "rotate_deg": [0, 30, 0], "translate": [0.5, 0.75, -0.3] } },
-    { "name": "ball", "shape": { "type": "sphere", "radius": 0.6, "segments": 24, "rings": 12 }, "closed": true,
-      "transform": { "translate": [-1.3, 0.6, 0.9] } }
-  ],
-  "cameras": [
-    { "name": "wide", "position": [-4, 3, 5], "look_at": [0, 0.5, 0], "fov_y_deg": 45, "width": 96, "height": 54 },
-    { "name": "tilted", "position": [3.5, 4, 3], "look_at": [-0.5, 0.2, 0], "up": [0.3, 1, 0.1],
-      "fov_y_deg": 60, "width": 40, "height": 64 }
-  ],
-  "lights": [
-    { "name": "sun", "type": "directional", "direction": [-0.3, -1, -0.45], "angular_diameter_deg": 0.5 },
-    { "name": "lamp", "type": "spot", "position": [2.5, 5, 1.5], "direction": [-0.4, -1, -0.2],
-      "cone_deg": 60, "near": 0.5, "far": 20, "radius": 0.1 }
-  ]
-}"#;
-
 struct Export {
     _dir: tempfile::TempDir,
     out: PathBuf,
@@ -52,7 +31,7 @@ struct Export {
 fn export(camera: &str, light: &str) -> Export {
     let dir = tempfile::tempdir().unwrap();
     let scene_path = dir.path().join("scene.json");
-    std::fs::write(&scene_path, SCENE).unwrap();
+    std::fs::write(&scene_path, common::EXPORT_TEST_SCENE).unwrap();
     let out = dir.path().join("export");
     let status = Command::new(env!("CARGO_BIN_EXE_shadowtruth"))
         .args(["view-export", scene_path.to_str().unwrap(), "--camera", camera, "--light", light])

@@ -4,8 +4,8 @@
 mod camera;
 mod error;
 mod format;
-mod instance;
 mod gltf;
+mod instance;
 mod light;
 mod load;
 mod load_gltf;
@@ -91,7 +91,12 @@ impl Scene {
     }
 
     /// A scene without geometry yet.
-    pub(crate) fn empty(name: String, source: &std::path::Path, cameras: Vec<Camera>, lights: Vec<Light>) -> Self {
+    pub(crate) fn empty(
+        name: String,
+        source: &std::path::Path,
+        cameras: Vec<Camera>,
+        lights: Vec<Light>,
+    ) -> Self {
         Scene {
             name,
             source: source.to_path_buf(),

@@ -70,7 +70,8 @@ pub(crate) fn add_mesh_placements(
 /// flips the triangles (closed objects stay counter-clockwise from outside); zero-area
 /// triangles are dropped and counted.
 fn flatten(scene: &mut Scene, mesh: &IndexedMesh, placement: &Placement, problems: &mut Problems) {
-    let world: Vec<Vec3> = mesh.positions.iter().map(|&p| world_vertex(&placement.world_from_mesh, p)).collect();
+    let world: Vec<Vec3> =
+        mesh.positions.iter().map(|&p| world_vertex(&placement.world_from_mesh, p)).collect();
     if world.iter().any(|v| !v.is_finite()) {
         problems.report(&placement.path, "a vertex leaves the f32 range after the transform");
         return;
@@ -127,7 +128,12 @@ fn instance(scene: &mut Scene, mesh: IndexedMesh, placements: &[Placement], prob
             continue;
         }
         let object = scene.objects.len() as u32;
-        scene.instances.push(Instance::new(mesh_index, object, placement.world_from_mesh, placement.mirrored));
+        scene.instances.push(Instance::new(
+            mesh_index,
+            object,
+            placement.world_from_mesh,
+            placement.mirrored,
+        ));
         let name = placement.name.clone();
         scene.objects.push(Object { name, closed: placement.closed, first_triangle: 0, triangle_count });
     }

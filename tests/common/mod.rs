@@ -102,3 +102,28 @@ pub fn contact_scene() -> Scene {
         "lights": [{ "name": "sun", "type": "directional", "direction": [0.6, -1, 0.3] }]
     }))
 }
+
+/// The scene that tests/view_export.rs exports and tests/gltf_import.rs reloads: open and
+/// closed objects, two cameras (one with a tilted up vector and a portrait image) and both kinds
+/// of light with their sizes.
+pub const EXPORT_TEST_SCENE: &str = r#"{
+  "format": "shadowtruth/scene/v1",
+  "name": "export_test",
+  "objects": [
+    { "name": "ground", "shape": { "type": "plane", "size": [10, 10] } },
+    { "name": "box", "shape": { "type": "box", "size": [1, 1.5, 1] }, "closed": true,
+      "transform": { "rotate_deg": [0, 30, 0], "translate": [0.5, 0.75, -0.3] } },
+    { "name": "ball", "shape": { "type": "sphere", "radius": 0.6, "segments": 24, "rings": 12 }, "closed": true,
+      "transform": { "translate": [-1.3, 0.6, 0.9] } }
+  ],
+  "cameras": [
+    { "name": "wide", "position": [-4, 3, 5], "look_at": [0, 0.5, 0], "fov_y_deg": 45, "width": 96, "height": 54 },
+    { "name": "tilted", "position": [3.5, 4, 3], "look_at": [-0.5, 0.2, 0], "up": [0.3, 1, 0.1],
+      "fov_y_deg": 60, "width": 40, "height": 64 }
+  ],
+  "lights": [
+    { "name": "sun", "type": "directional", "direction": [-0.3, -1, -0.45], "angular_diameter_deg": 0.5 },
+    { "name": "lamp", "type": "spot", "position": [2.5, 5, 1.5], "direction": [-0.4, -1, -0.2],
+      "cone_deg": 60, "near": 0.5, "far": 20, "radius": 0.1 }
+  ]
+}"#;
