@@ -7,6 +7,7 @@ use super::shapes::IndexedMesh;
 use super::{Object, Problem, Scene, SceneError};
 use crate::json_input::{Problems, parse_json};
 use glam::Vec3;
+use rayon::prelude::*;
 use std::path::Path;
 
 /// Loads and validates the scene at `path`; mesh paths are relative to its folder.
@@ -161,25 +162,24 @@ fn add_object(scene: &mut Scene, object: &ObjectDesc, mesh: &IndexedMesh, proble
     };
     let path = format!("{}.{key}", object.path);
     let affine = transform.affine();
-    let world: Vec<Vec3> = mesh.positions.iter().map(|&p| affine.transform_point3(p).as_vec3()).collect();
-    if world.iter().any(|v| !v.is_finite()) {
+    // Per vertex and per triangle in parallel (rayon), appended in mesh order.
+    let world: Vec<Vec3> = mesh.positions.par_iter().map(|&p| affine.transform_point3(p).as_vec3()).collect();
+    if world.par_iter().any(|v| !v.is_finite()) {
         problems.report(&path, "a vertex leaves the f32 range after the transform");
         return;
     }
     let first = scene.triangles.len();
     let index = scene.objects.len() as u32;
     let mirrored = transform.mirrors();
-    let mut dropped = 0;
-    for &[a, b, c] in &mesh.triangles {
+    let corners = |&[a, b, c]: &[u32; 3]| {
         let (a, b, c) = (world[a as usize], world[b as usize], world[c as usize]);
-        let tri = if mirrored { [a, c, b] } else { [a, b, c] };
-        if is_degenerate(&tri) {
-            dropped += 1;
-        } else {
-            scene.triangles.push(tri);
-            scene.triangle_object.push(index);
-        }
-    }
+        if mirrored { [a, c, b] } else { [a, b, c] }
+    };
+    let degenerate: Vec<bool> = mesh.triangles.par_iter().map(|t| is_degenerate(&corners(t))).collect();
+    let dropped = degenerate.iter().filter(|&&d| d).count();
+    scene.triangles.reserve(mesh.triangles.len() - dropped);
+    scene.triangles.extend(mesh.triangles.iter().zip(&degenerate).filter(|(_, d)| !**d).map(|(t, _)| corners(t)));
+    scene.triangle_object.resize(scene.triangles.len(), index);
     let count = scene.triangles.len() - first;
     scene.dropped_degenerate += dropped;
     if count == 0 {

@@ -24,7 +24,8 @@ use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
 use obvhs::cwbvh::node::{CwBvhNode, extract_byte64};
 use obvhs::faststack::{FastStack, HeapStack};
 use obvhs::ploc::PlocBuilder;
-use obvhs::triangle::Triangle;
+use obvhs::{Boundable, aabb::Aabb};
+use rayon::prelude::*;
 
 /// The BVH of a scene with its triangles in traversal order.
 pub struct SceneBvh {
@@ -68,24 +69,10 @@ impl SceneBvh {
                 depth: 0,
             };
         }
-        let obvhs_tris: Vec<Triangle> =
-            tris.iter().map(|t| Triangle { v0: t[0].into(), v1: t[1].into(), v2: t[2].into() }).collect();
-        // obvhs's `build_cwbvh_from_tris` without its debug validation, which panics on trees
-        // deeper than its traversal stack (ours is sized to the tree). No spatial splits, so
-        // every triangle is referenced once and the reordering below is a permutation.
-        let params = BvhBuildParams::medium_build();
-        let mut bvh2 = PlocBuilder::with_capacity(obvhs_tris.len()).build(
-            params.ploc_search_distance,
-            &obvhs_tris,
-            (0..obvhs_tris.len() as u32).collect(),
-            params.sort_precision,
-            params.search_depth_threshold,
-        );
-        ReinsertionOptimizer::default().run(&mut bvh2, params.reinsertion_batch_ratio, None);
-        let bvh = bvh2_to_cwbvh(&bvh2, params.max_prims_per_leaf.clamp(1, 3), true, false);
+        let bvh = build_cwbvh(tris);
         let scene_ids = bvh.primitive_indices.clone();
         let triangles = scene_ids
-            .iter()
+            .par_iter()
             .map(|&i| {
                 let t = &tris[i as usize];
                 [t[0].into(), t[1].into(), t[2].into()]
@@ -313,6 +300,45 @@ impl NodeRay {
             moves: (Vec3A::ONE / direction).is_finite_mask().into(),
         }
     }
+}
+
+/// A scene triangle as obvhs bounds it: the builder reads the scene's own triangles, with no
+/// copy of them.
+#[derive(bytemuck::TransparentWrapper)]
+#[repr(transparent)]
+struct BoundedTriangle([Vec3; 3]);
+
+impl Boundable for BoundedTriangle {
+    #[inline]
+    fn aabb(&self) -> Aabb {
+        let [a, b, c] = self.0.map(Vec3A::from);
+        Aabb::new(a.min(b).min(c), a.max(b).max(c))
+    }
+}
+
+/// obvhs's `build_cwbvh_from_tris` without its debug validation, which panics on trees deeper
+/// than its traversal stack (ours is sized to the tree), built from the scene's triangles in
+/// place, and freeing each intermediate as soon as it is no longer read: the PLOC builder
+/// after the build, the parent links before the conversion, the binary tree after it. No
+/// spatial splits, so every triangle is referenced once and the reordering in
+/// `build_from_triangles` is a permutation. PLOC and reinsertion run on rayon's threads
+/// (obvhs's `parallel` feature); the tree's shape never changes a result (the closest hit breaks
+/// ties by scene id).
+fn build_cwbvh(tris: &[[Vec3; 3]]) -> CwBvh {
+    use bytemuck::TransparentWrapper;
+    let params = BvhBuildParams::medium_build();
+    let bounded = BoundedTriangle::wrap_slice(tris);
+    let mut bvh2 = PlocBuilder::with_capacity(tris.len()).build(
+        params.ploc_search_distance,
+        bounded,
+        (0..tris.len() as u32).collect(),
+        params.sort_precision,
+        params.search_depth_threshold,
+    );
+    ReinsertionOptimizer::default().run(&mut bvh2, params.reinsertion_batch_ratio, None);
+    bvh2.parents = Vec::new();
+    bvh2.primitives_to_nodes = Vec::new();
+    bvh2_to_cwbvh(&bvh2, params.max_prims_per_leaf.clamp(1, 3), true, false)
 }
 
 /// Depth of a CWBVH in nodes, by walking it.
