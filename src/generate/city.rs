@@ -110,7 +110,8 @@ fn lattice_box(b: &Building, n: [u32; 3]) -> IndexedMesh {
     let extent = b.max - b.min;
     let mut vertex = |mesh: &mut IndexedMesh, p: [u32; 3]| -> u32 {
         *index.entry(p).or_insert_with(|| {
-            let t = DVec3::new(p[0] as f64 / n[0] as f64, p[1] as f64 / n[1] as f64, p[2] as f64 / n[2] as f64);
+            let t =
+                DVec3::new(p[0] as f64 / n[0] as f64, p[1] as f64 / n[1] as f64, p[2] as f64 / n[2] as f64);
             mesh.positions.push(b.min + extent * t);
             mesh.positions.len() as u32 - 1
         })
@@ -131,7 +132,8 @@ fn lattice_box(b: &Building, n: [u32; 3]) -> IndexedMesh {
                         p[v] = j + dj;
                         p
                     };
-                    let q = [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)].map(|p| vertex(&mut mesh, p));
+                    let q = [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)]
+                        .map(|p| vertex(&mut mesh, p));
                     mesh.triangles.push([q[0], q[1], q[2]]);
                     mesh.triangles.push([q[0], q[2], q[3]]);
                 }

@@ -15,7 +15,8 @@ pub(crate) fn parse_triangle_count(text: &str) -> Result<u64, String> {
         Some((i, 'm' | 'M')) => (&trimmed[..i], 1e6),
         _ => (trimmed, 1.0),
     };
-    let value: f64 = number.parse().map_err(|_| format!("'{text}' is not a count such as 500000, 250K or 10M"))?;
+    let value: f64 =
+        number.parse().map_err(|_| format!("'{text}' is not a count such as 500000, 250K or 10M"))?;
     let count = (value * scale).round();
     if !count.is_finite() || count < MIN_TRIANGLES as f64 || count > MAX_TRIANGLES as f64 {
         return Err(format!("'{text}': the count must be between {MIN_TRIANGLES} and {MAX_TRIANGLES}"));

@@ -64,7 +64,8 @@ fn add_tree(mesh: &mut IndexedMesh, terrain: &Terrain, at: DVec3, rng: &mut Spli
     let r = trunk_radius;
     let ground = terrain.lowest_under(at.x - r, at.x + r, at.z - r, at.z + r);
     let base = ground - 0.3;
-    let trunk = Shape::Cylinder { radius: trunk_radius, height: height + 0.3, segments: TRUNK_SEGMENTS }.mesh();
+    let trunk =
+        Shape::Cylinder { radius: trunk_radius, height: height + 0.3, segments: TRUNK_SEGMENTS }.mesh();
     append_mesh(mesh, &moved(&trunk, DVec3::ONE, DVec3::new(at.x, base, at.z)));
     let crown_radius = rng.range([0.35, 0.6]) * SPACING_M;
     let crown_half_height = crown_radius * rng.range([1.0, 1.8]);

@@ -80,6 +80,8 @@ pub(crate) fn generate(options: &GenerateOptions) -> GeneratedScene {
 pub(crate) fn write_generated(dir: &Path, options: &GenerateOptions) -> std::io::Result<(PathBuf, u64)> {
     std::fs::create_dir_all(dir)?;
     let scene = generate(options);
+    let off = scene.triangle_count().abs_diff(options.triangles) as f64 / options.triangles as f64;
+    debug_assert!(options.triangles < MIN_COUNT_FOR_TOLERANCE || off <= COUNT_TOLERANCE, "{off}");
     let mut files = Vec::new();
     for object in &scene.objects {
         files.push(mesh_file::write_mesh(dir, object.name, &object.mesh)?);

@@ -45,8 +45,11 @@ impl Terrain {
         let mut h = 0.0;
         for octave in 0..OCTAVES {
             let scale = (1u32 << octave) as f64;
-            h += value_noise(self.seed.wrapping_add(octave as u64), x * self.features * scale, z * self.features * scale)
-                / scale;
+            h += value_noise(
+                self.seed.wrapping_add(octave as u64),
+                x * self.features * scale,
+                z * self.features * scale,
+            ) / scale;
         }
         h * self.relief_m
     }
@@ -94,7 +97,9 @@ fn value_noise(seed: u64, x: f64, z: f64) -> f64 {
     let (xi, zi) = (x.floor(), z.floor());
     let (fx, fz) = (x - xi, z - zi);
     let lattice = |i: f64, j: f64| {
-        let key = seed ^ (i as i64 as u64).wrapping_mul(0x9E37_79B9) ^ (j as i64 as u64).wrapping_mul(0x85EB_CA6B) << 32;
+        let key = seed
+            ^ (i as i64 as u64).wrapping_mul(0x9E37_79B9)
+            ^ (j as i64 as u64).wrapping_mul(0x85EB_CA6B) << 32;
         2.0 * unit_f64(mix64(key)) - 1.0
     };
     let s = |t: f64| t * t * (3.0 - 2.0 * t);

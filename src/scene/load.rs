@@ -178,7 +178,9 @@ fn add_object(scene: &mut Scene, object: &ObjectDesc, mesh: &IndexedMesh, proble
     let degenerate: Vec<bool> = mesh.triangles.par_iter().map(|t| is_degenerate(&corners(t))).collect();
     let dropped = degenerate.iter().filter(|&&d| d).count();
     scene.triangles.reserve(mesh.triangles.len() - dropped);
-    scene.triangles.extend(mesh.triangles.iter().zip(&degenerate).filter(|(_, d)| !**d).map(|(t, _)| corners(t)));
+    scene
+        .triangles
+        .extend(mesh.triangles.iter().zip(&degenerate).filter(|(_, d)| !**d).map(|(t, _)| corners(t)));
     scene.triangle_object.resize(scene.triangles.len(), index);
     let count = scene.triangles.len() - first;
     scene.dropped_degenerate += dropped;

@@ -123,8 +123,10 @@ fn decode(bytes: &[u8], name: &[u8], key: SourceKey) -> Option<IndexedMesh> {
         .par_chunks_exact(VERTEX_BYTES)
         .map(|b| DVec3::new(f32_at(b, 0) as f64, f32_at(b, 1) as f64, f32_at(b, 2) as f64))
         .collect();
-    let triangles: Vec<[u32; 3]> =
-        bytes[positions_end..].par_chunks_exact(TRIANGLE_BYTES).map(|b| [0, 1, 2].map(|k| u32_at(b, k))).collect();
+    let triangles: Vec<[u32; 3]> = bytes[positions_end..]
+        .par_chunks_exact(TRIANGLE_BYTES)
+        .map(|b| [0, 1, 2].map(|k| u32_at(b, k)))
+        .collect();
     let in_range = |t: &[u32; 3]| t.iter().all(|&i| (i as usize) < vertices);
     let sound = positions.par_iter().all(|p| p.is_finite()) && triangles.par_iter().all(in_range);
     sound.then_some(IndexedMesh { positions, triangles })
