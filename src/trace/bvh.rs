@@ -323,7 +323,9 @@ impl Boundable for BoundedTriangle {
 /// spatial splits, so every triangle is referenced once and the reordering in
 /// `build_from_triangles` is a permutation. PLOC and reinsertion run on rayon's threads
 /// (obvhs's `parallel` feature); the tree's shape never changes a result (the closest hit breaks
-/// ties by scene id).
+/// ties by scene id). Reinsertion keeps obvhs's medium ratio: on a generated 10M-triangle city it
+/// is a third of the build, but without it (or at 0.02) primary rays were up to 15 % slower
+/// (docs/scale.md).
 fn build_cwbvh(tris: &[[Vec3; 3]]) -> CwBvh {
     use bytemuck::TransparentWrapper;
     let params = BvhBuildParams::medium_build();
