@@ -124,6 +124,39 @@ enum Command {
     /// light, 3 evaluated), row 0 at the top. scene.glb: one mesh per object in world space,
     /// every camera and every light (KHR_lights_punctual).
     ViewExport(ViewExportArgs),
+    /// Generate a procedural scene of a given size into DIR: DIR/scene.json and one mesh file
+    /// per object, the same bytes for the same arguments.
+    ///
+    /// `city`: a gentle terrain and closed buildings of varied heights (low houses to towers),
+    /// one per lot of a square grid, their walls tessellated to reach the size. `forest`: a
+    /// hilly terrain and closed trees (trunk and ellipsoid crown) on a jittered grid. About 40 %
+    /// of the triangles are terrain. The count is met within 2 % from 20K triangles up. Each
+    /// scene has a camera `main` over the ground from one corner, a low directional `sun` and a
+    /// spot light `lamp` above the centre, both casting long shadows into the view.
+    Generate(GenerateArgs),
+}
+
+#[derive(Args)]
+struct GenerateArgs {
+    /// city or forest.
+    #[arg(value_enum)]
+    kind: crate::generate::SceneKind,
+    /// Triangles to generate: a count such as 500000, 250K or 10M (1000 to 16.7M).
+    #[arg(long, value_parser = crate::generate::parse_triangle_count)]
+    triangles: u64,
+    /// Seed of the terrain and of the casters' placement and sizes.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// The camera's image width and height in pixels.
+    #[arg(long, value_delimiter = ',', value_name = "W,H", default_value = "1920,1080",
+          value_parser = clap::value_parser!(u32).range(1..=16384))]
+    image: Vec<u32>,
+    /// Output folder (created if missing); files of the same names in it are replaced.
+    #[arg(short, long, value_name = "DIR")]
+    out: PathBuf,
+    /// Worker threads for writing the meshes (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
 }
 
 #[derive(Args)]
@@ -262,6 +295,10 @@ struct RunArgs {
     /// No progress bar and no table.
     #[arg(short, long)]
     quiet: bool,
+    /// Print how long each stage took (loading, BVH build, G-buffer, references, each group's
+    /// layers and shading) to stderr, as it ends.
+    #[arg(long)]
+    timing: bool,
     /// Skip the PNG figures (the report, CSV, plots and page are still written).
     #[arg(long)]
     no_figures: bool,
@@ -458,6 +495,7 @@ fn run(cli: Cli) -> Result<u8> {
         Command::Gate(a) => gate(a),
         Command::Papers(a) => papers(a),
         Command::ViewExport(a) => view_export(a),
+        Command::Generate(a) => generate(a),
         Command::Island(a) => {
             crate::papers::write_island(&a.out, a.seed)
                 .with_context(|| format!("writing the island into {}", a.out.display()))?;
@@ -526,10 +564,42 @@ fn expand_scenes(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
 }
 
 /// The runs progress bar (hidden when `quiet`), as a sink of the plan's events: its length grows
-/// with every plan (the papers suite runs several).
-struct Progress(ProgressBar);
+/// with every plan (the papers suite runs several). With `timing` it also prints each stage's
+/// wall-clock time.
+struct Progress(ProgressBar, Option<StageClock>);
+
+/// The stage under way and when it (or, before the first, the run) started.
+struct StageClock {
+    stage: String,
+    started: Instant,
+}
+
+impl StageClock {
+    fn new() -> Self {
+        StageClock { stage: "loading and checking the scenes".into(), started: Instant::now() }
+    }
+
+    /// Prints the stage that ends and starts `next`.
+    fn next(&mut self, bar: &ProgressBar, next: &str) {
+        bar.suspend(|| eprintln!("{:>9.3} s  {}", self.started.elapsed().as_secs_f64(), self.stage));
+        *self = StageClock { stage: next.to_string(), started: Instant::now() };
+    }
+}
 
 impl Progress {
+    fn timed(quiet: bool, timing: bool) -> Self {
+        let mut progress = Progress::new(quiet);
+        progress.1 = timing.then(StageClock::new);
+        progress
+    }
+
+    /// Prints the last stage's time, if timed.
+    fn finish_timing(&mut self, next: &str) {
+        if let Some(clock) = &mut self.1 {
+            clock.next(&self.0, next);
+        }
+    }
+
     fn new(quiet: bool) -> Self {
         let bar = if quiet { ProgressBar::hidden() } else { ProgressBar::new(0) };
         bar.set_style(
@@ -537,7 +607,7 @@ impl Progress {
                 .expect("valid template")
                 .progress_chars("=> "),
         );
-        Progress(bar)
+        Progress(bar, None)
     }
 }
 
@@ -545,7 +615,10 @@ impl Sink for Progress {
     fn on_event(&mut self, event: &Event) -> Result<(), PlanError> {
         match event {
             Event::Planned { runs, .. } => self.0.inc_length(*runs as u64),
-            Event::Stage(s) => self.0.set_message(s.to_string()),
+            Event::Stage(s) => {
+                self.finish_timing(s);
+                self.0.set_message(s.to_string())
+            }
             Event::RunDone { .. } => self.0.inc(1),
             _ => {}
         }
@@ -643,7 +716,8 @@ fn run_plan(a: RunArgs) -> Result<u8> {
     }
     let cache = (!a.no_cache).then(|| crate::trace::ReferenceCache::new(&a.references));
     let (writer, portion) = open_run_folder(&a, &plan)?;
-    finish_plan_report(&plan, writer, &portion, cache.as_ref(), a.quiet)?;
+    let progress = Progress::timed(a.quiet, a.timing);
+    finish_plan_report(&plan, writer, &portion, cache.as_ref(), a.quiet, progress)?;
     Ok(0)
 }
 
@@ -680,32 +754,38 @@ fn write_plan_report(
     out: &Path,
     cache: Option<&crate::trace::ReferenceCache>,
     quiet: bool,
+    timing: bool,
 ) -> Result<()> {
     let writer = ReportWriter::create(out).with_context(|| format!("opening {}", out.display()))?;
-    finish_plan_report(plan, writer, &Portion::default(), cache, quiet)
+    finish_plan_report(plan, writer, &Portion::default(), cache, quiet, Progress::timed(quiet, timing))
 }
 
-/// Runs the `portion` of `plan` through `writer` and the figures, then writes the CSV, plots and
-/// page of the whole report, and prints the table and summary unless `quiet`.
+/// Runs the `portion` of `plan` through `writer`, the figures and `progress`, then writes the
+/// CSV, plots and page of the whole report, and prints the table and summary unless `quiet`.
 fn finish_plan_report(
     plan: &Plan,
     mut writer: ReportWriter,
     portion: &Portion,
     cache: Option<&crate::trace::ReferenceCache>,
     quiet: bool,
+    mut progress: Progress,
 ) -> Result<()> {
     let out = writer.dir().to_path_buf();
     let runs_before = writer.report().runs.len();
     let started = Instant::now();
-    let mut progress = Progress::new(quiet);
     let mut figures = plan.figures.then(|| FigureSink::new(&out.join("figures"), plan.zoom));
     execute_portion(plan, cache, &mut sinks(&mut writer, figures.as_mut(), &mut progress), portion)?;
+    progress.finish_timing("figures, plots and index.html");
     let figures_ms = figures.as_ref().map_or(0.0, FigureSink::spent_ms);
     let bar = progress.0;
     let outputs_started = Instant::now();
     bar.set_message("figures, plots and index.html");
     write_report_outputs(&out, writer.report()).with_context(|| format!("writing into {}", out.display()))?;
     bar.finish_and_clear();
+    progress.1 = progress.1.take().map(|mut clock| {
+        clock.next(&bar, "");
+        clock
+    });
     // What the figures, plots, CSV and page cost beside the runs themselves.
     let outputs_s = (figures_ms / 1e3) + outputs_started.elapsed().as_secs_f64();
     let total_s = started.elapsed().as_secs_f64();
@@ -991,6 +1071,24 @@ fn depth_map(a: DepthMapArgs) -> Result<u8> {
         serde_json::json!({ "index": a.layer, "format": format.name(), "cull": a.cull, "light": light.name });
     crate::report::write_depth_map(&a.out, &layer, &view, description)
         .with_context(|| format!("writing {}", a.out.display()))?;
+    Ok(0)
+}
+
+fn generate(a: GenerateArgs) -> Result<u8> {
+    set_threads(a.threads)?;
+    let [width_px, height_px] = a.image[..] else {
+        bail!("--image takes the width and height: W,H");
+    };
+    let options = crate::generate::GenerateOptions {
+        kind: a.kind,
+        triangles: a.triangles,
+        seed: a.seed,
+        width_px,
+        height_px,
+    };
+    let (path, triangles) = crate::generate::write_generated(&a.out, &options)
+        .with_context(|| format!("writing the scene into {}", a.out.display()))?;
+    println!("{} ({triangles} triangles)", path.display());
     Ok(0)
 }
 

@@ -45,6 +45,7 @@ pub mod gpu_pipeline {
     //! (tests/gpu_pipeline.rs). Not a stable API.
     pub use crate::gpu::*;
 }
+pub(crate) mod generate;
 pub(crate) mod gpu;
 pub mod import;
 pub(crate) mod json_input;

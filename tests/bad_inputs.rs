@@ -25,7 +25,7 @@ struct Case {
 }
 
 /// Every command the binary has; each must have bad-input cases.
-const COMMANDS: [&str; 12] = [
+const COMMANDS: [&str; 13] = [
     "run",
     "reference",
     "verify",
@@ -35,6 +35,7 @@ const COMMANDS: [&str; 12] = [
     "gate",
     "papers",
     "island",
+    "generate",
     "view-export",
     "score",
     "merge",

@@ -119,7 +119,7 @@ pub(super) fn score(a: ScoreArgs) -> Result<u8> {
         pipeline: crate::plan::Pipeline::Cpu,
     };
     let cache = (!a.no_cache).then(|| crate::trace::ReferenceCache::new(&a.references));
-    write_plan_report(&plan, &a.out, cache.as_ref(), a.quiet)?;
+    write_plan_report(&plan, &a.out, cache.as_ref(), a.quiet, false)?;
     Ok(0)
 }
 

@@ -201,8 +201,9 @@ impl Schedule<'_, '_, '_> {
         camera: &Camera,
         light: &Light,
     ) -> Result<(), PlanError> {
-        self.stage(&format!("{}/{}/{}: reference", scene.name, camera.name, light.name))?;
+        self.stage(&format!("{}/{}/{}: G-buffer", scene.name, camera.name, light.name))?;
         let gbuffer = GBuffer::trace(scene, bvh, camera, light);
+        self.stage(&format!("{}/{}/{}: reference", scene.name, camera.name, light.name))?;
         let references = ViewReferences::new(self.plan, self.cache, scene, bvh, &gbuffer, camera, light)?;
         let traced = TracedView { scene, camera, light, gbuffer: &gbuffer, references: &references };
         emit(self.sinks, &Event::ViewTraced(&traced))?;

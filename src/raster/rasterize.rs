@@ -240,79 +240,113 @@ fn rasterize_into<T, I, F, R>(
     if n == 0 {
         return;
     }
-    let chunks = setup_triangles(scene, view, settings);
-    let bands = bin_by_band(&chunks, n);
+    let bands = bin_by_band(scene, view, settings);
 
-    buffer.par_chunks_mut(BAND_ROWS as usize * n as usize).enumerate().for_each(|(band, texels)| {
-        let first_row = band as u32 * BAND_ROWS;
-        let last_row = first_row + (texels.len() / n as usize) as u32 - 1;
-        init(texels);
-        for &tri in &bands.triangles[bands.start[band]..bands.start[band + 1]] {
-            for row in tri.rows.0.max(first_row)..=tri.rows.1.min(last_row) {
-                let Some((lo, hi)) = tri.span(row) else {
-                    continue;
-                };
-                let z_row = tri.depth_row_start(row);
-                let line = &mut texels[(row - first_row) as usize * n as usize..][..n as usize];
-                // i32 → f32 column conversions vectorize; the arithmetic per texel is
-                // `z_row + dz_dx·(col + col_offset)` whatever the span or band.
-                for (col, texel) in (lo as i32..).zip(&mut line[lo as usize..=hi as usize]) {
-                    fragment(texel, z_row + tri.dz_dx * (col as f32 + tri.col_offset));
+    // Each band sets its triangles up again (the same arithmetic as any other band, so the split
+    // never changes a texel) instead of holding every set-up triangle of the scene at once: at
+    // 10M triangles those would take more memory than the scene.
+    buffer.par_chunks_mut(BAND_ROWS as usize * n as usize).enumerate().for_each_init(
+        Vec::new,
+        |setup, (band, texels)| {
+            let first_row = band as u32 * BAND_ROWS;
+            let last_row = first_row + (texels.len() / n as usize) as u32 - 1;
+            init(texels);
+            for &index in &bands.triangles[bands.start[band]..bands.start[band + 1]] {
+                setup.clear();
+                let index = index as usize;
+                let id = index as u32;
+                setup_triangle(&scene.triangle(id), scene.is_closed(id), view, settings, setup);
+                for tri in setup.iter() {
+                    for row in tri.rows.0.max(first_row)..=tri.rows.1.min(last_row) {
+                        let Some((lo, hi)) = tri.span(row) else {
+                            continue;
+                        };
+                        let z_row = tri.depth_row_start(row);
+                        let line = &mut texels[(row - first_row) as usize * n as usize..][..n as usize];
+                        // i32 → f32 column conversions vectorize; the arithmetic per texel is
+                        // `z_row + dz_dx·(col + col_offset)` whatever the span or band.
+                        for (col, texel) in (lo as i32..).zip(&mut line[lo as usize..=hi as usize]) {
+                            fragment(texel, z_row + tri.dz_dx * (col as f32 + tri.col_offset));
+                        }
+                    }
                 }
             }
-        }
-        finish(texels);
-    });
+            finish(texels);
+        },
+    );
 }
 
-/// Triangles per band of `BAND_ROWS` rows (CSR: band b owns `triangles[start[b]..start[b + 1]]`),
-/// in scene order.
-struct Bands<'a> {
+/// Scene triangles per band of `BAND_ROWS` rows (CSR: band b owns `triangles[start[b]..start[b + 1]]`),
+/// in scene order. A triangle may be listed in a band it turns out not to cover (the bands come
+/// from a cheap bound), never left out of one it covers.
+struct Bands {
     start: Vec<usize>,
-    triangles: Vec<&'a RasterTriangle>,
+    triangles: Vec<u32>,
 }
 
-fn bin_by_band(chunks: &[Vec<RasterTriangle>], resolution: u32) -> Bands<'_> {
-    let band_count = resolution.div_ceil(BAND_ROWS) as usize;
-    let bands_of = |t: &RasterTriangle| (t.rows.0 / BAND_ROWS) as usize..=(t.rows.1 / BAND_ROWS) as usize;
+fn bin_by_band(scene: &Scene, view: &LightView, settings: &RasterSettings) -> Bands {
+    let band_count = view.resolution.div_ceil(BAND_ROWS) as usize;
+    let count = scene.triangle_count() as u32;
+    let ranges: Vec<(u32, u32)> = (0..count.div_ceil(SETUP_CHUNK))
+        .into_par_iter()
+        .flat_map_iter(|chunk| {
+            let ids = chunk * SETUP_CHUNK..count.min((chunk + 1) * SETUP_CHUNK);
+            let mut scratch = Vec::new();
+            // A triangle that `triangles_in` skips (degenerate in world space) covers no band.
+            let mut ranges = vec![(0, 0); ids.len()];
+            for (id, tri) in scene.triangles_in(ids.clone()) {
+                ranges[(id - ids.start) as usize] = band_range(scene, id, &tri, view, settings, &mut scratch);
+            }
+            ranges
+        })
+        .collect();
     let mut start = vec![0usize; band_count + 1];
-    for t in chunks.iter().flatten() {
-        for b in bands_of(t) {
-            start[b + 1] += 1;
+    for &(lo, hi) in &ranges {
+        for b in lo..hi {
+            start[b as usize + 1] += 1;
         }
     }
     for b in 0..band_count {
         start[b + 1] += start[b];
     }
     let mut fill = start.clone();
-    let Some(any) = chunks.iter().flatten().next() else {
-        return Bands { start, triangles: Vec::new() };
-    };
-    let mut triangles = vec![any; start[band_count]]; // every slot is overwritten below
-    for t in chunks.iter().flatten() {
-        for b in bands_of(t) {
-            triangles[fill[b]] = t;
-            fill[b] += 1;
+    let mut triangles = vec![0u32; start[band_count]];
+    for (index, &(lo, hi)) in ranges.iter().enumerate() {
+        for b in lo..hi {
+            triangles[fill[b as usize]] = index as u32;
+            fill[b as usize] += 1;
         }
     }
     Bands { start, triangles }
 }
 
-/// Projects, clips, culls and sets up every scene triangle, in scene order (parallel over
-/// fixed chunks of the scene, kept in order: deterministic).
-fn setup_triangles(scene: &Scene, view: &LightView, settings: &RasterSettings) -> Vec<Vec<RasterTriangle>> {
-    let count = scene.triangle_count() as u32;
-    (0..count.div_ceil(SETUP_CHUNK))
-        .into_par_iter()
-        .map(|chunk| {
-            let ids = chunk * SETUP_CHUNK..count.min((chunk + 1) * SETUP_CHUNK);
-            let mut out = Vec::with_capacity(ids.len());
-            for (id, tri) in scene.triangles_in(ids) {
-                setup_triangle(&tri, scene.is_closed(id), view, settings, &mut out);
-            }
-            out
-        })
-        .collect()
+/// The bands [lo, hi) that triangle `id` may cover. Without clipping behind the eye (every
+/// w > 0) the rows come from its snapped vertices, widened by a row each way for the rounding of
+/// clipped vertices (clipping only shrinks the triangle); otherwise from its full set-up.
+fn band_range(
+    scene: &Scene,
+    id: u32,
+    tri: &[glam::Vec3; 3],
+    view: &LightView,
+    settings: &RasterSettings,
+    scratch: &mut Vec<RasterTriangle>,
+) -> (u32, u32) {
+    let clip = tri.map(|p| view.clip_from_world * p.extend(1.0));
+    if !clip.iter().all(|c| c.is_finite()) {
+        return (0, 0);
+    }
+    let rows = if clip.iter().all(|c| c.w > 0.0) {
+        let n = view.resolution as f32;
+        let ys = clip.map(|c| snap((1.0 - (0.5 * c.y * (1.0 / c.w) + 0.5)) * n));
+        let lo = ys.iter().min().expect("three") - SUBTEXEL;
+        let hi = ys.iter().max().expect("three") + SUBTEXEL;
+        centre_range(&[lo, hi], view.resolution).map(|(a, b)| (a as u32, b as u32))
+    } else {
+        scratch.clear();
+        setup_triangle(tri, scene.is_closed(id), view, settings, scratch);
+        scratch.iter().map(|t| t.rows).reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
+    };
+    rows.map_or((0, 0), |(first, last)| (first / BAND_ROWS, last / BAND_ROWS + 1))
 }
 
 /// Guard band (in units of w) keeping raster coordinates within ±2^20 texels, so that the

@@ -9,6 +9,7 @@ mod instance;
 mod light;
 mod load;
 mod load_gltf;
+mod mesh_cache;
 mod obj;
 mod placement;
 mod shapes;
@@ -22,6 +23,7 @@ pub use instance::{Instance, SharedMesh, box_corners, is_degenerate, world_verte
 pub use light::{Light, LightKind, LightSize, NoLightSize};
 pub(crate) use load::load_scene_str_within;
 pub use load::{load_scene, load_scene_str};
+pub use mesh_cache::{MESH_CACHE_DIR, MIN_CACHED_BYTES, mesh_cache_path};
 pub(crate) use obj::parse_obj;
 pub use shapes::{IndexedMesh, Shape};
 pub use transform::Transform;

@@ -1,6 +1,7 @@
 //! Wavefront OBJ meshes (positions only), read with `tobj`. All the models of one file form one
 //! mesh.
 
+use super::mesh_cache::{SourceKey, read_cached, write_cached};
 use super::shapes::IndexedMesh;
 use glam::DVec3;
 use std::io::Cursor;
@@ -9,10 +10,21 @@ use std::path::Path;
 /// How many bad vertices are listed before the rest are only counted.
 const MAX_LISTED: usize = 5;
 
-/// Reads the OBJ file at `path`. Errors are messages that name the file.
+/// Reads the OBJ file at `path`, from its binary cache when that is intact and up to date
+/// (mesh_cache.rs), else by parsing it (and caching a large one). Errors are messages that
+/// name the file.
 pub(crate) fn read_obj(path: &Path) -> Result<IndexedMesh, Vec<String>> {
+    let key = SourceKey::of(path);
+    if let Some(mesh) = key.and_then(|k| read_cached(path, k)) {
+        return Ok(mesh);
+    }
     let bytes = std::fs::read(path).map_err(|e| vec![format!("cannot read mesh {}: {e}", path.display())])?;
-    parse_obj(&bytes, &path.display().to_string())
+    let mesh = parse_obj(&bytes, &path.display().to_string())?;
+    // The key read before the text: an OBJ rewritten meanwhile gets a cache that never matches.
+    if let Some(k) = key {
+        write_cached(path, k, &mesh);
+    }
+    Ok(mesh)
 }
 
 /// Parses OBJ text held in memory; `shown` names the mesh in errors. `read_obj` reads through

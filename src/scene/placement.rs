@@ -8,6 +8,7 @@ use super::shapes::IndexedMesh;
 use super::{Object, Scene, Transform};
 use crate::json_input::Problems;
 use glam::{DAffine3, DVec3, Vec3};
+use rayon::prelude::*;
 
 /// One placement of a mesh: its world transform and the object it becomes.
 #[derive(Clone, Debug, PartialEq)]
@@ -70,25 +71,25 @@ pub(crate) fn add_mesh_placements(
 /// flips the triangles (closed objects stay counter-clockwise from outside); zero-area
 /// triangles are dropped and counted.
 fn flatten(scene: &mut Scene, mesh: &IndexedMesh, placement: &Placement, problems: &mut Problems) {
+    // Per vertex and per triangle in parallel (rayon), appended in mesh order.
     let world: Vec<Vec3> =
-        mesh.positions.iter().map(|&p| world_vertex(&placement.world_from_mesh, p)).collect();
-    if world.iter().any(|v| !v.is_finite()) {
+        mesh.positions.par_iter().map(|&p| world_vertex(&placement.world_from_mesh, p)).collect();
+    if world.par_iter().any(|v| !v.is_finite()) {
         problems.report(&placement.path, "a vertex leaves the f32 range after the transform");
         return;
     }
     let first = scene.flat_triangles.len();
     let index = scene.objects.len() as u32;
-    let mut dropped = 0;
-    for &[a, b, c] in &mesh.triangles {
+    let corners = |&[a, b, c]: &[u32; 3]| {
         let (a, b, c) = (world[a as usize], world[b as usize], world[c as usize]);
-        let tri = if placement.mirrored { [a, c, b] } else { [a, b, c] };
-        if is_degenerate(&tri) {
-            dropped += 1;
-        } else {
-            scene.flat_triangles.push(tri);
-            scene.flat_triangle_object.push(index);
-        }
-    }
+        if placement.mirrored { [a, c, b] } else { [a, b, c] }
+    };
+    let degenerate: Vec<bool> = mesh.triangles.par_iter().map(|t| is_degenerate(&corners(t))).collect();
+    let dropped = degenerate.iter().filter(|&&d| d).count();
+    scene.flat_triangles.reserve(mesh.triangles.len() - dropped);
+    let kept = mesh.triangles.iter().zip(&degenerate).filter(|(_, d)| !**d).map(|(t, _)| corners(t));
+    scene.flat_triangles.extend(kept);
+    scene.flat_triangle_object.resize(scene.flat_triangles.len(), index);
     let count = scene.flat_triangles.len() - first;
     scene.dropped_degenerate += dropped;
     if count == 0 {
