@@ -20,7 +20,7 @@ use std::path::Path;
 ///
 /// ```
 /// let scene = shadowtruth::load_scene(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/plane_box.json"))?;
-/// assert!(!scene.triangles.is_empty());
+/// assert!(scene.triangle_count() > 0);
 /// assert_eq!(scene.cameras[0].name, "main");
 ///
 /// let missing = shadowtruth::load_scene("no/such/scene.json").unwrap_err();

@@ -141,7 +141,8 @@ struct GenerateArgs {
     /// city or forest.
     #[arg(value_enum)]
     kind: crate::generate::SceneKind,
-    /// Triangles to generate: a count such as 500000, 250K or 10M (1000 to 16.7M).
+    /// Triangles to generate: a count such as 500000, 250K or 10M (1000 to 16.7M; up to 2147M
+    /// with --instanced).
     #[arg(long, value_parser = crate::generate::parse_triangle_count)]
     triangles: u64,
     /// Seed of the terrain and of the casters' placement and sizes.
@@ -154,6 +155,10 @@ struct GenerateArgs {
     /// Output folder (created if missing); files of the same names in it are replaced.
     #[arg(short, long, value_name = "DIR")]
     out: PathBuf,
+    /// forest only: one finely tessellated tree placed at every tree by `instances`, stored
+    /// once and traced through a two-level BVH (memory of one tree, however many are placed).
+    #[arg(long)]
+    instanced: bool,
     /// Worker threads for writing the meshes (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -1079,12 +1084,23 @@ fn generate(a: GenerateArgs) -> Result<u8> {
     let [width_px, height_px] = a.image[..] else {
         bail!("--image takes the width and height: W,H");
     };
+    if a.instanced && a.kind != crate::generate::SceneKind::Forest {
+        bail!("--instanced makes a forest of one tree: give `forest`");
+    }
+    if !a.instanced && a.triangles > crate::generate::MAX_HELD_TRIANGLES {
+        bail!(
+            "--triangles {}: a scene holds at most {} triangles; --instanced (forest) places more",
+            a.triangles,
+            crate::generate::MAX_HELD_TRIANGLES
+        );
+    }
     let options = crate::generate::GenerateOptions {
         kind: a.kind,
         triangles: a.triangles,
         seed: a.seed,
         width_px,
         height_px,
+        instanced: a.instanced,
     };
     let (path, triangles) = crate::generate::write_generated(&a.out, &options)
         .with_context(|| format!("writing the scene into {}", a.out.display()))?;

@@ -10,7 +10,7 @@ use shadowtruth::trace::{GBuffer, PixelClass, SceneBvh, trace_hard_reference};
 use std::path::Path;
 
 fn options(kind: SceneKind, triangles: u64, seed: u64) -> GenerateOptions {
-    GenerateOptions { kind, triangles, seed, width_px: 160, height_px: 120 }
+    GenerateOptions { kind, triangles, seed, width_px: 160, height_px: 120, instanced: false }
 }
 
 /// Every file of a scene folder (name, bytes), in name order.
@@ -83,6 +83,35 @@ fn generate_scenes_cast_shadows_into_the_view() {
                 "{kind:?}/{name}: {lit} lit, {shadowed} shadowed"
             );
         }
+    }
+}
+
+/// An instanced forest holds one tree and numbers every placement: its count is met, and its
+/// trees shadow the view under both lights.
+#[test]
+fn generate_instanced_forest_holds_one_tree_and_casts_shadows() {
+    let dir = tempfile::tempdir().unwrap();
+    let requested = 3_000_000;
+    let options = GenerateOptions { instanced: true, ..options(SceneKind::Forest, requested, 5) };
+    let (path, written) = write_generated(dir.path(), &options).unwrap();
+    let off = written.abs_diff(requested) as f64 / requested as f64;
+    assert!(off <= COUNT_TOLERANCE, "{written} triangles ({:.2} % off)", off * 100.0);
+    let scene = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.meshes.len(), 1);
+    assert!(scene.instances.len() > 100, "{} trees", scene.instances.len());
+    assert_eq!(scene.triangle_count() as u64, written);
+    let held = scene.flat_triangles.len() + scene.meshes[0].triangles.len();
+    assert!(held * 10 < written as usize, "{held} triangles held for {written}");
+    let bvh = SceneBvh::build(&scene);
+    for light in &scene.lights {
+        let gbuffer = GBuffer::trace(&scene, &bvh, &scene.cameras[0], light);
+        let reference = trace_hard_reference(&bvh, &gbuffer, light);
+        let lit = gbuffer.evaluated.iter().filter(|&&i| reference.lit[i as usize] != 0).count();
+        let shadowed = gbuffer.evaluated.len() - lit;
+        assert!(
+            lit * 20 > gbuffer.evaluated.len() && shadowed * 20 > gbuffer.evaluated.len(),
+            "{lit} lit, {shadowed} shadowed"
+        );
     }
 }
 

@@ -46,8 +46,8 @@ pub(super) fn generate_city(triangles: u64, seed: u64) -> GeneratedScene {
     let top_m = buildings.iter().map(|b| b.max.y).fold(0.0, f64::max);
     GeneratedScene {
         objects: vec![
-            GeneratedObject { name: "terrain", mesh: terrain.mesh(), closed: false },
-            GeneratedObject { name: "buildings", mesh, closed: true },
+            GeneratedObject { name: "terrain", mesh: terrain.mesh(), closed: false, instances: vec![] },
+            GeneratedObject { name: "buildings", mesh, closed: true, instances: vec![] },
         ],
         ground_size_m: size_m,
         top_m,

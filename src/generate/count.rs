@@ -3,9 +3,11 @@
 use super::MIN_TRIANGLES;
 use crate::scene::IndexedMesh;
 
-/// The most triangles a generated scene may have: what a scene may hold
-/// (src/scene/format.rs).
-const MAX_TRIANGLES: u64 = 1 << 24;
+/// The most triangles a generated scene may number: what a scene may place with its instances
+/// (src/scene/format.rs); without instancing it may hold no more than `MAX_HELD_TRIANGLES`.
+const MAX_TRIANGLES: u64 = 1 << 31;
+/// The most triangles a scene may hold (src/scene/format.rs).
+pub(crate) const MAX_HELD_TRIANGLES: u64 = 1 << 24;
 
 /// Parses a triangle count with an optional K or M suffix (decimals allowed with a suffix).
 pub(crate) fn parse_triangle_count(text: &str) -> Result<u64, String> {
@@ -42,7 +44,8 @@ mod tests {
         assert_eq!(parse_triangle_count("1.5M"), Ok(1_500_000));
         assert_eq!(parse_triangle_count("5000"), Ok(5000));
         assert!(parse_triangle_count("10G").is_err());
-        assert!(parse_triangle_count("17M").is_err());
+        assert_eq!(parse_triangle_count("100M"), Ok(100_000_000));
+        assert!(parse_triangle_count("2148M").is_err());
         assert!(parse_triangle_count("10").is_err());
     }
 }

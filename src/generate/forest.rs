@@ -5,7 +5,7 @@
 use super::count::append_mesh;
 use super::terrain::Terrain;
 use super::{GeneratedObject, GeneratedScene};
-use crate::scene::{IndexedMesh, Shape};
+use crate::scene::{IndexedMesh, Shape, Transform};
 use crate::trace::splitmix::SplitMix64;
 use glam::DVec3;
 
@@ -49,12 +49,79 @@ pub(super) fn generate_forest(triangles: u64, seed: u64) -> GeneratedScene {
     }
     GeneratedScene {
         objects: vec![
-            GeneratedObject { name: "terrain", mesh: terrain.mesh(), closed: false },
-            GeneratedObject { name: "trees", mesh, closed: true },
+            GeneratedObject { name: "terrain", mesh: terrain.mesh(), closed: false, instances: vec![] },
+            GeneratedObject { name: "trees", mesh, closed: true, instances: vec![] },
         ],
         ground_size_m: size_m,
         top_m,
     }
+}
+
+/// Terrain cells of an instanced forest: its trees take the triangles, the terrain a fixed
+/// 2·256² = 131 072.
+const INSTANCED_TERRAIN_CELLS: u32 = 256;
+/// Triangles of the one tree of an instanced forest: a thousandth of the request, within
+/// these bounds, so that a forest of 100M triangles has about a thousand trees.
+const INSTANCED_TREE_TRIANGLES: [u64; 2] = [2_000, 500_000];
+
+/// A forest of one tree mesh (trunk and crown, finely tessellated) placed at every tree with a
+/// random yaw and size: memory of one tree, `triangles` numbered.
+pub(super) fn generate_instanced_forest(triangles: u64, seed: u64) -> GeneratedScene {
+    let terrain_triangles = 2 * INSTANCED_TERRAIN_CELLS as u64 * INSTANCED_TERRAIN_CELLS as u64;
+    let tree = fine_tree((triangles / 1000).clamp(INSTANCED_TREE_TRIANGLES[0], INSTANCED_TREE_TRIANGLES[1]));
+    let trees = (triangles.saturating_sub(terrain_triangles) / tree.triangles.len() as u64).max(2);
+    let per_side = (trees as f64).sqrt().ceil() as u64;
+    let size_m = per_side as f64 * SPACING_M;
+    let terrain = Terrain {
+        cells: INSTANCED_TERRAIN_CELLS,
+        size_m,
+        relief_m: 0.06 * size_m,
+        features: 2.0,
+        seed: seed ^ TERRAIN_STREAM,
+    };
+    let mut rng = SplitMix64::new(seed ^ TREE_STREAM);
+    let mut instances = Vec::new();
+    let mut top_m: f64 = 0.0;
+    for k in 0..trees {
+        let (row, col) = (k / per_side, k % per_side);
+        let x = (col as f64 + rng.range([0.2, 0.8])) * SPACING_M - size_m / 2.0;
+        let z = (row as f64 + rng.range([0.2, 0.8])) * SPACING_M - size_m / 2.0;
+        let size = rng.range([0.7, 1.3]);
+        let ground = terrain.lowest_under(x - size, x + size, z - size, z + size) - 0.3;
+        top_m = top_m.max(ground + FINE_TREE_HEIGHT_M * size);
+        instances.push(Transform {
+            scale: glam::Vec3::splat(size as f32),
+            rotate_deg: glam::Vec3::new(0.0, rng.range([0.0, 360.0]) as f32, 0.0),
+            translate: glam::Vec3::new(x as f32, ground as f32, z as f32),
+        });
+    }
+    GeneratedScene {
+        objects: vec![
+            GeneratedObject { name: "terrain", mesh: terrain.mesh(), closed: false, instances: vec![] },
+            GeneratedObject { name: "tree", mesh: tree, closed: true, instances },
+        ],
+        ground_size_m: size_m,
+        top_m,
+    }
+}
+
+/// Height of the instanced forest's tree, its base at y = 0.
+const FINE_TREE_HEIGHT_M: f64 = 12.0;
+
+/// One tree of about `triangles` triangles: a trunk and an ellipsoid crown, their segment and
+/// ring counts grown until they reach it.
+fn fine_tree(triangles: u64) -> IndexedMesh {
+    let mut segments = CROWN_SEGMENTS;
+    let crown = |segments: u32| Shape::Sphere { radius: 1.0, segments, rings: segments / 2 };
+    while crown(segments).triangle_count() < triangles && segments < 4096 {
+        segments += 2;
+    }
+    let mut mesh = IndexedMesh::default();
+    let trunk = Shape::Cylinder { radius: 0.3, height: 8.0, segments: TRUNK_SEGMENTS }.mesh();
+    append_mesh(&mut mesh, &trunk);
+    let crown_centre = DVec3::new(0.0, 8.0, 0.0);
+    append_mesh(&mut mesh, &moved(&crown(segments).mesh(), DVec3::new(3.0, 4.0, 3.0), crown_centre));
+    mesh
 }
 
 /// Appends one tree standing at (x, z); returns the height of its crown's top.

@@ -10,9 +10,9 @@ mod mesh_file;
 mod scene_file;
 mod terrain;
 
-pub(crate) use count::parse_triangle_count;
+pub(crate) use count::{MAX_HELD_TRIANGLES, parse_triangle_count};
 
-use crate::scene::IndexedMesh;
+use crate::scene::{IndexedMesh, Transform};
 use std::path::{Path, PathBuf};
 
 /// The name of the scene file written into the output folder.
@@ -43,13 +43,17 @@ pub(crate) struct GenerateOptions {
     pub seed: u64,
     pub width_px: u32,
     pub height_px: u32,
+    /// A forest of one tree mesh placed at every tree by `instances` (src/scene/instance.rs).
+    pub instanced: bool,
 }
 
-/// One object of a generated scene: its name, mesh and whether it is a closed solid.
+/// One object of a generated scene: its name, mesh, whether it is a closed solid, and its
+/// placements when it is instanced (none: the mesh stands where it is).
 pub(crate) struct GeneratedObject {
     pub name: &'static str,
     pub mesh: IndexedMesh,
     pub closed: bool,
+    pub instances: Vec<Transform>,
 }
 
 /// A generated scene before it is written: objects, the side of the square ground in metres,
@@ -61,8 +65,9 @@ pub(crate) struct GeneratedScene {
 }
 
 impl GeneratedScene {
+    /// Triangles numbered: every placement of an instanced mesh counts.
     pub fn triangle_count(&self) -> u64 {
-        self.objects.iter().map(|o| o.mesh.triangles.len() as u64).sum()
+        self.objects.iter().map(|o| o.mesh.triangles.len() as u64 * o.instances.len().max(1) as u64).sum()
     }
 }
 
@@ -70,6 +75,9 @@ impl GeneratedScene {
 pub(crate) fn generate(options: &GenerateOptions) -> GeneratedScene {
     match options.kind {
         SceneKind::City => city::generate_city(options.triangles, options.seed),
+        SceneKind::Forest if options.instanced => {
+            forest::generate_instanced_forest(options.triangles, options.seed)
+        }
         SceneKind::Forest => forest::generate_forest(options.triangles, options.seed),
     }
 }

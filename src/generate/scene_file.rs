@@ -26,8 +26,10 @@ pub(super) fn scene_json(options: &GenerateOptions, scene: &GeneratedScene, file
         let comma = if k + 1 == files.len() { "" } else { "," };
         let _ = writeln!(
             out,
-            "    {{ \"name\": \"{}\", \"mesh\": \"{file}\", \"closed\": {} }}{comma}",
-            object.name, object.closed
+            "    {{ \"name\": \"{}\", \"mesh\": \"{file}\", \"closed\": {}{} }}{comma}",
+            object.name,
+            object.closed,
+            instances_json(&object.instances)
         );
     }
     let camera = DVec3::new(-0.55 * s, 0.3 * s + top, 0.55 * s);
@@ -55,6 +57,25 @@ pub(super) fn scene_json(options: &GenerateOptions, scene: &GeneratedScene, file
         v3(target - spot),
         number(reach.ceil())
     );
+    out
+}
+
+/// `, "instances": [...]` for an instanced object, one transform a line; nothing otherwise.
+fn instances_json(instances: &[crate::scene::Transform]) -> String {
+    let mut out = String::new();
+    for (k, t) in instances.iter().enumerate() {
+        let _ = write!(
+            out,
+            "{}\n      {{ \"scale\": {}, \"rotate_deg\": {}, \"translate\": {} }}",
+            if k == 0 { ", \"instances\": [" } else { "," },
+            v3(t.scale.as_dvec3()),
+            v3(t.rotate_deg.as_dvec3()),
+            v3(t.translate.as_dvec3())
+        );
+    }
+    if !instances.is_empty() {
+        out.push_str("\n    ]");
+    }
     out
 }
 
