@@ -180,8 +180,19 @@ impl Schedule<'_, '_, '_> {
             bvh_build_ms: sw.ms(),
         };
         emit(self.sinks, &Event::SceneBuilt(&record))?;
-        for (ci, li) in pairs {
-            self.view(scene, &bvh, &scene.cameras[ci], &scene.lights[li])?;
+        let mut bvh = Some(bvh);
+        let last = pairs.len() - 1;
+        for (k, (ci, li)) in pairs.into_iter().enumerate() {
+            let (camera, light) = (&scene.cameras[ci], &scene.lights[li]);
+            let (gbuffer, references) =
+                self.trace(scene, bvh.as_ref().expect("kept until the last view"), camera, light)?;
+            if k == last {
+                // The shadow maps trace no rays: at millions of triangles the tree is a third
+                // of the memory, given back before the maps take theirs (docs/scale.md).
+                bvh = None;
+            }
+            let traced = TracedView { scene, camera, light, gbuffer: &gbuffer, references: &references };
+            self.view(&traced)?;
         }
         Ok(())
     }
@@ -194,20 +205,26 @@ impl Schedule<'_, '_, '_> {
             .any(|&r| plan.depth_formats.iter().any(|f| self.portion.runs_map(key, r, f.name())))
     }
 
-    fn view(
+    /// The G-buffer of a view and the references its techniques are scored against.
+    fn trace(
         &mut self,
         scene: &Scene,
         bvh: &SceneBvh,
         camera: &Camera,
         light: &Light,
-    ) -> Result<(), PlanError> {
+    ) -> Result<(GBuffer, ViewReferences), PlanError> {
         self.stage(&format!("{}/{}/{}: G-buffer", scene.name, camera.name, light.name))?;
         let gbuffer = GBuffer::trace(scene, bvh, camera, light);
         self.stage(&format!("{}/{}/{}: reference", scene.name, camera.name, light.name))?;
         let references = ViewReferences::new(self.plan, self.cache, scene, bvh, &gbuffer, camera, light)?;
-        let traced = TracedView { scene, camera, light, gbuffer: &gbuffer, references: &references };
-        emit(self.sinks, &Event::ViewTraced(&traced))?;
-        let external = load_imported(self.plan, &traced)?;
+        Ok((gbuffer, references))
+    }
+
+    /// Every map of a traced view: its layers, techniques and imported runs.
+    fn view(&mut self, traced: &TracedView) -> Result<(), PlanError> {
+        let (scene, light) = (traced.scene, traced.light);
+        emit(self.sinks, &Event::ViewTraced(traced))?;
+        let external = load_imported(self.plan, traced)?;
         let bounds = scene.bounds();
         let key = traced.key();
         for &resolution in &self.plan.resolutions {
@@ -220,13 +237,13 @@ impl Schedule<'_, '_, '_> {
                 Some(map_file) => map_file.light_view(light).map_err(PlanError::Import)?,
                 None => LightView::new(light, bounds, resolution),
             };
-            let light_uv = LightUv::new(&gbuffer, &view);
-            let order = ShadeOrder::new(&gbuffer, &view);
+            let light_uv = LightUv::new(traced.gbuffer, &view);
+            let order = ShadeOrder::new(traced.gbuffer, &view);
             for format in formats {
                 let map = MapSetting { view: &view, light_uv: &light_uv, order: &order, resolution, format };
-                self.map(&traced, &map)?;
-                self.imported_runs(&traced, &map, &external)?;
-                emit(self.sinks, &Event::MapsDone { view: &traced, resolution, format })?;
+                self.map(traced, &map)?;
+                self.imported_runs(traced, &map, &external)?;
+                emit(self.sinks, &Event::MapsDone { view: traced, resolution, format })?;
             }
         }
         Ok(())
