@@ -28,22 +28,13 @@ pub(super) fn generate_forest(triangles: u64, seed: u64) -> GeneratedScene {
     let terrain_cells = Terrain::cells_for((triangles as f64 * TERRAIN_SHARE) as u64);
     let terrain_triangles = 2 * terrain_cells as u64 * terrain_cells as u64;
     let trees = (triangles.saturating_sub(terrain_triangles) / tree_triangles()).max(1);
-    let per_side = (trees as f64).sqrt().ceil() as u64;
-    let size_m = per_side as f64 * SPACING_M;
-    let terrain = Terrain {
-        cells: terrain_cells,
-        size_m,
-        relief_m: 0.06 * size_m,
-        features: 2.0,
-        seed: seed ^ TERRAIN_STREAM,
-    };
+    let grove = Grove::new(trees, terrain_cells, seed);
+    let (terrain, size_m) = (&grove.terrain, grove.size_m);
     let mut rng = SplitMix64::new(seed ^ TREE_STREAM);
     let mut mesh = IndexedMesh::default();
     let mut top_m: f64 = 0.0;
     for k in 0..trees {
-        let (row, col) = (k / per_side, k % per_side);
-        let x = (col as f64 + rng.range([0.2, 0.8])) * SPACING_M - size_m / 2.0;
-        let z = (row as f64 + rng.range([0.2, 0.8])) * SPACING_M - size_m / 2.0;
+        let (x, z) = grove.spot(k, &mut rng);
         let top = add_tree(&mut mesh, &terrain, DVec3::new(x, 0.0, z), &mut rng);
         top_m = top_m.max(top);
     }
@@ -70,22 +61,13 @@ pub(super) fn generate_instanced_forest(triangles: u64, seed: u64) -> GeneratedS
     let terrain_triangles = 2 * INSTANCED_TERRAIN_CELLS as u64 * INSTANCED_TERRAIN_CELLS as u64;
     let tree = fine_tree((triangles / 1000).clamp(INSTANCED_TREE_TRIANGLES[0], INSTANCED_TREE_TRIANGLES[1]));
     let trees = (triangles.saturating_sub(terrain_triangles) / tree.triangles.len() as u64).max(2);
-    let per_side = (trees as f64).sqrt().ceil() as u64;
-    let size_m = per_side as f64 * SPACING_M;
-    let terrain = Terrain {
-        cells: INSTANCED_TERRAIN_CELLS,
-        size_m,
-        relief_m: 0.06 * size_m,
-        features: 2.0,
-        seed: seed ^ TERRAIN_STREAM,
-    };
+    let grove = Grove::new(trees, INSTANCED_TERRAIN_CELLS, seed);
+    let (terrain, size_m) = (&grove.terrain, grove.size_m);
     let mut rng = SplitMix64::new(seed ^ TREE_STREAM);
     let mut instances = Vec::new();
     let mut top_m: f64 = 0.0;
     for k in 0..trees {
-        let (row, col) = (k / per_side, k % per_side);
-        let x = (col as f64 + rng.range([0.2, 0.8])) * SPACING_M - size_m / 2.0;
-        let z = (row as f64 + rng.range([0.2, 0.8])) * SPACING_M - size_m / 2.0;
+        let (x, z) = grove.spot(k, &mut rng);
         let size = rng.range([0.7, 1.3]);
         let ground = terrain.lowest_under(x - size, x + size, z - size, z + size) - 0.3;
         top_m = top_m.max(ground + FINE_TREE_HEIGHT_M * size);
@@ -122,6 +104,31 @@ fn fine_tree(triangles: u64) -> IndexedMesh {
     let crown_centre = DVec3::new(0.0, 8.0, 0.0);
     append_mesh(&mut mesh, &moved(&crown(segments).mesh(), DVec3::new(3.0, 4.0, 3.0), crown_centre));
     mesh
+}
+
+/// Trees on a jittered square grid `SPACING_M` apart over a hilly terrain of `cells` cells.
+struct Grove {
+    per_side: u64,
+    size_m: f64,
+    terrain: Terrain,
+}
+
+impl Grove {
+    fn new(trees: u64, cells: u32, seed: u64) -> Self {
+        let per_side = (trees as f64).sqrt().ceil() as u64;
+        let size_m = per_side as f64 * SPACING_M;
+        let terrain =
+            Terrain { cells, size_m, relief_m: 0.06 * size_m, features: 2.0, seed: seed ^ TERRAIN_STREAM };
+        Grove { per_side, size_m, terrain }
+    }
+
+    /// Where tree `k` stands (x, z): jittered within its grid cell by two draws from `rng`.
+    fn spot(&self, k: u64, rng: &mut SplitMix64) -> (f64, f64) {
+        let (row, col) = (k / self.per_side, k % self.per_side);
+        let x = (col as f64 + rng.range([0.2, 0.8])) * SPACING_M - self.size_m / 2.0;
+        let z = (row as f64 + rng.range([0.2, 0.8])) * SPACING_M - self.size_m / 2.0;
+        (x, z)
+    }
 }
 
 /// Appends one tree standing at (x, z); returns the height of its crown's top.
