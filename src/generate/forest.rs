@@ -35,7 +35,7 @@ pub(super) fn generate_forest(triangles: u64, seed: u64) -> GeneratedScene {
     let mut top_m: f64 = 0.0;
     for k in 0..trees {
         let (x, z) = grove.spot(k, &mut rng);
-        let top = add_tree(&mut mesh, &terrain, DVec3::new(x, 0.0, z), &mut rng);
+        let top = add_tree(&mut mesh, terrain, DVec3::new(x, 0.0, z), &mut rng);
         top_m = top_m.max(top);
     }
     GeneratedScene {
