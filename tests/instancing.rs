@@ -142,8 +142,8 @@ fn instancing_gives_the_flattened_scenes_shadow_maps() {
 }
 
 /// Rays from scattered origins aimed exactly at each instanced triangle's vertices and edge
-/// midpoints: closest hits on the same world triangle at the same distance, and the same
-/// occlusion, in both scenes.
+/// midpoints: closest hits on the same world triangle at the same distance (unbounded, and
+/// within half the distance to the target), and the same occlusion, in both scenes.
 #[test]
 fn instancing_keeps_every_hit_at_vertices_and_edges() {
     let (instanced, flat) = forests();
@@ -168,6 +168,12 @@ fn instancing_keeps_every_hit_at_vertices_and_edges() {
                     assert_eq!(instanced.triangle(hi.triangle), flat.triangle(hf.triangle));
                 }
                 let tmax = (target - origin).length();
+                // A bounded search: nothing beyond tmax, in either scene.
+                let bounded = |bvh: &SceneBvh, s: &mut _, scene: &Scene| {
+                    bvh.closest_hit(s, origin, direction, 0.0, 0.5 * tmax)
+                        .map(|h| (h.t, scene.triangle(h.triangle)))
+                };
+                assert_eq!(bounded(&bvh_i, &mut si, &instanced), bounded(&bvh_f, &mut sf, &flat));
                 assert_eq!(
                     bvh_i.occluded(&mut si, origin, direction, 0.0, tmax),
                     bvh_f.occluded(&mut sf, origin, direction, 0.0, tmax),

@@ -174,7 +174,7 @@ impl SceneBvh {
             false
         });
         if let Some(instances) = &self.instances {
-            instances.closest_hit(scratch, &ray, tmin, &mut best);
+            instances.closest_hit(scratch, &ray, tmin, best_t, &mut best);
         }
         best
     }

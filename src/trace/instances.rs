@@ -74,16 +74,18 @@ impl InstanceLevel {
         (self.top_depth, self.meshes.iter().map(|m| m.tree.depth).max().unwrap_or(0))
     }
 
-    /// Replaces `best` by a nearer hit on an instanced triangle with t ∈ [tmin, best's t].
+    /// Replaces `best` by a nearer hit on an instanced triangle with t ∈ [tmin, tmax], where
+    /// `tmax` is the caller's bound or `best`'s distance, whichever is nearer.
     pub(super) fn closest_hit(
         &self,
         scratch: &mut TraversalScratch,
         ray: &WatertightRay,
         tmin: f32,
+        tmax: f32,
         best: &mut Option<Hit>,
     ) {
         let TraversalScratch { outer, inner } = scratch;
-        let mut best_t = best.map_or(f32::INFINITY, |b| b.t);
+        let mut best_t = best.map_or(tmax, |b| b.t.min(tmax));
         let top_ray = NodeRay::new(ray.origin, ray.direction);
         walk(&self.top, outer, &top_ray, tmin, &mut best_t, 0.0, |i, best_t| {
             let placement = &self.placements[i];
