@@ -122,9 +122,7 @@ pub(super) fn shade(
     let layers =
         crate::technique::BuiltLayers::build(v.scene, &map.view, DepthFormat::F32, &technique.layer_needs());
     let mut ctx = ShadeContext::new(v.scene, &map.view, layers.as_layers());
-    if let Some(s) = scene_scale {
-        ctx.scene_scale = s;
-    }
+    ctx.scene_scale = scene_scale.unwrap_or(ctx.scene_scale);
     let mut times = Vec::new();
     let mut visibility = Vec::new();
     for _ in 0..repeats.max(1) {

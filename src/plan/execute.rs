@@ -19,6 +19,7 @@ use crate::technique::{
     BuiltLayers, ExternalParams, LayerNeeds, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated,
 };
 use crate::trace::{GBuffer, ReferenceCache, SceneBvh};
+use glam::Vec3;
 use std::path::PathBuf;
 
 #[derive(Debug, thiserror::Error)]
@@ -61,6 +62,8 @@ struct MapSetting<'a> {
     order: &'a ShadeOrder,
     resolution: u32,
     format: DepthFormat,
+    /// The scene's bounds, computed once per view.
+    scene_bounds: (Vec3, Vec3),
 }
 
 /// Runs `plan`, sending what it produces to `sinks` in order. References come from `cache`
@@ -240,7 +243,14 @@ impl Schedule<'_, '_, '_> {
             let light_uv = LightUv::new(traced.gbuffer, &view);
             let order = ShadeOrder::new(traced.gbuffer, &view);
             for format in formats {
-                let map = MapSetting { view: &view, light_uv: &light_uv, order: &order, resolution, format };
+                let map = MapSetting {
+                    view: &view,
+                    light_uv: &light_uv,
+                    order: &order,
+                    resolution,
+                    format,
+                    scene_bounds: bounds,
+                };
                 self.map(traced, &map)?;
                 self.imported_runs(traced, &map, &external)?;
                 emit(self.sinks, &Event::MapsDone { view: traced, resolution, format })?;
@@ -269,7 +279,7 @@ impl Schedule<'_, '_, '_> {
                     build_layers_timed(scene, map.view, map.format, &self.groups[gi].0, self.plan.repeats)
                 }
             };
-            let ctx = ShadeContext::new(scene, map.view, layers.as_layers());
+            let ctx = ShadeContext::with_bounds(scene, map.view, layers.as_layers(), map.scene_bounds);
             let layer_memory_bytes = layers.memory_bytes() as u64;
             for mi in 0..self.groups[gi].1.len() {
                 let spec = &self.plan.techniques[self.groups[gi].1[mi]];

@@ -4,7 +4,7 @@ use super::{Layers, Sample, Technique};
 use crate::raster::LightView;
 use crate::scene::Scene;
 use crate::trace::GBuffer;
-use glam::{DMat4, Mat4};
+use glam::{DMat4, Mat4, Vec3};
 use rayon::prelude::*;
 
 /// What a technique reads besides the sample, prepared once per shading pass.
@@ -22,14 +22,24 @@ pub struct ShadeContext<'a> {
 
 impl<'a> ShadeContext<'a> {
     pub fn new(scene: &'a Scene, view: &'a LightView, layers: Layers<'a>) -> Self {
-        let (lo, hi) = scene.bounds();
+        Self::with_bounds(scene, view, layers, scene.bounds())
+    }
+
+    /// As [`ShadeContext::new`], with the scene's bounds computed once by the caller (they walk
+    /// every triangle, every placement of an instanced mesh included).
+    pub fn with_bounds(
+        scene: &'a Scene,
+        view: &'a LightView,
+        layers: Layers<'a>,
+        bounds: (Vec3, Vec3),
+    ) -> Self {
         ShadeContext {
             scene,
             view,
             layers,
             world_from_clip: view.clip_from_world.inverse(),
             world_from_clip_f64: view.clip_from_world.as_dmat4().inverse(),
-            scene_scale: (hi - lo).length(),
+            scene_scale: (bounds.1 - bounds.0).length(),
         }
     }
 }
