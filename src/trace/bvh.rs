@@ -12,6 +12,7 @@
 //!   sized to the tree's depth;
 //! - `Triangle::compute_barycentric` is wrong: barycentrics come from the watertight test.
 
+use super::cwbvh_convert::bvh2_to_cwbvh;
 use super::instances::InstanceLevel;
 use super::shadow_ray::ShadowRay;
 use super::simd4::{F4, Span4};
@@ -22,7 +23,6 @@ use glam::{UVec2, Vec3, Vec3A, uvec2};
 use obvhs::BvhBuildParams;
 use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
 use obvhs::cwbvh::CwBvh;
-use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
 use obvhs::cwbvh::node::{CwBvhNode, extract_byte64};
 use obvhs::faststack::{FastStack, HeapStack};
 use obvhs::ploc::PlocBuilder;
@@ -369,7 +369,7 @@ pub(super) fn build_cwbvh<T: Boundable>(primitives: &[T]) -> CwBvh {
     ReinsertionOptimizer::default().run(&mut bvh2, params.reinsertion_batch_ratio, None);
     bvh2.parents = Vec::new();
     bvh2.primitives_to_nodes = Vec::new();
-    bvh2_to_cwbvh(&bvh2, params.max_prims_per_leaf.clamp(1, 3), true, false)
+    bvh2_to_cwbvh(&bvh2)
 }
 
 /// Depth of a CWBVH in nodes, by walking it.

@@ -7,6 +7,7 @@
 
 mod area_light;
 mod bvh;
+mod cwbvh_convert;
 mod cache;
 mod coverage;
 mod gbuffer;
