@@ -20,7 +20,7 @@ fn trace(c: &mut Criterion) {
     g.throughput(Throughput::Elements(gbuffer.pixel_count() as u64));
     g.bench_function("gbuffer", |b| b.iter(|| GBuffer::trace(&scene, &bvh, camera, light)));
     g.throughput(Throughput::Elements(gbuffer.evaluated.len() as u64));
-    g.bench_function("hard_reference", |b| b.iter(|| trace_hard_reference(&bvh, &gbuffer, light)));
+    g.bench_function("hard_reference", |b| b.iter(|| trace_hard_reference(&scene, &bvh, &gbuffer, light)));
     let mut sun = light.clone();
     let LightKind::Directional { angular_diameter_deg, .. } = &mut sun.kind else {
         panic!("rocks has a sun")
@@ -29,7 +29,7 @@ fn trace(c: &mut Criterion) {
     let grid = 4;
     g.throughput(Throughput::Elements(gbuffer.evaluated.len() as u64 * (grid * grid) as u64));
     g.bench_function("area_light_reference_4x4", |b| {
-        b.iter(|| trace_area_light_reference(&bvh, &gbuffer, &sun, grid).expect("the sun has a size"))
+        b.iter(|| trace_area_light_reference(&scene, &bvh, &gbuffer, &sun, grid).expect("the sun has a size"))
     });
     g.finish();
 }

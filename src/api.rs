@@ -82,7 +82,7 @@ pub fn rasterize_layers(
 /// let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
 /// let bvh = SceneBvh::build(&scene);
 /// let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
-/// let reference = trace_hard_reference(&bvh, &gbuffer, light);
+/// let reference = trace_hard_reference(&scene, &bvh, &gbuffer, light);
 ///
 /// let technique: TechniqueSpec =
 ///     serde_json::from_str(r#"{"technique": "slope_scaled", "factor": 1.5, "units": 2}"#).unwrap();
@@ -122,7 +122,7 @@ pub fn shade_technique(
 /// # let scene = shadowtruth::load_scene(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/plane_box.json"))?;
 /// # let bvh = SceneBvh::build(&scene);
 /// # let gbuffer = GBuffer::trace(&scene, &bvh, &scene.cameras[0], &scene.lights[0]);
-/// # let reference = trace_hard_reference(&bvh, &gbuffer, &scene.lights[0]);
+/// # let reference = trace_hard_reference(&scene, &bvh, &gbuffer, &scene.lights[0]);
 /// // The reference scored against itself: no pixel is wrong.
 /// let exact: Vec<f32> = reference.lit.iter().map(|&lit| lit as f32).collect();
 /// let counts = shadowtruth::score_visibility(&gbuffer, &reference, &exact)?;
@@ -179,7 +179,7 @@ fn built(technique: &TechniqueSpec) -> Result<Box<dyn crate::technique::Techniqu
 /// let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
 /// let bvh = SceneBvh::build(&scene);
 /// let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
-/// let reference = trace_hard_reference(&bvh, &gbuffer, light);
+/// let reference = trace_hard_reference(&scene, &bvh, &gbuffer, light);
 ///
 /// // A renderer that agrees with the reference except for one pixel, where it drew background.
 /// let mut values: Vec<f32> = reference.lit.iter().map(|&lit| lit as f32).collect();

@@ -890,11 +890,11 @@ fn reference(a: ReferenceArgs) -> Result<u8> {
     let trace_soft = |g: &GBuffer| -> Result<SoftReference> {
         Ok(match a.kind {
             ReferenceKind::Coverage => trace_coverage_reference(&scene, &bvh, g, camera, light, grid),
-            _ => trace_area_light_reference(&bvh, g, light, grid)?,
+            _ => trace_area_light_reference(&scene, &bvh, g, light, grid)?,
         })
     };
     if a.kind == ReferenceKind::Hard {
-        let reference = trace_hard_reference(&bvh, &gbuffer, light);
+        let reference = trace_hard_reference(&scene, &bvh, &gbuffer, light);
         write_mask_png(&a.out, gbuffer.width, gbuffer.height, &reference.mask_codes(&gbuffer))
             .with_context(|| format!("writing {}", a.out.display()))?;
     } else {
@@ -1026,7 +1026,7 @@ fn print_trace_timing(
         let g = GBuffer::trace(scene, bvh, camera, light);
         primary_ms.push(sw.ms());
         let sw = Stopwatch::start();
-        std::hint::black_box(trace_hard_reference(bvh, &g, light));
+        std::hint::black_box(trace_hard_reference(scene, bvh, &g, light));
         shadow_ms.push(sw.ms());
         rays = (g.pixel_count(), g.evaluated.len());
     }

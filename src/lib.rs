@@ -21,7 +21,7 @@
 //! let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
 //! let bvh = SceneBvh::build(&scene);
 //! let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
-//! let reference = trace_hard_reference(&bvh, &gbuffer, light);
+//! let reference = trace_hard_reference(&scene, &bvh, &gbuffer, light);
 //!
 //! // A renderer that draws everything lit: every shadowed pixel is false lit.
 //! let all_lit = vec![1.0; gbuffer.pixel_count()];

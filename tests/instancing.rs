@@ -110,7 +110,8 @@ fn instancing_gives_the_flattened_scenes_gbuffer_reference_and_verdicts() {
             instanced.triangle(gi.triangle[p]) == flat.triangle(gf.triangle[p])
         });
         assert!(same_triangles, "{}", light.name);
-        let (ri, rf) = (trace_hard_reference(&bvh_i, &gi, light), trace_hard_reference(&bvh_f, &gf, light));
+        let ri = trace_hard_reference(&instanced, &bvh_i, &gi, light);
+        let rf = trace_hard_reference(&flat, &bvh_f, &gf, light);
         assert_eq!(ri.lit, rf.lit, "{}", light.name);
         let shadowed = gi.evaluated.iter().filter(|&&p| ri.lit[p as usize] == 0).count();
         assert!(shadowed > 1000 && shadowed < gi.evaluated.len() - 1000, "{}: {shadowed}", light.name);

@@ -60,7 +60,7 @@ fn check(case: &str, scene: &Scene, occluded: bool, max_band_fraction: f64) -> V
     let g_and_r = |camera: usize, light: usize| {
         let bvh = SceneBvh::build(scene);
         let g = GBuffer::trace(scene, &bvh, &scene.cameras[camera], &scene.lights[light]);
-        let r = trace_hard_reference(&bvh, &g, &scene.lights[light]);
+        let r = trace_hard_reference(&scene, &bvh, &g, &scene.lights[light]);
         let lit = g.evaluated.iter().filter(|&&i| r.lit[i as usize] != 0).count();
         (lit, g.evaluated.len() - lit)
     };
@@ -332,7 +332,7 @@ fn closed_meshes_with_shared_edges_have_no_cracks() {
     let mut through_ball = 0;
     for light in &s.lights {
         let g = GBuffer::trace(&s, &bvh, &s.cameras[0], light);
-        let r = trace_hard_reference(&bvh, &g, light);
+        let r = trace_hard_reference(&s, &bvh, &g, light);
         for &i in &g.evaluated {
             let i = i as usize;
             if g.object[i] != 0 {
@@ -449,7 +449,7 @@ fn soft_references_show_no_self_shadow_speckle_on_a_large_plane() {
     for light in &s.lights {
         let g = GBuffer::trace(&s, &bvh, &s.cameras[0], light);
         assert!(g.evaluated.len() > 3000);
-        let area = trace_area_light_reference(&bvh, &g, light, 4).unwrap();
+        let area = trace_area_light_reference(&s, &bvh, &g, light, 4).unwrap();
         // Sub-pixel samples past a spot light's cone count as shadowed: coverage under the sun.
         let coverage =
             light.is_directional().then(|| trace_coverage_reference(&s, &bvh, &g, &s.cameras[0], light, 3));

@@ -94,7 +94,7 @@ fn area_light_penumbra_converges_to_the_circular_segment() {
     assert!(inside > 1000, "the penumbra covers {inside} pixels");
     let mut errors = Vec::new();
     for grid in [4, 16, 32] {
-        let r = trace_area_light_reference(&bvh, &g, &scene.lights[0], grid).unwrap();
+        let r = trace_area_light_reference(&scene, &bvh, &g, &scene.lights[0], grid).unwrap();
         let mae = pixels.iter().map(|&(i, f)| (r.visibility[i] as f64 - f).abs()).sum::<f64>()
             / pixels.len() as f64;
         println!("area light {grid}×{grid}: mean |error| {mae:.5} over {} pixels", pixels.len());
@@ -113,7 +113,7 @@ fn area_light_standard_error_falls_as_one_over_root_samples() {
     let pixels = penumbra_pixels(&g, 0.2..=0.8);
     assert!(pixels.len() > 500, "{} penumbra pixels", pixels.len());
     let median_error = |grid: u32| {
-        let r = trace_area_light_reference(&bvh, &g, &scene.lights[0], grid).unwrap();
+        let r = trace_area_light_reference(&scene, &bvh, &g, &scene.lights[0], grid).unwrap();
         let mut e: Vec<f32> = pixels.iter().map(|&(i, _)| r.std_error[i]).collect();
         e.sort_by(f32::total_cmp);
         e[e.len() / 2] as f64
@@ -123,7 +123,7 @@ fn area_light_standard_error_falls_as_one_over_root_samples() {
     println!("median standard error: 8×8 {n:.5}, 16×16 {n4:.5}, ratio {ratio:.3}");
     assert!((ratio - 2.0).abs() < 0.3, "4× the samples should halve the standard error: ratio {ratio}");
     // Lit and shadowed pixels far from the penumbra have no spread.
-    let r = trace_area_light_reference(&bvh, &g, &scene.lights[0], 8).unwrap();
+    let r = trace_area_light_reference(&scene, &bvh, &g, &scene.lights[0], 8).unwrap();
     for (i, f) in penumbra_pixels(&g, 0.0..=1.0) {
         if f == 0.0 || f == 1.0 {
             assert_eq!((r.visibility[i] as f64, r.std_error[i]), (f, 0.0), "pixel {i}");
@@ -169,7 +169,7 @@ fn coverage_is_hard_away_from_boundaries_and_the_shadow_area_fraction_across_the
     let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
     let bvh = SceneBvh::build(&scene);
     let g = GBuffer::trace(&scene, &bvh, camera, light);
-    let hard = trace_hard_reference(&bvh, &g, light);
+    let hard = trace_hard_reference(&scene, &bvh, &g, light);
     // A 1×1 grid is the pixel-centre ray: the hard reference, bit for bit.
     let one = trace_coverage_reference(&scene, &bvh, &g, camera, light, 1);
     assert!(one.visibility.iter().zip(&hard.lit).all(|(&v, &l)| v.to_bits() == (l as f32).to_bits()));
@@ -272,7 +272,7 @@ fn coverage_sub_pixel_rays_hit_their_own_surfaces() {
     let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
     let bvh = SceneBvh::build(&scene);
     let g = GBuffer::trace(&scene, &bvh, camera, light);
-    let hard = trace_hard_reference(&bvh, &g, light);
+    let hard = trace_hard_reference(&scene, &bvh, &g, light);
     let cov = trace_coverage_reference(&scene, &bvh, &g, camera, light, 4);
     let (ground, boxed) = (0, 1);
     let w = g.width as usize;
@@ -335,7 +335,7 @@ fn soft_references_are_identical_on_one_and_two_threads() {
         let run = || {
             let bvh = SceneBvh::build(&scene);
             let g = GBuffer::trace(&scene, &bvh, &camera, &light);
-            let area = trace_area_light_reference(&bvh, &g, &light, 4).unwrap();
+            let area = trace_area_light_reference(&scene, &bvh, &g, &light, 4).unwrap();
             let coverage = trace_coverage_reference(&scene, &bvh, &g, &camera, &light, 3);
             (bits(&area), bits(&coverage))
         };
@@ -362,7 +362,7 @@ fn cached_soft_references_are_bit_identical_to_fresh_ones() {
         let g = GBuffer::trace(&scene, &bvh, &camera, &light);
         let (_, from_cache) = cache.hard_reference(&scene, &bvh, &g, &camera, &light).unwrap();
         assert!(!from_cache);
-        let fresh_area = trace_area_light_reference(&bvh, &g, &light, 4).unwrap();
+        let fresh_area = trace_area_light_reference(&scene, &bvh, &g, &light, 4).unwrap();
         let fresh_coverage = trace_coverage_reference(&scene, &bvh, &g, &camera, &light, 2);
         for round in 0..2 {
             let (area, a_cached) = cache.area_light_reference(&scene, &bvh, &g, &camera, &light, 4).unwrap();
@@ -420,7 +420,7 @@ fn a_sizeless_light_is_an_error_naming_the_light_and_the_field() {
         (camera.width, camera.height) = (32, 24);
         let bvh = SceneBvh::build(&scene);
         let g = GBuffer::trace(&scene, &bvh, &camera, light);
-        let err = trace_area_light_reference(&bvh, &g, light, 4).unwrap_err();
+        let err = trace_area_light_reference(&scene, &bvh, &g, light, 4).unwrap_err();
         assert_eq!(err, AreaLightError::NoSize { light: light.name.clone(), field });
         let message = err.to_string();
         assert!(message.contains(&format!("'{}'", light.name)) && message.contains(field), "{message}");
@@ -435,7 +435,7 @@ fn a_sizeless_light_is_an_error_naming_the_light_and_the_field() {
     let (scene, camera, light) = sized("plane_box");
     let bvh = SceneBvh::build(&scene);
     let g = GBuffer::trace(&scene, &bvh, &camera, &light);
-    assert!(matches!(trace_area_light_reference(&bvh, &g, &light, 0), Err(AreaLightError::NoSamples { .. })));
+    assert!(matches!(trace_area_light_reference(&scene, &bvh, &g, &light, 0), Err(AreaLightError::NoSamples { .. })));
 }
 
 fn shadowtruth(args: &[&str], dir: &std::path::Path) -> (i32, String) {
@@ -480,7 +480,7 @@ fn reference_command_writes_soft_references_as_exr() {
     let g = GBuffer::trace(&scene, &bvh, camera, light);
     let expected = [
         ("coverage", trace_coverage_reference(&scene, &bvh, &g, camera, light, 4)),
-        ("area", trace_area_light_reference(&bvh, &g, light, 8).unwrap()),
+        ("area", trace_area_light_reference(&scene, &bvh, &g, light, 8).unwrap()),
     ];
     for (kind, expected) in expected {
         let out = format!("{kind}.exr");

@@ -72,7 +72,7 @@ fn generate_scenes_cast_shadows_into_the_view() {
         let camera = &scene.cameras[0];
         for light in &scene.lights {
             let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
-            let reference = trace_hard_reference(&bvh, &gbuffer, light);
+            let reference = trace_hard_reference(&scene, &bvh, &gbuffer, light);
             let evaluated = gbuffer.count(PixelClass::Evaluated);
             let lit = gbuffer.evaluated.iter().filter(|&&i| reference.lit[i as usize] != 0).count();
             let shadowed = evaluated - lit;
@@ -105,7 +105,7 @@ fn generate_instanced_forest_holds_one_tree_and_casts_shadows() {
     let bvh = SceneBvh::build(&scene);
     for light in &scene.lights {
         let gbuffer = GBuffer::trace(&scene, &bvh, &scene.cameras[0], light);
-        let reference = trace_hard_reference(&bvh, &gbuffer, light);
+        let reference = trace_hard_reference(&scene, &bvh, &gbuffer, light);
         let lit = gbuffer.evaluated.iter().filter(|&&i| reference.lit[i as usize] != 0).count();
         let shadowed = gbuffer.evaluated.len() - lit;
         assert!(

@@ -335,7 +335,6 @@ mod tests {
             height,
             class: vec![PixelClass::Background; pixels.len()],
             position: vec![Vec3::ZERO; pixels.len()],
-            position_error: vec![Vec3::ZERO; pixels.len()],
             normal: vec![Vec3::Z; pixels.len()],
             triangle: vec![u32::MAX; pixels.len()],
             object: vec![u32::MAX; pixels.len()],

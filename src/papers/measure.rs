@@ -40,7 +40,7 @@ impl<'a> View<'a> {
             .camera(camera)
             .ok_or_else(|| PlanError::Invalid(format!("{}: no camera '{camera}'", scene.source.display())))?;
         let gbuffer = GBuffer::trace(scene, bvh, camera, &light);
-        let reference = trace_hard_reference(bvh, &gbuffer, &light);
+        let reference = trace_hard_reference(scene, bvh, &gbuffer, &light);
         Ok(View { scene, light, gbuffer, reference })
     }
 

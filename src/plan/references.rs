@@ -44,7 +44,7 @@ impl ViewReferences {
         let needs = |kind| plan.techniques.iter().any(|t| t.reference_kind() == kind);
         let hard = match cache {
             Some(c) => c.hard_reference(scene, bvh, gbuffer, camera, light).map_err(io)?.0,
-            None => trace_hard_reference(bvh, gbuffer, light),
+            None => trace_hard_reference(scene, bvh, gbuffer, light),
         };
         let fractional = |soft: SoftReference| Fractional {
             hard: thresholded(soft.width, soft.height, &soft.visibility),
@@ -63,7 +63,7 @@ impl ViewReferences {
             let grid = plan.area_light_grid;
             Some(fractional(match cache {
                 Some(c) => c.area_light_reference(scene, bvh, gbuffer, camera, light, grid).map_err(io)?.0,
-                None => trace_area_light_reference(bvh, gbuffer, light, grid)
+                None => trace_area_light_reference(scene, bvh, gbuffer, light, grid)
                     .map_err(|e| PlanError::Invalid(e.to_string()))?,
             }))
         } else {

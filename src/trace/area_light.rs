@@ -21,7 +21,7 @@ use super::gbuffer::GBuffer;
 use super::sampling::{concentric_disk, jittered_stratum, orthonormal_frame};
 use super::shadow_ray::ShadowRay;
 use super::soft_reference::{SoftReference, mean_and_std_error, trace_evaluated};
-use crate::scene::{Light, LightKind};
+use crate::scene::{Light, LightKind, Scene};
 use glam::DVec3;
 
 /// Why an area-light reference cannot be traced.
@@ -82,6 +82,7 @@ const LIGHT_SALT: u64 = 0x4152_4541; // "AREA"
 
 /// Traces the area-light reference with n×n light samples per evaluated pixel (`grid` = n).
 pub fn trace_area_light_reference(
+    scene: &Scene,
     bvh: &SceneBvh,
     gbuffer: &GBuffer,
     light: &Light,
@@ -90,7 +91,7 @@ pub fn trace_area_light_reference(
     let emitter = emitter(light, grid)?;
     let m = grid * grid;
     Ok(trace_evaluated(bvh, gbuffer, m, |scratch, _, _, i| {
-        let point = gbuffer.surface_point(i);
+        let point = gbuffer.surface_point(scene, i);
         let (p64, n64) = (point.position.as_dvec3(), point.normal.as_dvec3());
         let mut hits = 0u32;
         for k in 0..m {

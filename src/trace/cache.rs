@@ -326,7 +326,7 @@ impl ReferenceCache {
                 return Ok((reference, true));
             }
         }
-        let reference = super::trace_hard_reference(bvh, gbuffer, light);
+        let reference = super::trace_hard_reference(scene, bvh, gbuffer, light);
         let codes = reference.mask_codes(gbuffer);
         self.store(view, &digest, gbuffer.width, gbuffer.height, &codes)?;
         Ok((reference, false))
@@ -368,7 +368,7 @@ impl ReferenceCache {
         let invalid = |e: AreaLightError| std::io::Error::new(std::io::ErrorKind::InvalidInput, e);
         super::validate_area_light(light, grid).map_err(invalid)?;
         self.soft_reference(scene, gbuffer, camera, light, SoftKind::AreaLight, grid, || {
-            super::trace_area_light_reference(bvh, gbuffer, light, grid).map_err(invalid)
+            super::trace_area_light_reference(scene, bvh, gbuffer, light, grid).map_err(invalid)
         })
     }
 

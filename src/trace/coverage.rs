@@ -48,7 +48,7 @@ pub fn trace_coverage_reference(
         } else {
             // Only possible if no sub-ray reproduces the centre hit: fall back to the centre's
             // hard visibility.
-            let lit = hard_visible(bvh, scratch, &gbuffer.surface_point(i), light);
+            let lit = hard_visible(bvh, scratch, &gbuffer.surface_point(scene, i), light);
             (lit as u32 as f32, 0.0)
         }
     })

@@ -27,10 +27,10 @@ pub struct GBuffer {
     pub width: u32,
     pub height: u32,
     pub class: Vec<PixelClass>,
-    /// Surface point, from the hit triangle's vertices and barycentrics.
+    /// Surface point, from the hit triangle's vertices and barycentrics. Its rounding-error
+    /// bound is a function of it and the triangle, computed where a shadow ray needs it rather
+    /// than stored (at 4096² that is 192 MiB).
     pub position: Vec<Vec3>,
-    /// Per-axis bound on the rounding error of `position` (`trace::position_error`).
-    pub position_error: Vec<Vec3>,
     /// Unit geometric normal, turned towards the camera.
     pub normal: Vec<Vec3>,
     /// Scene triangle id (u32::MAX for background).
@@ -50,13 +50,15 @@ impl GBuffer {
         self.class.iter().filter(|&&c| c == class).count()
     }
 
-    /// The surface point of pixel `i`, as the shadow test takes it.
-    pub fn surface_point(&self, i: usize) -> SurfacePoint {
+    /// The surface point of pixel `i` of a G-buffer traced in `scene`, as the shadow test takes
+    /// it: the same error bound as the primary hit computed.
+    pub fn surface_point(&self, scene: &Scene, i: usize) -> SurfacePoint {
+        let (position, triangle) = (self.position[i], self.triangle[i]);
         SurfacePoint {
-            position: self.position[i],
-            error: self.position_error[i],
+            position,
+            error: position_error(position, &scene.triangle(triangle)),
             normal: self.normal[i],
-            triangle: self.triangle[i],
+            triangle,
         }
     }
 }
@@ -135,21 +137,19 @@ impl GBuffer {
         let basis = camera.basis();
         let mut class = vec![PixelClass::Background; n];
         let mut position = vec![Vec3::ZERO; n];
-        let mut position_error = vec![Vec3::ZERO; n];
         let mut normal = vec![Vec3::ZERO; n];
         let mut triangle = vec![u32::MAX; n];
         let mut object = vec![u32::MAX; n];
         class
             .par_chunks_mut(w as usize)
             .zip(position.par_chunks_mut(w as usize))
-            .zip(position_error.par_chunks_mut(w as usize))
             .zip(normal.par_chunks_mut(w as usize))
             .zip(triangle.par_chunks_mut(w as usize))
             .zip(object.par_chunks_mut(w as usize))
             .enumerate()
             .for_each_init(
                 || bvh.scratch(),
-                |scratch, (y, (((((cls, pos), err), nrm), tri), obj))| {
+                |scratch, (y, ((((cls, pos), nrm), tri), obj))| {
                     for x in 0..w as usize {
                         let dir = camera.pixel_direction(&basis, x as u32, y as u32);
                         let Some(sample) = primary_sample(scene, bvh, scratch, camera.position, dir, light)
@@ -159,7 +159,6 @@ impl GBuffer {
                         let p = sample.point;
                         cls[x] = sample.class;
                         pos[x] = p.position;
-                        err[x] = p.error;
                         nrm[x] = p.normal;
                         tri[x] = p.triangle;
                         obj[x] = scene.object_of(p.triangle);
@@ -167,6 +166,6 @@ impl GBuffer {
                 },
             );
         let evaluated = (0..n as u32).filter(|&i| class[i as usize] == PixelClass::Evaluated).collect();
-        GBuffer { width: w, height: h, class, position, position_error, normal, triangle, object, evaluated }
+        GBuffer { width: w, height: h, class, position, normal, triangle, object, evaluated }
     }
 }

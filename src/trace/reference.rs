@@ -5,7 +5,7 @@
 use super::bvh::{SceneBvh, TraversalScratch};
 use super::gbuffer::{GBuffer, PixelClass, to_light};
 use super::shadow_ray::{ShadowRay, SurfacePoint};
-use crate::scene::{Light, LightKind};
+use crate::scene::{Light, LightKind, Scene};
 use rayon::prelude::*;
 
 /// The grey levels of a reference mask PNG (docs/conventions.md, "Reference mask PNG").
@@ -75,7 +75,7 @@ pub(super) fn hard_visible(
 }
 
 /// Traces one shadow ray per evaluated pixel.
-pub fn trace_hard_reference(bvh: &SceneBvh, gbuffer: &GBuffer, light: &Light) -> HardReference {
+pub fn trace_hard_reference(scene: &Scene, bvh: &SceneBvh, gbuffer: &GBuffer, light: &Light) -> HardReference {
     let mut lit = vec![0u8; gbuffer.pixel_count()];
     let w = gbuffer.width as usize;
     lit.par_chunks_mut(w).enumerate().for_each_init(
@@ -86,7 +86,7 @@ pub fn trace_hard_reference(bvh: &SceneBvh, gbuffer: &GBuffer, light: &Light) ->
                 if gbuffer.class[i] != PixelClass::Evaluated {
                     continue;
                 }
-                *out = hard_visible(bvh, scratch, &gbuffer.surface_point(i), light) as u8;
+                *out = hard_visible(bvh, scratch, &gbuffer.surface_point(scene, i), light) as u8;
             }
         },
     );

@@ -264,12 +264,12 @@ pub fn verify_view(
 ) -> ViewVerification {
     let start = std::time::Instant::now();
     let g = GBuffer::trace(scene, bvh, camera, light);
-    let reference = trace_hard_reference(bvh, &g, light);
+    let reference = trace_hard_reference(scene, bvh, &g, light);
     let boundary = shadow_boundary(&g, &reference.lit);
     let chosen = chosen_pixels(&g, &boundary, selection);
     let judged: Vec<(usize, Judgement)> = chosen
         .par_iter()
-        .map_init(Vec::new, |stack, &i| (i, adjudicator.judge(&g.surface_point(i), light, stack)))
+        .map_init(Vec::new, |stack, &i| (i, adjudicator.judge(&g.surface_point(scene, i), light, stack)))
         .collect();
     let mut v = ViewVerification {
         camera: camera.name.clone(),
@@ -298,7 +298,7 @@ pub fn verify_view(
             v.agree += 1;
             continue;
         }
-        let point = g.surface_point(i);
+        let point = g.surface_point(scene, i);
         let triangle = if traced_shadowed {
             bvh.shadow_occluder(&mut scratch, &hard_shadow_ray(&point, light))
         } else {
