@@ -8,7 +8,7 @@ use super::identity::schedule_record;
 use super::portion::Portion;
 use super::references::ViewReferences;
 use super::select::{Selected, check_area_light_sizes, check_plan, check_run_count, load_selected};
-use super::{Pipeline, Plan, PlanInputError, build_layers_timed};
+use super::{BinnedView, Pipeline, Plan, PlanInputError, build_layers_timed};
 use crate::gpu::{GpuDepthMap, GpuDevice, GpuTechnique, shade_visibility};
 use crate::import::{ReadOptions, evaluated_visibility, read_depth, read_visibility};
 use crate::metrics::{LightUv, Stopwatch, attribute, median_ms, score_hard, score_soft};
@@ -266,6 +266,8 @@ impl Schedule<'_, '_, '_> {
             self.gpu = Some(gpu);
             return done;
         }
+        // Binned when the first group needs it, then shared by the others.
+        let mut binned: Option<BinnedView> = None;
         for gi in 0..self.groups.len() {
             let (scene, camera, light) = (traced.scene, traced.camera, traced.light);
             let (resolution, format) = (map.resolution, map.format.name());
@@ -276,7 +278,8 @@ impl Schedule<'_, '_, '_> {
             let (layers, prepare_ms) = match &self.plan.shadow_map {
                 Some(map_file) => (BuiltLayers::Nearest(map_file.layer.clone()), 0.0),
                 None => {
-                    build_layers_timed(scene, map.view, map.format, &self.groups[gi].0, self.plan.repeats)
+                    let binned = binned.get_or_insert_with(|| BinnedView::new(scene, map.view));
+                    build_layers_timed(binned, map.format, &self.groups[gi].0, self.plan.repeats)
                 }
             };
             let ctx = ShadeContext::with_bounds(scene, map.view, layers.as_layers(), map.scene_bounds);

@@ -20,7 +20,7 @@ pub use events::Watch;
 pub use events::{Event, Sink, TracedView, emit};
 pub use execute::{PlanError, execute, execute_portion};
 pub use file::{DEFAULT_MAX_RUNS, PlanInputError, parse_plan, parse_plan_limited, read_plan};
-pub use layers::build_layers_timed;
+pub use layers::{BinnedView, build_layers_timed};
 pub use portion::{MapKey, Portion};
 pub use shard::Shard;
 pub use spec::{

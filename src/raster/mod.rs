@@ -19,6 +19,6 @@ pub use layer::{DepthLayer, DepthPairLayer};
 pub use multi_depth::{DepthSelection, MAX_DEPTHS_PER_TEXEL, MultiDepthLayer};
 pub use projection::{LightView, Projection};
 pub use rasterize::{
-    Culling, DepthPlane, RasterSettings, rasterize_coverage, rasterize_nearest, rasterize_nearest_into,
-    rasterize_two_nearest,
+    Culling, DepthPlane, RasterSettings, Rasterizer, rasterize_coverage, rasterize_nearest,
+    rasterize_nearest_into, rasterize_two_nearest,
 };

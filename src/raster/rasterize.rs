@@ -68,12 +68,7 @@ impl Default for RasterSettings {
 
 /// The nearest depth per texel of every (non-culled) triangle.
 pub fn rasterize_nearest(scene: &Scene, view: &LightView, settings: &RasterSettings) -> DepthLayer {
-    let n = view.resolution as usize;
-    // Zeroed memory comes lazily from the system; each band then initialises its own rows in
-    // parallel, while they are in cache.
-    let mut layer = DepthLayer { resolution: view.resolution, depth: vec![0.0; n * n] };
-    rasterize_nearest_into(scene, view, settings, &mut layer);
-    layer
+    Rasterizer::new(scene, view).nearest(settings)
 }
 
 /// `rasterize_nearest` into an existing layer, reusing its allocation (at 4096², the first touch
@@ -84,63 +79,12 @@ pub fn rasterize_nearest_into(
     settings: &RasterSettings,
     layer: &mut DepthLayer,
 ) {
-    let n = view.resolution as usize;
-    layer.resolution = view.resolution;
-    layer.depth.resize(n * n, 1.0);
-    let format = settings.format;
-    rasterize_into(
-        scene,
-        view,
-        settings,
-        &mut layer.depth,
-        |band| band.fill(1.0),
-        // Depth clamp after the offset, as for unorm (and Vulkan float) depth buffers;
-        // branch-free minimum (a NaN depth never wins) so that the span loop vectorizes.
-        |d, z| *d = d.min(z.clamp(0.0, 1.0)),
-        |band| {
-            if format != DepthFormat::F32 {
-                band.iter_mut().for_each(|d| *d = format.store(*d));
-            }
-        },
-    );
+    Rasterizer::new(scene, view).nearest_into(settings, layer);
 }
 
-/// The two nearest distinct depths per texel, (z1, z2) with z1 < z2 — CPU depth peeling: z2 is
-/// the nearest fragment strictly behind z1, as a second pass testing `d > z1` would keep. Texels
-/// with fewer surfaces hold the cleared value 1. z1 equals `rasterize_nearest`'s layer.
+/// The two nearest distinct depths per texel (see [`Rasterizer::two_nearest`]).
 pub fn rasterize_two_nearest(scene: &Scene, view: &LightView, settings: &RasterSettings) -> DepthPairLayer {
-    let n = view.resolution as usize;
-    // Zeroed memory comes lazily from the system; each band initialises its own rows.
-    let mut pairs = vec![[0.0f32; 2]; n * n];
-    let format = settings.format;
-    rasterize_into(
-        scene,
-        view,
-        settings,
-        &mut pairs,
-        |band| band.fill([1.0, 1.0]),
-        // Branch-free, so that the span loop vectorizes: a nearer fragment pushes z1 down to
-        // z2; one strictly between them replaces z2; one equal to z1 is the same surface.
-        |[z1, z2], z| {
-            let z = z.clamp(0.0, 1.0);
-            let nearer = z < *z1;
-            let between = z > *z1 && z < *z2;
-            *z2 = if nearer {
-                *z1
-            } else if between {
-                z
-            } else {
-                *z2
-            };
-            *z1 = if nearer { z } else { *z1 };
-        },
-        |band| {
-            if format != DepthFormat::F32 {
-                band.iter_mut().for_each(|p| *p = p.map(|d| format.store(d)));
-            }
-        },
-    );
-    DepthPairLayer { resolution: view.resolution, depth: pairs }
+    Rasterizer::new(scene, view).two_nearest(settings)
 }
 
 /// How many times each texel (row-major, row 0 at the top) is covered by a rasterized
@@ -149,8 +93,89 @@ pub fn rasterize_two_nearest(scene: &Scene, view: &LightView, settings: &RasterS
 pub fn rasterize_coverage(scene: &Scene, view: &LightView, settings: &RasterSettings) -> Vec<u32> {
     let n = view.resolution as usize;
     let mut count = vec![0u32; n * n];
-    rasterize_into(scene, view, settings, &mut count, |_| {}, |count, _| *count += 1, |_| {});
+    Rasterizer::new(scene, view).rasterize_into(settings, &mut count, |_| {}, |count, _| *count += 1, |_| {});
     count
+}
+
+/// A scene seen from one light view, its triangles binned by band of rows once: every layer
+/// rasterized from the view (any culling, offset or format) reuses the bins.
+pub struct Rasterizer<'a> {
+    scene: &'a Scene,
+    view: &'a LightView,
+    bands: Bands,
+}
+
+impl<'a> Rasterizer<'a> {
+    pub fn new(scene: &'a Scene, view: &'a LightView) -> Self {
+        Rasterizer { scene, view, bands: bin_by_band(scene, view) }
+    }
+
+    /// The nearest depth per texel of every (non-culled) triangle.
+    pub fn nearest(&self, settings: &RasterSettings) -> DepthLayer {
+        let n = self.view.resolution as usize;
+        // Zeroed memory comes lazily from the system; each band then initialises its own rows in
+        // parallel, while they are in cache.
+        let mut layer = DepthLayer { resolution: self.view.resolution, depth: vec![0.0; n * n] };
+        self.nearest_into(settings, &mut layer);
+        layer
+    }
+
+    /// `nearest` into an existing layer, reusing its allocation.
+    pub fn nearest_into(&self, settings: &RasterSettings, layer: &mut DepthLayer) {
+        let n = self.view.resolution as usize;
+        layer.resolution = self.view.resolution;
+        layer.depth.resize(n * n, 1.0);
+        let format = settings.format;
+        self.rasterize_into(
+            settings,
+            &mut layer.depth,
+            |band| band.fill(1.0),
+            // Depth clamp after the offset, as for unorm (and Vulkan float) depth buffers;
+            // branch-free minimum (a NaN depth never wins) so that the span loop vectorizes.
+            |d, z| *d = d.min(z.clamp(0.0, 1.0)),
+            |band| {
+                if format != DepthFormat::F32 {
+                    band.iter_mut().for_each(|d| *d = format.store(*d));
+                }
+            },
+        );
+    }
+
+    /// The two nearest distinct depths per texel, (z1, z2) with z1 < z2 — CPU depth peeling: z2
+    /// is the nearest fragment strictly behind z1, as a second pass testing `d > z1` would keep.
+    /// Texels with fewer surfaces hold the cleared value 1. z1 equals `nearest`'s layer.
+    pub fn two_nearest(&self, settings: &RasterSettings) -> DepthPairLayer {
+        let n = self.view.resolution as usize;
+        // Zeroed memory comes lazily from the system; each band initialises its own rows.
+        let mut pairs = vec![[0.0f32; 2]; n * n];
+        let format = settings.format;
+        self.rasterize_into(
+            settings,
+            &mut pairs,
+            |band| band.fill([1.0, 1.0]),
+            // Branch-free, so that the span loop vectorizes: a nearer fragment pushes z1 down to
+            // z2; one strictly between them replaces z2; one equal to z1 is the same surface.
+            |[z1, z2], z| {
+                let z = z.clamp(0.0, 1.0);
+                let nearer = z < *z1;
+                let between = z > *z1 && z < *z2;
+                *z2 = if nearer {
+                    *z1
+                } else if between {
+                    z
+                } else {
+                    *z2
+                };
+                *z1 = if nearer { z } else { *z1 };
+            },
+            |band| {
+                if format != DepthFormat::F32 {
+                    band.iter_mut().for_each(|p| *p = p.map(|d| format.store(d)));
+                }
+            },
+        );
+        DepthPairLayer { resolution: self.view.resolution, depth: pairs }
+    }
 }
 
 /// Sub-texel precision of snapped vertices: 8 bits, as GPUs.
@@ -218,76 +243,80 @@ impl RasterTriangle {
     }
 }
 
-/// Rasterizes every triangle of `scene` into the N×N `buffer` (row-major, row 0 at the top):
-/// per band of rows, `init(rows)`, then `fragment(texel, depth)` for every covered texel
-/// centre, then `finish(rows)`. The common path of the depth and coverage rasterizers.
-fn rasterize_into<T, I, F, R>(
-    scene: &Scene,
-    view: &LightView,
-    settings: &RasterSettings,
-    buffer: &mut [T],
-    init: I,
-    fragment: F,
-    finish: R,
-) where
-    T: Send,
-    I: Fn(&mut [T]) + Sync,
-    F: Fn(&mut T, f32) + Sync,
-    R: Fn(&mut [T]) + Sync,
-{
-    let n = view.resolution;
-    debug_assert_eq!(buffer.len(), n as usize * n as usize);
-    if n == 0 {
-        return;
-    }
-    let bands = bin_by_band(scene, view, settings);
+impl Rasterizer<'_> {
+    /// Rasterizes every triangle of `scene` into the N×N `buffer` (row-major, row 0 at the top):
+    /// per band of rows, `init(rows)`, then `fragment(texel, depth)` for every covered texel
+    /// centre, then `finish(rows)`. The common path of the depth and coverage rasterizers.
+    fn rasterize_into<T, I, F, R>(
+        &self,
+        settings: &RasterSettings,
+        buffer: &mut [T],
+        init: I,
+        fragment: F,
+        finish: R,
+    ) where
+        T: Send,
+        I: Fn(&mut [T]) + Sync,
+        F: Fn(&mut T, f32) + Sync,
+        R: Fn(&mut [T]) + Sync,
+    {
+        let (scene, view, bands) = (self.scene, self.view, &self.bands);
+        let n = view.resolution;
+        debug_assert_eq!(buffer.len(), n as usize * n as usize);
+        if n == 0 {
+            return;
+        }
 
-    // Each band sets its triangles up again (the same arithmetic as any other band, so the split
-    // never changes a texel) instead of holding every set-up triangle of the scene at once: at
-    // 10M triangles those would take more memory than the scene.
-    buffer.par_chunks_mut(BAND_ROWS as usize * n as usize).enumerate().for_each_init(
-        Vec::new,
-        |setup, (band, texels)| {
-            let first_row = band as u32 * BAND_ROWS;
-            let last_row = first_row + (texels.len() / n as usize) as u32 - 1;
-            init(texels);
-            for &index in &bands.triangles[bands.start[band]..bands.start[band + 1]] {
-                setup.clear();
-                let index = index as usize;
-                let id = index as u32;
-                setup_triangle(&scene.triangle(id), scene.is_closed(id), view, settings, setup);
-                for tri in setup.iter() {
-                    for row in tri.rows.0.max(first_row)..=tri.rows.1.min(last_row) {
-                        let Some((lo, hi)) = tri.span(row) else {
-                            continue;
-                        };
-                        let z_row = tri.depth_row_start(row);
-                        let line = &mut texels[(row - first_row) as usize * n as usize..][..n as usize];
-                        // i32 → f32 column conversions vectorize; the arithmetic per texel is
-                        // `z_row + dz_dx·(col + col_offset)` whatever the span or band.
-                        for (col, texel) in (lo as i32..).zip(&mut line[lo as usize..=hi as usize]) {
-                            fragment(texel, z_row + tri.dz_dx * (col as f32 + tri.col_offset));
+        // Each band sets its triangles up again (the same arithmetic as any other band, so the split
+        // never changes a texel) instead of holding every set-up triangle of the scene at once: at
+        // 10M triangles those would take more memory than the scene.
+        buffer.par_chunks_mut(BAND_ROWS as usize * n as usize).enumerate().for_each_init(
+            Vec::new,
+            |setup, (band, texels)| {
+                let first_row = band as u32 * BAND_ROWS;
+                let last_row = first_row + (texels.len() / n as usize) as u32 - 1;
+                init(texels);
+                for &index in &bands.triangles[bands.start[band]..bands.start[band + 1]] {
+                    setup.clear();
+                    let index = index as usize;
+                    let id = index as u32;
+                    setup_triangle(&scene.triangle(id), scene.is_closed(id), view, settings, setup);
+                    for tri in setup.iter() {
+                        for row in tri.rows.0.max(first_row)..=tri.rows.1.min(last_row) {
+                            let Some((lo, hi)) = tri.span(row) else {
+                                continue;
+                            };
+                            let z_row = tri.depth_row_start(row);
+                            let line = &mut texels[(row - first_row) as usize * n as usize..][..n as usize];
+                            // i32 → f32 column conversions vectorize; the arithmetic per texel is
+                            // `z_row + dz_dx·(col + col_offset)` whatever the span or band.
+                            for (col, texel) in (lo as i32..).zip(&mut line[lo as usize..=hi as usize]) {
+                                fragment(texel, z_row + tri.dz_dx * (col as f32 + tri.col_offset));
+                            }
                         }
                     }
                 }
-            }
-            finish(texels);
-        },
-    );
+                finish(texels);
+            },
+        );
+    }
 }
 
 /// Scene triangles per band of `BAND_ROWS` rows (CSR: band b owns `triangles[start[b]..start[b + 1]]`),
 /// in scene order. A triangle may be listed in a band it turns out not to cover (the bands come
-/// from a cheap bound), never left out of one it covers.
+/// from a cheap bound, and culling is left to the bands), never left out of one it covers, so
+/// the bins serve every setting.
 struct Bands {
     start: Vec<usize>,
     triangles: Vec<u32>,
 }
 
-fn bin_by_band(scene: &Scene, view: &LightView, settings: &RasterSettings) -> Bands {
+fn bin_by_band(scene: &Scene, view: &LightView) -> Bands {
     let band_count = view.resolution.div_ceil(BAND_ROWS) as usize;
+    assert!(band_count < u16::MAX as usize, "a {}² map has too many bands", view.resolution);
     let count = scene.triangle_count() as u32;
-    let ranges: Vec<(u32, u32)> = (0..count.div_ceil(SETUP_CHUNK))
+    // u16 bands: at most 16384 / 32 of them; at 10M triangles the ranges are the largest block.
+    let ranges: Vec<(u16, u16)> = (0..count.div_ceil(SETUP_CHUNK))
         .into_par_iter()
         .flat_map_iter(|chunk| {
             let ids = chunk * SETUP_CHUNK..count.min((chunk + 1) * SETUP_CHUNK);
@@ -295,7 +324,7 @@ fn bin_by_band(scene: &Scene, view: &LightView, settings: &RasterSettings) -> Ba
             // A triangle that `triangles_in` skips (degenerate in world space) covers no band.
             let mut ranges = vec![(0, 0); ids.len()];
             for (id, tri) in scene.triangles_in(ids.clone()) {
-                ranges[(id - ids.start) as usize] = band_range(scene, id, &tri, view, settings, &mut scratch);
+                ranges[(id - ids.start) as usize] = band_range(&tri, view, &mut scratch);
             }
             ranges
         })
@@ -320,17 +349,11 @@ fn bin_by_band(scene: &Scene, view: &LightView, settings: &RasterSettings) -> Ba
     Bands { start, triangles }
 }
 
-/// The bands [lo, hi) that triangle `id` may cover. Without clipping behind the eye (every
-/// w > 0) the rows come from its snapped vertices, widened by a row each way for the rounding of
-/// clipped vertices (clipping only shrinks the triangle); otherwise from its full set-up.
-fn band_range(
-    scene: &Scene,
-    id: u32,
-    tri: &[glam::Vec3; 3],
-    view: &LightView,
-    settings: &RasterSettings,
-    scratch: &mut Vec<RasterTriangle>,
-) -> (u32, u32) {
+/// The bands [lo, hi) that a triangle may cover under any setting. Without clipping behind the
+/// eye (every w > 0) the rows come from its snapped vertices, widened by a row each way for the
+/// rounding of clipped vertices (clipping only shrinks the triangle); otherwise from its full
+/// set-up without culling (culling only removes triangles; offsets never move rows).
+fn band_range(tri: &[glam::Vec3; 3], view: &LightView, scratch: &mut Vec<RasterTriangle>) -> (u16, u16) {
     let clip = tri.map(|p| view.clip_from_world * p.extend(1.0));
     if !clip.iter().all(|c| c.is_finite()) {
         return (0, 0);
@@ -343,10 +366,10 @@ fn band_range(
         centre_range(&[lo, hi], view.resolution).map(|(a, b)| (a as u32, b as u32))
     } else {
         scratch.clear();
-        setup_triangle(tri, scene.is_closed(id), view, settings, scratch);
+        setup_triangle(tri, false, view, &RasterSettings::default(), scratch);
         scratch.iter().map(|t| t.rows).reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
     };
-    rows.map_or((0, 0), |(first, last)| (first / BAND_ROWS, last / BAND_ROWS + 1))
+    rows.map_or((0, 0), |(first, last)| ((first / BAND_ROWS) as u16, (last / BAND_ROWS + 1) as u16))
 }
 
 /// Guard band (in units of w) keeping raster coordinates within ±2^20 texels, so that the

@@ -22,26 +22,46 @@ impl Camera {
         (r, u, f)
     }
 
+    /// What every primary ray of this camera shares, computed once per image.
+    pub fn film(&self) -> Film {
+        Film {
+            basis: self.basis(),
+            tan_half_fov: ((self.fov_y_deg as f64).to_radians() * 0.5).tan(),
+            width: self.width as f64,
+            height: self.height as f64,
+        }
+    }
+
+    pub fn pixel_count(&self) -> usize {
+        self.width as usize * self.height as usize
+    }
+}
+
+/// A camera's image plane: its basis (right, up, forward) and the tangent of half its vertical
+/// field of view.
+#[derive(Clone, Copy, Debug)]
+pub struct Film {
+    basis: (DVec3, DVec3, DVec3),
+    tan_half_fov: f64,
+    width: f64,
+    height: f64,
+}
+
+impl Film {
     /// Unit direction of the ray through the centre of pixel (x, y), row 0 at the top.
     /// Computed in f64 and rounded once, so every consumer sees the same bits.
-    pub fn pixel_direction(&self, basis: &(DVec3, DVec3, DVec3), x: u32, y: u32) -> Vec3 {
-        self.film_direction(basis, x as f64 + 0.5, y as f64 + 0.5)
+    pub fn pixel_direction(&self, x: u32, y: u32) -> Vec3 {
+        self.direction(x as f64 + 0.5, y as f64 + 0.5)
     }
 
     /// Unit direction of the ray through the image point (px, py), in pixels from the top-left
     /// corner (pixel (x, y) covers [x, x + 1) × [y, y + 1)). `pixel_direction` is this at the
     /// pixel centre, so sub-pixel rays and centre rays share one formula.
-    pub fn film_direction(&self, basis: &(DVec3, DVec3, DVec3), px: f64, py: f64) -> Vec3 {
-        let (r, u, f) = *basis;
-        let (w, h) = (self.width as f64, self.height as f64);
-        let t = (self.fov_y_deg as f64).to_radians() * 0.5;
-        let t = t.tan();
+    pub fn direction(&self, px: f64, py: f64) -> Vec3 {
+        let (r, u, f) = self.basis;
+        let (w, h, t) = (self.width, self.height, self.tan_half_fov);
         let sx = (2.0 * px / w - 1.0) * t * w / h;
         let sy = (1.0 - 2.0 * py / h) * t;
         (f + sx * r + sy * u).normalize().as_vec3()
-    }
-
-    pub fn pixel_count(&self) -> usize {
-        self.width as usize * self.height as usize
     }
 }

@@ -17,7 +17,7 @@ mod transform;
 mod triangles;
 mod view_key;
 
-pub use camera::Camera;
+pub use camera::{Camera, Film};
 pub use error::{Problem, SceneError};
 pub use instance::{Instance, SharedMesh, box_corners, is_degenerate, world_vertex};
 pub use light::{Light, LightKind, LightSize, NoLightSize};
@@ -78,7 +78,12 @@ impl Scene {
             tri.iter().fold((lo, hi), |(lo, hi), v| (lo.min(*v), hi.max(*v)))
         };
         let join = |a: (Vec3, Vec3), b: (Vec3, Vec3)| (a.0.min(b.0), a.1.max(b.1));
-        let flat = self.flat_triangles.iter().fold(empty, grow);
+        // min and max are exact, so the split into chunks never changes the bounds.
+        let flat = self
+            .flat_triangles
+            .par_chunks(1 << 16)
+            .map(|chunk| chunk.iter().fold(empty, grow))
+            .reduce(|| empty, join);
         let instanced = self
             .instances
             .par_iter()

@@ -3,8 +3,7 @@
 
 use super::{LayerNeeds, Layers};
 use crate::raster::{
-    DepthFormat, DepthLayer, DepthPairLayer, LightView, MultiDepthLayer, RasterSettings, rasterize_nearest,
-    rasterize_two_nearest,
+    DepthFormat, DepthLayer, DepthPairLayer, LightView, MultiDepthLayer, RasterSettings, Rasterizer,
 };
 use crate::scene::Scene;
 
@@ -22,6 +21,12 @@ impl BuiltLayers {
     ///
     /// [`Technique::layer_needs`]: super::Technique::layer_needs
     pub fn build(scene: &Scene, view: &LightView, format: DepthFormat, needs: &LayerNeeds) -> BuiltLayers {
+        Self::rasterize(&Rasterizer::new(scene, view), format, needs)
+    }
+
+    /// As [`BuiltLayers::build`], with the view's triangles already binned (shared by every
+    /// group of techniques on that view).
+    pub fn rasterize(rasterizer: &Rasterizer, format: DepthFormat, needs: &LayerNeeds) -> BuiltLayers {
         let settings = RasterSettings {
             format,
             culling: needs.culling,
@@ -30,14 +35,14 @@ impl BuiltLayers {
             ..RasterSettings::default()
         };
         match (needs.second_layer, needs.multi_depth) {
-            (true, _) => BuiltLayers::TwoNearest(rasterize_two_nearest(scene, view, &settings)),
+            (true, _) => BuiltLayers::TwoNearest(rasterizer.two_nearest(&settings)),
             (false, Some(m)) => BuiltLayers::MultiDepth(MultiDepthLayer::from_base(
-                &rasterize_nearest(scene, view, &settings),
+                &rasterizer.nearest(&settings),
                 m.depths,
                 m.neighbourhood,
                 m.selection,
             )),
-            (false, None) => BuiltLayers::Nearest(rasterize_nearest(scene, view, &settings)),
+            (false, None) => BuiltLayers::Nearest(rasterizer.nearest(&settings)),
         }
     }
 

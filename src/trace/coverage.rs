@@ -29,12 +29,12 @@ pub fn trace_coverage_reference(
     grid: u32,
 ) -> SoftReference {
     assert!(grid >= 1, "the coverage grid must be at least 1×1");
-    let basis = camera.basis();
+    let film = camera.film();
     trace_evaluated(bvh, gbuffer, grid * grid, |scratch, x, y, i| {
         let (mut hits, mut surfaces) = (0u32, 0u32);
         for k in 0..grid * grid {
             let (sx, sy) = stratum_centre(k, grid);
-            let dir = camera.film_direction(&basis, x as f64 + sx, y as f64 + sy);
+            let dir = film.direction(x as f64 + sx, y as f64 + sy);
             let Some(s) = primary_sample(scene, bvh, scratch, camera.position, dir, light) else {
                 continue;
             };

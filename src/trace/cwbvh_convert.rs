@@ -77,10 +77,7 @@ pub(super) fn bvh2_to_cwbvh(bvh2: &Bvh2) -> CwBvh {
     if bvh2.nodes.is_empty() {
         return CwBvh::default();
     }
-    let converter = Converter {
-        bvh2,
-        decisions: (0..bvh2.nodes.len()).map(|_| AtomicU64::new(0)).collect(),
-    };
+    let converter = Converter { bvh2, decisions: (0..bvh2.nodes.len()).map(|_| AtomicU64::new(0)).collect() };
     converter.cost(0, 0);
     let tree = converter.subtree(0, PARALLEL_WIDE_LEVELS);
     CwBvh {
@@ -306,10 +303,8 @@ fn choose(half_area: f32, count: u32, left: &[f32; 7], right: &[f32; 7]) -> ([f3
 
 /// The node's origin and per-axis power-of-two step, in a node with no children yet.
 fn quantization_frame(aabb: &Aabb) -> (CwBvhNode, Vec3A) {
-    let step = ((aabb.max - aabb.min).max(Vec3A::splat(1e-20)) * (1.0 / QUANTIZATION_STEPS))
-        .log2()
-        .ceil()
-        .exp2();
+    let step =
+        ((aabb.max - aabb.min).max(Vec3A::splat(1e-20)) * (1.0 / QUANTIZATION_STEPS)).log2().ceil().exp2();
     // A power of two: only its exponent bits are set.
     let exponent = step.to_array().map(|s| (s.to_bits() >> 23) as u8);
     let node = CwBvhNode { p: aabb.min.into(), e: exponent, ..CwBvhNode::default() };

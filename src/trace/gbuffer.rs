@@ -134,12 +134,12 @@ impl GBuffer {
     pub fn trace(scene: &Scene, bvh: &SceneBvh, camera: &Camera, light: &Light) -> GBuffer {
         let (w, h) = (camera.width, camera.height);
         let n = camera.pixel_count();
-        let basis = camera.basis();
-        let mut class = vec![PixelClass::Background; n];
-        let mut position = vec![Vec3::ZERO; n];
-        let mut normal = vec![Vec3::ZERO; n];
-        let mut triangle = vec![u32::MAX; n];
-        let mut object = vec![u32::MAX; n];
+        let film = camera.film();
+        let mut class = filled(PixelClass::Background, n);
+        let mut position = filled(Vec3::ZERO, n);
+        let mut normal = filled(Vec3::ZERO, n);
+        let mut triangle = filled(u32::MAX, n);
+        let mut object = filled(u32::MAX, n);
         class
             .par_chunks_mut(w as usize)
             .zip(position.par_chunks_mut(w as usize))
@@ -151,7 +151,7 @@ impl GBuffer {
                 || bvh.scratch(),
                 |scratch, (y, ((((cls, pos), nrm), tri), obj))| {
                     for x in 0..w as usize {
-                        let dir = camera.pixel_direction(&basis, x as u32, y as u32);
+                        let dir = film.pixel_direction(x as u32, y as u32);
                         let Some(sample) = primary_sample(scene, bvh, scratch, camera.position, dir, light)
                         else {
                             continue;
@@ -168,4 +168,12 @@ impl GBuffer {
         let evaluated = (0..n as u32).filter(|&i| class[i as usize] == PixelClass::Evaluated).collect();
         GBuffer { width: w, height: h, class, position, normal, triangle, object, evaluated }
     }
+}
+
+/// `n` copies of `value`, written by every thread: at 4096² a G-buffer array is up to 192 MiB,
+/// which one thread takes a while to fill before the tracing starts.
+fn filled<T: Copy + Send + Sync>(value: T, n: usize) -> Vec<T> {
+    let mut v = Vec::with_capacity(n);
+    v.par_extend(rayon::iter::repeat_n(value, n));
+    v
 }

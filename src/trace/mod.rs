@@ -7,9 +7,9 @@
 
 mod area_light;
 mod bvh;
-mod cwbvh_convert;
 mod cache;
 mod coverage;
+mod cwbvh_convert;
 mod gbuffer;
 mod instances;
 mod reference;

@@ -75,7 +75,12 @@ pub(super) fn hard_visible(
 }
 
 /// Traces one shadow ray per evaluated pixel.
-pub fn trace_hard_reference(scene: &Scene, bvh: &SceneBvh, gbuffer: &GBuffer, light: &Light) -> HardReference {
+pub fn trace_hard_reference(
+    scene: &Scene,
+    bvh: &SceneBvh,
+    gbuffer: &GBuffer,
+    light: &Light,
+) -> HardReference {
     let mut lit = vec![0u8; gbuffer.pixel_count()];
     let w = gbuffer.width as usize;
     lit.par_chunks_mut(w).enumerate().for_each_init(
