@@ -435,7 +435,10 @@ fn a_sizeless_light_is_an_error_naming_the_light_and_the_field() {
     let (scene, camera, light) = sized("plane_box");
     let bvh = SceneBvh::build(&scene);
     let g = GBuffer::trace(&scene, &bvh, &camera, &light);
-    assert!(matches!(trace_area_light_reference(&scene, &bvh, &g, &light, 0), Err(AreaLightError::NoSamples { .. })));
+    assert!(matches!(
+        trace_area_light_reference(&scene, &bvh, &g, &light, 0),
+        Err(AreaLightError::NoSamples { .. })
+    ));
 }
 
 fn shadowtruth(args: &[&str], dir: &std::path::Path) -> (i32, String) {
