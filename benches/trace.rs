@@ -1,11 +1,14 @@
 //! Tracer benchmarks on the bundled OBJ scene (rocks, 8k triangles, 1024×768): BVH build,
 //! G-buffer (primary rays), hard reference (shadow rays) and the area-light reference (4×4 shadow
-//! rays per pixel towards a sun of 2° angular diameter; throughput in shadow rays).
+//! rays per pixel towards a sun of 2° angular diameter; throughput in shadow rays). And primary
+//! and shadow rays on an outdoor scene of 200K triangles (`generate forest`: terrain and trees
+//! with thin trunks, under the sun), the rays `reference --timing` times.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use shadowtruth::scene::{LightKind, load_scene};
 use shadowtruth::trace::{GBuffer, SceneBvh, trace_area_light_reference, trace_hard_reference};
 use std::path::Path;
+use std::process::Command;
 
 fn trace(c: &mut Criterion) {
     let scene = load_scene(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/rocks.json")).expect("scene");
@@ -34,5 +37,33 @@ fn trace(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, trace);
+/// The generated 200K-triangle forest, written afresh (the generator is deterministic).
+fn forest_scene() -> shadowtruth::Scene {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("forest200k");
+    let status = Command::new(env!("CARGO_BIN_EXE_shadowtruth"))
+        .args(["generate", "forest", "--triangles", "200K", "--image", "1024,768", "-o"])
+        .arg(&dir)
+        .status()
+        .expect("run shadowtruth generate");
+    assert!(status.success(), "shadowtruth generate forest failed");
+    load_scene(&dir.join("scene.json")).expect("the generated forest loads")
+}
+
+fn trace_outdoor(c: &mut Criterion) {
+    let scene = forest_scene();
+    let camera = &scene.cameras[0];
+    let sun = scene.lights.iter().find(|l| l.name == "sun").expect("the forest has a sun");
+    let bvh = SceneBvh::build(&scene);
+    let gbuffer = GBuffer::trace(&scene, &bvh, camera, sun);
+
+    let mut g = c.benchmark_group("trace/forest200k");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(gbuffer.pixel_count() as u64));
+    g.bench_function("primary_rays", |b| b.iter(|| GBuffer::trace(&scene, &bvh, camera, sun)));
+    g.throughput(Throughput::Elements(gbuffer.evaluated.len() as u64));
+    g.bench_function("shadow_rays", |b| b.iter(|| trace_hard_reference(&scene, &bvh, &gbuffer, sun)));
+    g.finish();
+}
+
+criterion_group!(benches, trace, trace_outdoor);
 criterion_main!(benches);

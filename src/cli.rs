@@ -26,6 +26,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 mod score;
+mod trace_timing;
 
 /// shadowtruth measures how wrong shadow maps are: an exact ray-traced reference decides, pixel
 /// by pixel, what is lit; every shadow-map technique is scored against it (false shadow: acne,
@@ -375,6 +376,10 @@ struct ReferenceArgs {
     timing: bool,
     #[arg(long, default_value_t = 5)]
     repeats: usize,
+    /// With --timing: the saved `--timing` output of the Embree reference tool on the same view
+    /// (`embree-reference mask --timing`); prints our rate over Embree's at this thread count.
+    #[arg(long, requires = "timing")]
+    embree_timing: Option<PathBuf>,
 }
 
 #[derive(Args)]
@@ -879,6 +884,10 @@ fn reference(a: ReferenceArgs) -> Result<u8> {
         bail!("--samples {grid} is outside 1..={MAX_REFERENCE_GRID} (N for an N×N grid per pixel)");
     }
     set_threads(a.threads)?;
+    // Read before tracing, so that a wrong file fails at once.
+    let embree = (a.embree_timing.as_deref())
+        .map(|path| trace_timing::read_other_timing(path, rayon::current_num_threads()))
+        .transpose()?;
     let scene: Scene = load_scene(&a.scene)?;
     let camera = pick(&scene.cameras, a.camera.as_deref(), |c| &c.name, "camera", &a.scene)?;
     let light = pick(&scene.lights, a.light.as_deref(), |l| &l.name, "light", &a.scene)?;
@@ -902,7 +911,11 @@ fn reference(a: ReferenceArgs) -> Result<u8> {
             .with_context(|| format!("writing {}", a.out.display()))?;
     }
     if a.timing {
-        print_trace_timing(&scene, &bvh, camera, light, a.repeats);
+        let ours = trace_timing::time_tracer(&scene, &bvh, camera, light, a.repeats);
+        println!("{}", trace_timing::timing_line(&ours, a.repeats));
+        if let Some(theirs) = &embree {
+            println!("{}", trace_timing::ratio_line(&ours, theirs));
+        }
         if a.kind != ReferenceKind::Hard {
             let mut ms = Vec::new();
             for _ in 0..a.repeats.max(1) {
@@ -1009,37 +1022,6 @@ fn print_verification(scene: &Path, v: &ViewVerification) {
             if c.at_boundary { ", at a shadow boundary" } else { "" },
         );
     }
-}
-
-/// Rays per second of the G-buffer (primary) and reference (shadow) passes, median of repeats.
-fn print_trace_timing(
-    scene: &Scene,
-    bvh: &SceneBvh,
-    camera: &crate::scene::Camera,
-    light: &crate::scene::Light,
-    repeats: usize,
-) {
-    let (mut primary_ms, mut shadow_ms) = (Vec::new(), Vec::new());
-    let mut rays = (0, 0);
-    for _ in 0..repeats.max(1) {
-        let sw = Stopwatch::start();
-        let g = GBuffer::trace(scene, bvh, camera, light);
-        primary_ms.push(sw.ms());
-        let sw = Stopwatch::start();
-        std::hint::black_box(trace_hard_reference(scene, bvh, &g, light));
-        shadow_ms.push(sw.ms());
-        rays = (g.pixel_count(), g.evaluated.len());
-    }
-    let rate = |n: usize, ms: &[f64]| n as f64 / median_ms(ms) / 1e3;
-    println!(
-        "shadowtruth {} threads  primary {:.3} Mrays/s ({} rays)   occlusion {:.3} Mrays/s ({} rays)   (median of {})",
-        rayon::current_num_threads(),
-        rate(rays.0, &primary_ms),
-        rays.0,
-        rate(rays.1, &shadow_ms),
-        rays.1,
-        primary_ms.len()
-    );
 }
 
 /// The figures already written under `dir/figures/`: scene grids and references (in name

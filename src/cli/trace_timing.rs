@@ -1,0 +1,183 @@
+//! `reference --timing`: the tracer's primary and shadow rays per second on one view, and, given
+//! the `--timing` output of another tracer on the same rays (the Embree reference tool's lines
+//! `embree N thread(s)  primary X Mrays/s (R rays)  occlusion Y Mrays/s (S rays)`), the ratio.
+
+use crate::metrics::{Stopwatch, median_ms};
+use crate::scene::{Camera, Light, Scene};
+use crate::trace::{GBuffer, SceneBvh, trace_hard_reference};
+use anyhow::{Context, Result, bail};
+use std::path::Path;
+
+/// Rays per second (in millions) of one kind, over how many rays.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Rate {
+    pub mrays_per_s: f64,
+    pub rays: u64,
+}
+
+/// One tracer's timing on one view at one thread count.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct TraceTiming {
+    pub threads: usize,
+    pub primary: Rate,
+    pub occlusion: Rate,
+}
+
+/// Times the G-buffer (primary rays) and the hard reference (shadow rays), median of `repeats`.
+pub(super) fn time_tracer(
+    scene: &Scene,
+    bvh: &SceneBvh,
+    camera: &Camera,
+    light: &Light,
+    repeats: usize,
+) -> TraceTiming {
+    let (mut primary_ms, mut shadow_ms) = (Vec::new(), Vec::new());
+    let mut rays = (0, 0);
+    for _ in 0..repeats.max(1) {
+        let sw = Stopwatch::start();
+        let g = GBuffer::trace(scene, bvh, camera, light);
+        primary_ms.push(sw.ms());
+        let sw = Stopwatch::start();
+        std::hint::black_box(trace_hard_reference(scene, bvh, &g, light));
+        shadow_ms.push(sw.ms());
+        rays = (g.pixel_count() as u64, g.evaluated.len() as u64);
+    }
+    let rate = |rays: u64, ms: &[f64]| Rate { mrays_per_s: rays as f64 / median_ms(ms) / 1e3, rays };
+    TraceTiming {
+        threads: rayon::current_num_threads(),
+        primary: rate(rays.0, &primary_ms),
+        occlusion: rate(rays.1, &shadow_ms),
+    }
+}
+
+/// Our timing line, in the other tool's layout so that the two read side by side.
+pub(super) fn timing_line(t: &TraceTiming, repeats: usize) -> String {
+    format!(
+        "shadowtruth {} threads  primary {:.3} Mrays/s ({} rays)   occlusion {:.3} Mrays/s ({} rays)   (median of {})",
+        t.threads,
+        t.primary.mrays_per_s,
+        t.primary.rays,
+        t.occlusion.mrays_per_s,
+        t.occlusion.rays,
+        repeats.max(1)
+    )
+}
+
+/// The ratio line against the other tracer's timing at our thread count.
+pub(super) fn ratio_line(ours: &TraceTiming, theirs: &TraceTiming) -> String {
+    let ratio = |a: Rate, b: Rate| a.mrays_per_s / b.mrays_per_s;
+    let mut line = format!(
+        "shadowtruth / embree, {} threads: primary {:.2}×, occlusion {:.2}×",
+        ours.threads,
+        ratio(ours.primary, theirs.primary),
+        ratio(ours.occlusion, theirs.occlusion)
+    );
+    if ours.primary.rays != theirs.primary.rays {
+        line += &format!(
+            "  (not the same rays: {} primary rays here, {} there)",
+            ours.primary.rays, theirs.primary.rays
+        );
+    }
+    line
+}
+
+/// The timing at `threads` in the other tracer's `--timing` output saved at `path`.
+pub(super) fn read_other_timing(path: &Path, threads: usize) -> Result<TraceTiming> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("--embree-timing {}", path.display()))?;
+    let timings: Vec<TraceTiming> = text.lines().filter_map(parse_timing_line).collect();
+    if timings.is_empty() {
+        bail!(
+            "{}: no timing line (expected `embree N threads  primary X Mrays/s (R rays)  occlusion Y Mrays/s (S rays)`)",
+            path.display()
+        );
+    }
+    match timings.iter().find(|t| t.threads == threads) {
+        Some(t) => Ok(*t),
+        None => {
+            let present: Vec<String> = timings.iter().map(|t| t.threads.to_string()).collect();
+            bail!(
+                "{}: no timing at {threads} threads (it has {}); run with --threads set to one of those",
+                path.display(),
+                present.join(", ")
+            )
+        }
+    }
+}
+
+/// `embree 2 threads  primary 9.985 Mrays/s (786432 rays)   occlusion 10.127 Mrays/s (520624 rays)`.
+fn parse_timing_line(line: &str) -> Option<TraceTiming> {
+    let words: Vec<&str> = line.split_whitespace().collect();
+    if words.first() != Some(&"embree") {
+        return None;
+    }
+    let threads = words.get(1)?.parse().ok()?;
+    let rate = |kind: &str| -> Option<Rate> {
+        let at = words.iter().position(|w| *w == kind)?;
+        let mrays_per_s = words.get(at + 1)?.parse().ok()?;
+        let rays = words.get(at + 3)?.trim_start_matches('(').parse().ok()?;
+        Some(Rate { mrays_per_s, rays })
+    };
+    Some(TraceTiming { threads, primary: rate("primary")?, occlusion: rate("occlusion")? })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const EMBREE: &str = "{\"mask\": \"m.png\"}\n\
+        embree 1 thread   primary 5.732 Mrays/s (786432 rays)   occlusion 5.737 Mrays/s (520624 rays)\n\
+        embree 2 threads  primary 9.985 Mrays/s (786432 rays)   occlusion 10.127 Mrays/s (520624 rays)\n";
+
+    #[test]
+    fn reads_each_thread_count_of_the_embree_tool_output() {
+        let timings: Vec<TraceTiming> = EMBREE.lines().filter_map(parse_timing_line).collect();
+        assert_eq!(
+            timings,
+            [
+                TraceTiming {
+                    threads: 1,
+                    primary: Rate { mrays_per_s: 5.732, rays: 786432 },
+                    occlusion: Rate { mrays_per_s: 5.737, rays: 520624 },
+                },
+                TraceTiming {
+                    threads: 2,
+                    primary: Rate { mrays_per_s: 9.985, rays: 786432 },
+                    occlusion: Rate { mrays_per_s: 10.127, rays: 520624 },
+                },
+            ]
+        );
+    }
+
+    #[test]
+    fn the_ratio_divides_our_rate_by_theirs_and_flags_other_rays() {
+        let theirs = TraceTiming {
+            threads: 2,
+            primary: Rate { mrays_per_s: 10.0, rays: 100 },
+            occlusion: Rate { mrays_per_s: 8.0, rays: 60 },
+        };
+        let mut ours = TraceTiming {
+            threads: 2,
+            primary: Rate { mrays_per_s: 5.0, rays: 100 },
+            occlusion: Rate { mrays_per_s: 10.0, rays: 59 },
+        };
+        assert_eq!(
+            ratio_line(&ours, &theirs),
+            "shadowtruth / embree, 2 threads: primary 0.50×, occlusion 1.25×"
+        );
+        ours.primary.rays = 99;
+        assert!(ratio_line(&ours, &theirs).ends_with("(not the same rays: 99 primary rays here, 100 there)"));
+    }
+
+    #[test]
+    fn a_file_without_the_thread_count_names_the_counts_it_has() {
+        let path = std::env::temp_dir().join(format!("shadowtruth-embree-timing-{}.txt", std::process::id()));
+        std::fs::write(&path, EMBREE).unwrap();
+        let err = read_other_timing(&path, 4).unwrap_err().to_string();
+        assert!(err.contains("no timing at 4 threads (it has 1, 2)"), "{err}");
+        assert_eq!(read_other_timing(&path, 2).unwrap().primary.mrays_per_s, 9.985);
+        std::fs::write(&path, "nothing here\n").unwrap();
+        assert!(read_other_timing(&path, 1).unwrap_err().to_string().contains("no timing line"));
+        std::fs::remove_file(&path).unwrap();
+    }
+}
