@@ -152,7 +152,7 @@ fn mask(scene: &Scene, camera: &str, light: &str) -> Vec<u8> {
     let bvh = SceneBvh::build(scene);
     let (camera, light) = (scene.camera(camera).unwrap(), scene.light(light).unwrap());
     let g = GBuffer::trace(scene, &bvh, camera, light);
-    trace_hard_reference(&scene, &bvh, &g, light).mask_codes(&g)
+    trace_hard_reference(scene, &bvh, &g, light).mask_codes(&g)
 }
 
 #[test]

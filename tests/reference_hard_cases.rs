@@ -60,7 +60,7 @@ fn check(case: &str, scene: &Scene, occluded: bool, max_band_fraction: f64) -> V
     let g_and_r = |camera: usize, light: usize| {
         let bvh = SceneBvh::build(scene);
         let g = GBuffer::trace(scene, &bvh, &scene.cameras[camera], &scene.lights[light]);
-        let r = trace_hard_reference(&scene, &bvh, &g, &scene.lights[light]);
+        let r = trace_hard_reference(scene, &bvh, &g, &scene.lights[light]);
         let lit = g.evaluated.iter().filter(|&&i| r.lit[i as usize] != 0).count();
         (lit, g.evaluated.len() - lit)
     };

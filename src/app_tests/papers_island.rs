@@ -142,7 +142,7 @@ fn view_stats(scene: &Scene, camera: &str) -> ViewStats {
     let LightKind::Spot { position, .. } = light.kind else { unreachable!() };
     let bvh = SceneBvh::build(scene);
     let g = GBuffer::trace(scene, &bvh, scene.camera(camera).unwrap(), light);
-    let r = trace_hard_reference(&scene, &bvh, &g, light);
+    let r = trace_hard_reference(scene, &bvh, &g, light);
     let n = g.pixel_count() as f64;
     let share = |c| g.count(c) as f64 / n;
     let n_dot_l = |i: usize| g.normal[i].dot((position - g.position[i]).normalize());

@@ -22,7 +22,7 @@ pub fn scene_from_json(json: &serde_json::Value) -> Scene {
 pub fn trace_first(scene: &Scene) -> (GBuffer, HardReference) {
     let bvh = SceneBvh::build(scene);
     let g = GBuffer::trace(scene, &bvh, &scene.cameras[0], &scene.lights[0]);
-    let r = trace_hard_reference(&scene, &bvh, &g, &scene.lights[0]);
+    let r = trace_hard_reference(scene, &bvh, &g, &scene.lights[0]);
     (g, r)
 }
 
