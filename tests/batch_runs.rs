@@ -28,30 +28,6 @@ fn shadowtruth(args: &[&str], dir: &Path) {
     succeeded(shadowtruth_command(args, dir).spawn().unwrap(), args);
 }
 
-/// Writes `NAME.json`: a plane and a box under `lights` directional lights of 3° (all different),
-/// seen by one `width`×`height` camera.
-fn write_scene(dir: &Path, name: &str, lights: usize, (width, height): (u32, u32)) {
-    let lights: Vec<_> = (0..lights)
-        .map(|i| {
-            let a = i as f64 * 0.5;
-            serde_json::json!({ "name": format!("l{i}"), "type": "directional",
-                                "direction": [-0.3 * a.cos(), -1, -0.3 * a.sin()], "angular_diameter_deg": 3.0 })
-        })
-        .collect();
-    let scene = serde_json::json!({
-        "format": "shadowtruth/scene/v1", "name": name,
-        "objects": [
-            { "name": "ground", "shape": { "type": "plane", "size": [10, 10] } },
-            { "name": "box", "shape": { "type": "box", "size": [1, 1, 1] }, "closed": true,
-              "transform": { "rotate_deg": [0, 30, 0], "translate": [0, 1.5, 0] } }
-        ],
-        "cameras": [{ "name": "c", "position": [-6, 4, 6.5], "look_at": [0, 0.7, 0], "fov_y_deg": 45,
-                      "width": width, "height": height }],
-        "lights": lights
-    });
-    std::fs::write(dir.join(format!("{name}.json")), scene.to_string()).unwrap();
-}
-
 /// Writes `NAME` as a plan of `techniques` at `resolutions`, with one repeat and 2×2 soft grids.
 fn write_plan(dir: &Path, name: &str, techniques: serde_json::Value, resolutions: &[u32]) {
     write_plan_for_lights(dir, name, techniques, resolutions, None);
@@ -86,7 +62,7 @@ fn two_runs_sharing_a_cache_keep_every_manifest_entry() {
     let dir = tempfile::tempdir().unwrap();
     let lights = 12;
     for scene in ["a", "b"] {
-        write_scene(dir.path(), scene, lights, (32, 24));
+        common::write_plane_box_scene(&dir.path().join(format!("{scene}.json")), scene, lights, (32, 24));
     }
     // Each view stores a hard mask and a coverage reference: 2 entries.
     write_plan(
@@ -174,7 +150,7 @@ fn live_temp_file(dir: &Path, target: &str) -> (PathBuf, std::fs::File) {
 #[test]
 fn the_next_run_removes_stray_temp_files_and_keeps_live_ones() {
     let dir = tempfile::tempdir().unwrap();
-    write_scene(dir.path(), "a", 1, (32, 24));
+    common::write_plane_box_scene(&dir.path().join("a.json"), "a", 1, (32, 24));
     write_plan(
         dir.path(),
         "plan.json",
@@ -233,7 +209,7 @@ fn csv_rows(dir: &Path) -> usize {
 #[test]
 fn a_second_run_into_a_folder_leaves_nothing_of_the_first() {
     let dir = tempfile::tempdir().unwrap();
-    write_scene(dir.path(), "a", 2, (32, 24));
+    common::write_plane_box_scene(&dir.path().join("a.json"), "a", 2, (32, 24));
     let both = serde_json::json!([{ "technique": "none" }, { "technique": "constant", "bias_depth": [0.001, 0.01] }]);
     write_plan(dir.path(), "big.json", both, &[16, 32, 64]);
     // One light, one technique, two resolutions (plots need two).
@@ -297,7 +273,7 @@ fn read(path: PathBuf) -> Vec<u8> {
 #[test]
 fn soft_exrs_are_byte_identical_across_runs_and_thread_counts() {
     let dir = tempfile::tempdir().unwrap();
-    write_scene(dir.path(), "a", 1, (512, 384));
+    common::write_plane_box_scene(&dir.path().join("a.json"), "a", 1, (512, 384));
     for kind in ["coverage", "area"] {
         let files: Vec<Vec<u8>> = [("1", "one"), ("2", "two"), ("2", "again")]
             .iter()
@@ -340,7 +316,7 @@ fn soft_exrs_are_byte_identical_across_runs_and_thread_counts() {
 #[test]
 fn depth_map_exr_bytes_do_not_depend_on_the_run() {
     let dir = tempfile::tempdir().unwrap();
-    write_scene(dir.path(), "a", 1, (32, 24));
+    common::write_plane_box_scene(&dir.path().join("a.json"), "a", 1, (32, 24));
     let files: Vec<Vec<u8>> = ["one", "two", "three", "four"]
         .iter()
         .map(|name| {

@@ -4,6 +4,8 @@
 //! other than cost against error, and index.html once timings are set equal), resuming keeps the
 //! finished runs as they were, and bad shards, merges and resumes are refused naming the file.
 
+mod common;
+
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -34,26 +36,7 @@ fn refused(args: &[&str], dir: &Path) -> String {
 /// pixels each, and `plan.json`: three techniques at 16² and 32² (30 runs, six per view).
 fn write_suite(dir: &Path) {
     for (name, lights) in [("a", 3), ("b", 2)] {
-        let lights: Vec<Value> = (0..lights)
-            .map(|i| {
-                let a = i as f64 * 0.7;
-                serde_json::json!({ "name": format!("l{i}"), "type": "directional",
-                                    "direction": [-0.3 * a.cos(), -1, -0.3 * a.sin()] })
-            })
-            .collect();
-        let scene = serde_json::json!({
-            "format": "shadowtruth/scene/v1", "name": name,
-            "objects": [
-                { "name": "ground", "shape": { "type": "plane", "size": [10, 10] } },
-                { "name": "box", "shape": { "type": "box", "size": [1, 1, 1] }, "closed": true,
-                  "transform": { "rotate_deg": [0, 30, 0], "translate": [0, 1.5, 0] } }
-            ],
-            "cameras": [{ "name": "c", "position": [-6, 4, 6.5], "look_at": [0, 0.7, 0], "fov_y_deg": 45,
-                          "width": 32, "height": 24 }],
-            "lights": lights
-        });
-        std::fs::create_dir_all(dir.join("scenes")).unwrap();
-        std::fs::write(dir.join(format!("scenes/{name}.json")), scene.to_string()).unwrap();
+        common::write_plane_box_scene(&dir.join(format!("scenes/{name}.json")), name, lights, (32, 24));
     }
     write_plan(dir, "plan.json", 0.01);
 }

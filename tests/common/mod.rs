@@ -127,3 +127,28 @@ pub const EXPORT_TEST_SCENE: &str = r#"{
       "cone_deg": 60, "near": 0.5, "far": 20, "radius": 0.1 }
   ]
 }"#;
+
+/// Writes to `path` the scene `name`: a plane and a box under `lights` directional lights of 3°
+/// (all different), seen by one `width`×`height` camera.
+pub fn write_plane_box_scene(path: &Path, name: &str, lights: usize, (width, height): (u32, u32)) {
+    let lights: Vec<_> = (0..lights)
+        .map(|i| {
+            let a = i as f64 * 0.5;
+            serde_json::json!({ "name": format!("l{i}"), "type": "directional",
+                                "direction": [-0.3 * a.cos(), -1, -0.3 * a.sin()], "angular_diameter_deg": 3.0 })
+        })
+        .collect();
+    let scene = serde_json::json!({
+        "format": "shadowtruth/scene/v1", "name": name,
+        "objects": [
+            { "name": "ground", "shape": { "type": "plane", "size": [10, 10] } },
+            { "name": "box", "shape": { "type": "box", "size": [1, 1, 1] }, "closed": true,
+              "transform": { "rotate_deg": [0, 30, 0], "translate": [0, 1.5, 0] } }
+        ],
+        "cameras": [{ "name": "c", "position": [-6, 4, 6.5], "look_at": [0, 0.7, 0], "fov_y_deg": 45,
+                      "width": width, "height": height }],
+        "lights": lights
+    });
+    std::fs::create_dir_all(path.parent().expect("a file in a folder")).unwrap();
+    std::fs::write(path, scene.to_string()).unwrap();
+}
