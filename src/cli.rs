@@ -27,6 +27,7 @@ use std::time::Instant;
 
 mod score;
 mod trace_timing;
+mod tune;
 
 /// shadowtruth measures how wrong shadow maps are: an exact ray-traced reference decides, pixel
 /// by pixel, what is lit; every shadow-map technique is scored against it (false shadow: acne,
@@ -86,6 +87,17 @@ enum Command {
     /// With --shadow-map and --technique instead of --visibility: the renderer's shadow map (as
     /// `depth-map` writes it) read by a built-in technique, to tell a wrong map from a wrong test.
     Score(score::ScoreArgs),
+    /// Find the setting of one technique to ship: the values of one to three of its parameters
+    /// that minimise an objective (total error by default) per scene and for the whole suite,
+    /// each with its safe range (where the objective stays within 10 % of the optimum).
+    ///
+    /// One parameter is searched by a log grid and golden-section refinement, two or three by a
+    /// coarse grid and coordinate refinement. The views are traced and the maps set up once;
+    /// each evaluation is one shading pass per view and resolution. OUT gets tune.json
+    /// (shadowtruth/tune/v1), plots/tune_<param>.png, the tuned settings run as a report
+    /// (report.json, figures, page) and tune-gate.toml, gate rules that lock the suite setting's
+    /// error on every view. docs/tune.md explains the search.
+    Tune(tune::TuneArgs),
     /// Re-render report.csv, the plots and index.html of a report folder from its report.json,
     /// without running anything.
     Report(ReportArgs),
@@ -475,6 +487,7 @@ fn run(cli: Cli) -> Result<u8> {
         Command::Verify(a) => verify(a),
         Command::DepthMap(a) => depth_map(a),
         Command::Score(a) => score::score(a),
+        Command::Tune(a) => tune::run_tune(a),
         Command::Merge(a) => {
             let report = crate::report::merge_shards(&a.dirs, &a.out)?;
             if !a.quiet {

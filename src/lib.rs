@@ -58,6 +58,7 @@ pub(crate) mod report;
 pub mod scene;
 pub mod technique;
 pub mod trace;
+pub(crate) mod tune;
 pub mod verify;
 pub(crate) mod view_export;
 

@@ -22,6 +22,8 @@ pub use execute::{PlanError, execute, execute_portion};
 pub use file::{DEFAULT_MAX_RUNS, PlanInputError, parse_plan, parse_plan_limited, read_plan};
 pub use layers::{BinnedView, build_layers_timed};
 pub use portion::{MapKey, Portion};
+pub(crate) use references::ViewReferences;
+pub(crate) use select::{check_plan, load_selected};
 pub use shard::Shard;
 pub use spec::{
     DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, MAX_REFERENCE_GRID, MAX_REPEATS, Pipeline, Plan,

@@ -9,7 +9,7 @@ use crate::technique::ReferenceKind;
 use std::path::PathBuf;
 
 /// A loaded scene and the (camera, light) index pairs the plan runs on it.
-pub(super) struct Selected {
+pub(crate) struct Selected {
     pub scene: Scene,
     pub pairs: Vec<(usize, usize)>,
 }
@@ -68,7 +68,7 @@ fn select(plan: &Plan, scene: Scene, problems: &mut Vec<Problem>) -> Selected {
 
 /// Checks what `parse_plan` checks for a plan built in code or changed after reading
 /// (`--resolutions`), before any scene is loaded.
-pub(super) fn check_plan(plan: &Plan) -> Result<(), PlanError> {
+pub(crate) fn check_plan(plan: &Plan) -> Result<(), PlanError> {
     let file = plan_file(plan);
     let mut problems = Vec::new();
     let mut problem =
@@ -135,7 +135,7 @@ pub(super) fn check_run_count(plan: &Plan, views: usize) -> Result<usize, PlanEr
 }
 
 /// Loads every scene and selects its views, reporting every problem at once.
-pub(super) fn load_selected(plan: &Plan) -> Result<Vec<Selected>, PlanError> {
+pub(crate) fn load_selected(plan: &Plan) -> Result<Vec<Selected>, PlanError> {
     let mut selected = Vec::new();
     let (mut scene_problems, mut problems) = (Vec::new(), Vec::new());
     for path in &plan.scenes {
@@ -154,7 +154,7 @@ pub(super) fn load_selected(plan: &Plan) -> Result<Vec<Selected>, PlanError> {
 }
 
 /// PCSS is scored against the area light: every light it runs under needs a size.
-pub(super) fn check_area_light_sizes(plan: &Plan, selected: &[Selected]) -> Result<(), PlanError> {
+pub(crate) fn check_area_light_sizes(plan: &Plan, selected: &[Selected]) -> Result<(), PlanError> {
     if plan.techniques.iter().any(|t| t.reference_kind() == ReferenceKind::AreaLight) {
         for sel in selected {
             super::area_light::check_area_light_sizes(&sel.scene, sel.pairs.iter().map(|&(_, li)| li))?;

@@ -18,6 +18,7 @@ pub mod plots;
 mod resume;
 mod schedule_order;
 mod soft_exr;
+mod tune_plot;
 mod writer;
 
 pub use crate::record::{ReferenceUsed, Report, RunRecord, SceneRecord, Timings};
@@ -29,6 +30,8 @@ pub use html::escape;
 pub use junit::junit_xml;
 pub use merge::merge_shards;
 pub use outputs::write_report_outputs;
+pub use plots::write_chart;
 pub use resume::open_resumed;
 pub use soft_exr::write_soft_exr;
+pub use tune_plot::tune_chart;
 pub use writer::{ReportWriter, remove_stray_report_temp_files};

@@ -21,6 +21,16 @@ pub struct Chart {
     pub series: Vec<(String, Vec<(f64, f64)>)>,
     pub points_only: bool,
     pub pareto: Option<Vec<(f64, f64)>>,
+    /// A point marked on the chart (a tuned optimum) with an x band around it (its safe range).
+    pub marks: Option<Marks>,
+}
+
+#[derive(Clone, Debug)]
+pub struct Marks {
+    pub point: (f64, f64),
+    pub point_label: String,
+    pub band: (f64, f64),
+    pub band_label: String,
 }
 
 const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
@@ -114,6 +124,7 @@ fn parameter_sweeps(report: &Report) -> Vec<Chart> {
                     .collect(),
                 points_only: false,
                 pareto: None,
+                marks: None,
             }
         })
         .collect()
@@ -153,6 +164,7 @@ fn resolution_charts(report: &Report) -> Vec<Chart> {
                 .collect(),
             points_only: false,
             pareto: None,
+            marks: None,
         })
         .collect()
 }
@@ -198,6 +210,7 @@ fn cost_charts(report: &Report) -> Vec<Chart> {
                 series: pts.into_iter().map(|(label, p)| (label, vec![p])).collect(),
                 points_only: true,
                 pareto: Some(pareto_front(&all)),
+                marks: None,
             }
         })
         .collect()
@@ -221,6 +234,89 @@ fn data_range(c: &Chart) -> Option<(f64, f64, f64)> {
     Some((x0, x1, if y1 <= Y_FLOOR { 1.0 } else { y1 * 1.5 }))
 }
 
+/// Eight colours told apart also by colour-blind readers (Okabe & Ito, "Color Universal
+/// Design", 2008), then the same colours with another marker: no two series look alike.
+const COLOURS: [RGBColor; 8] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(230, 159, 0),
+    RGBColor(86, 180, 233),
+    RGBColor(0, 0, 0),
+    RGBColor(240, 228, 66),
+];
+
+/// The colour and marker of series `i`.
+pub fn series_style(i: usize) -> (RGBColor, MarkerShape) {
+    const SHAPES: [MarkerShape; 4] =
+        [MarkerShape::Circle, MarkerShape::Triangle, MarkerShape::Square, MarkerShape::Cross];
+    (COLOURS[i % COLOURS.len()], SHAPES[(i / COLOURS.len()) % SHAPES.len()])
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MarkerShape {
+    Circle,
+    Triangle,
+    Square,
+    Cross,
+}
+
+/// A marker of `shape` at `at` (backend pixels), `size` pixels across.
+fn marker<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    shape: MarkerShape,
+    at: (i32, i32),
+    size: i32,
+    colour: RGBColor,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let (x, y) = at;
+    let r = size / 2;
+    match shape {
+        MarkerShape::Circle => area.draw(&Circle::new(at, r, colour.filled())),
+        MarkerShape::Triangle => {
+            area.draw(&Polygon::new(vec![(x, y - r), (x - r, y + r), (x + r, y + r)], colour.filled()))
+        }
+        MarkerShape::Square => area.draw(&Rectangle::new([(x - r, y - r), (x + r, y + r)], colour.filled())),
+        MarkerShape::Cross => {
+            area.draw(&PathElement::new(vec![(x - r, y - r), (x + r, y + r)], colour.stroke_width(2)))?;
+            area.draw(&PathElement::new(vec![(x - r, y + r), (x + r, y - r)], colour.stroke_width(2)))
+        }
+    }
+}
+
+/// Tick labels of a log axis: only at 1, 2 and 5 times a power of ten, so that they never run
+/// into each other.
+fn log_tick(x: f64) -> String {
+    if x <= 0.0 {
+        return String::new();
+    }
+    let mantissa = x / 10f64.powf(x.log10().floor());
+    if [1.0, 2.0, 5.0, 10.0].iter().any(|m| (mantissa - m).abs() < 1e-6 * m) {
+        compact(x)
+    } else {
+        String::new()
+    }
+}
+
+/// The Pareto front as a step line: from each non-dominated point across at its error to the
+/// next one's cost, then down to it.
+pub fn pareto_steps(front: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let mut out = Vec::new();
+    for (i, &p) in front.iter().enumerate() {
+        if i > 0 {
+            out.push((p.0, front[i - 1].1));
+        }
+        out.push(p);
+    }
+    out
+}
+
+/// Width of the legend column right of the plot, in pixels.
+const LEGEND_WIDTH: u32 = 250;
+/// Longest series name drawn in the legend, in characters.
+const LEGEND_CHARS: usize = 36;
+
 fn draw<DB: DrawingBackend>(root: DrawingArea<DB, plotters::coord::Shift>, c: &Chart) -> Result<(), String>
 where
     DB::ErrorType: 'static,
@@ -228,73 +324,128 @@ where
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     root.fill(&WHITE).map_err(err)?;
     let Some((x0, x1, y1)) = data_range(c) else { return Ok(()) };
-    let mut builder = ChartBuilder::on(&root);
+    let (plot_area, legend_area) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH);
+    let mut builder = ChartBuilder::on(&plot_area);
     builder.caption(&c.title, ("sans-serif", 18)).margin(12).x_label_area_size(40).y_label_area_size(56);
-    let palette = |i: usize| Palette99::pick(i).to_rgba();
     macro_rules! body {
-        ($chart:expr) => {{
+        ($chart:expr, $x_format:expr) => {{
             let mut chart = $chart;
             chart
                 .configure_mesh()
-                .x_label_formatter(&|x| compact(*x))
-                .y_label_formatter(&|y| compact(*y))
+                .x_label_formatter(&$x_format)
+                .y_label_formatter(&|y| log_tick(*y))
                 .x_desc(c.x_label.as_str())
                 .y_desc(c.y_label.as_str())
                 .label_style(("sans-serif", 13))
                 .draw()
                 .map_err(err)?;
-            for (i, (name, points)) in c.series.iter().enumerate() {
-                let color = palette(i);
-                if c.points_only {
+            if let Some(m) = &c.marks {
+                let band = [(m.band.0, Y_FLOOR * 0.7), (m.band.1, y1)];
+                chart
+                    .draw_series(std::iter::once(Rectangle::new(band, COLOURS[2].mix(0.15).filled())))
+                    .map_err(err)?;
+            }
+            for (i, (_, points)) in c.series.iter().enumerate() {
+                let (colour, shape) = series_style(i);
+                if !c.points_only {
                     chart
-                        .draw_series(points.iter().map(|&p| Circle::new(p, 4, color.filled())))
-                        .map_err(err)?
-                        .label(name.as_str())
-                        .legend(move |(x, y)| Circle::new((x + 6, y), 4, color.filled()));
-                } else {
-                    chart
-                        .draw_series(LineSeries::new(points.iter().copied(), color.stroke_width(2)))
-                        .map_err(err)?
-                        .label(name.as_str())
-                        .legend(move |(x, y)| {
-                            PathElement::new(vec![(x, y), (x + 14, y)], color.stroke_width(2))
-                        });
-                    chart
-                        .draw_series(points.iter().map(|&p| Circle::new(p, 3, color.filled())))
+                        .draw_series(LineSeries::new(points.iter().copied(), colour.stroke_width(2)))
                         .map_err(err)?;
                 }
+                let r = 4;
+                match shape {
+                    MarkerShape::Circle => chart
+                        .draw_series(
+                            points
+                                .iter()
+                                .map(|&p| EmptyElement::at(p) + Circle::new((0, 0), r, colour.filled())),
+                        )
+                        .map(|_| ()),
+                    MarkerShape::Triangle => chart
+                        .draw_series(points.iter().map(|&p| TriangleMarker::new(p, r + 1, colour.filled())))
+                        .map(|_| ()),
+                    MarkerShape::Square => chart
+                        .draw_series(points.iter().map(|&p| {
+                            EmptyElement::at(p) + Rectangle::new([(-r, -r), (r, r)], colour.filled())
+                        }))
+                        .map(|_| ()),
+                    MarkerShape::Cross => chart
+                        .draw_series(points.iter().map(|&p| Cross::new(p, r, colour.stroke_width(2))))
+                        .map(|_| ()),
+                }
+                .map_err(err)?;
             }
             if let Some(front) = &c.pareto {
                 chart
-                    .draw_series(LineSeries::new(front.iter().copied(), BLACK.stroke_width(2)))
-                    .map_err(err)?
-                    .label("Pareto front")
-                    .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 14, y)], BLACK.stroke_width(2)));
+                    .draw_series(LineSeries::new(pareto_steps(front), BLACK.stroke_width(2)))
+                    .map_err(err)?;
                 chart
                     .draw_series(front.iter().map(|&p| Circle::new(p, 7, BLACK.stroke_width(2))))
                     .map_err(err)?;
             }
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK.mix(0.4))
-                .label_font(("sans-serif", 12))
-                .draw()
-                .map_err(err)?;
+            if let Some(m) = &c.marks {
+                chart
+                    .draw_series(std::iter::once(Cross::new(m.point, 9, RED.stroke_width(3))))
+                    .map_err(err)?;
+            }
         }};
     }
     let y_range = (Y_FLOOR * 0.7..y1).log_scale();
     if c.log_x {
-        body!(builder.build_cartesian_2d((x0 * 0.9..x1 * 1.1).log_scale(), y_range).map_err(err)?);
+        body!(
+            builder.build_cartesian_2d((x0 * 0.9..x1 * 1.1).log_scale(), y_range).map_err(err)?,
+            |x: &f64| log_tick(*x)
+        );
     } else {
         let pad = (x1 - x0) * 0.05;
-        body!(builder.build_cartesian_2d((x0 - pad).max(0.0)..x1 + pad, y_range).map_err(err)?);
+        body!(builder.build_cartesian_2d((x0 - pad).max(0.0)..x1 + pad, y_range).map_err(err)?, |x: &f64| {
+            compact(*x)
+        });
     }
+    draw_legend(&legend_area, c).map_err(err)?;
     root.present().map_err(err)
 }
 
-const WIDTH: u32 = 900;
+/// The legend in its own column, beside the data rather than over it.
+fn draw_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    c: &Chart,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let font = ("sans-serif", 12).into_font();
+    let mut y = 48;
+    let row = |area: &DrawingArea<DB, plotters::coord::Shift>, text: &str, y: i32| {
+        let shown: String = if text.chars().count() > LEGEND_CHARS {
+            text.chars().take(LEGEND_CHARS - 1).chain(std::iter::once('…')).collect()
+        } else {
+            text.to_string()
+        };
+        area.draw(&Text::new(shown, (34, y - 7), font.clone()))
+    };
+    for (i, (name, _)) in c.series.iter().enumerate() {
+        let (colour, shape) = series_style(i);
+        if !c.points_only {
+            area.draw(&PathElement::new(vec![(4, y), (26, y)], colour.stroke_width(2)))?;
+        }
+        marker(area, shape, (15, y), 8, colour)?;
+        row(area, name, y)?;
+        y += 18;
+    }
+    if c.pareto.is_some() {
+        area.draw(&PathElement::new(vec![(4, y), (26, y)], BLACK.stroke_width(2)))?;
+        row(area, "Pareto front (non-dominated)", y)?;
+        y += 18;
+    }
+    if let Some(m) = &c.marks {
+        area.draw(&Cross::new((15, y), 9, RED.stroke_width(3)))?;
+        row(area, &m.point_label, y)?;
+        y += 18;
+        area.draw(&Rectangle::new([(4, y - 6), (26, y + 6)], COLOURS[2].mix(0.15).filled()))?;
+        row(area, &m.band_label, y)?;
+    }
+    Ok(())
+}
+
+const WIDTH: u32 = 1100;
 const HEIGHT: u32 = 560;
 
 /// Draws `chart` as `dir/<stem>.svg` and `dir/<stem>.png`.

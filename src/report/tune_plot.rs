@@ -1,0 +1,46 @@
+//! The plot of a `tune` search along one parameter: the suite's false shadow, false lit and
+//! objective at every value the search evaluated with the other parameters at the optimum, the
+//! optimum marked and its safe range shaded.
+
+use super::plots::{Chart, Marks};
+use crate::tune::{TuneRequest, TuneResult};
+
+/// The lowest rate drawn (in %), as in the other plots: zeros sit on it.
+const FLOOR_PERCENT: f64 = 1e-4;
+
+/// The chart of parameter `axis` of the suite's search.
+pub fn tune_chart(result: &TuneResult, request: &TuneRequest, axis: usize) -> Chart {
+    let tuned = &result.suite;
+    let best = &tuned.best.params;
+    let on_axis =
+        |p: &[f64]| p.iter().enumerate().all(|(k, &v)| k == axis || v.to_bits() == best[k].to_bits());
+    let mut points: Vec<_> = tuned.points.iter().filter(|p| on_axis(&p.params)).collect();
+    points.sort_by(|a, b| a.params[axis].total_cmp(&b.params[axis]));
+    let percent = |v: f64| (100.0 * v).max(FLOOR_PERCENT);
+    let series = |f: fn(&crate::tune::EvaluatedPoint) -> f64| -> Vec<(f64, f64)> {
+        points.iter().map(|p| (p.params[axis], percent(f(p)))).collect()
+    };
+    let name = &request.params[axis].0;
+    let safe = tuned.safe[axis];
+    let spec = request.spec(best).map(|s| s.label()).unwrap_or_default();
+    Chart {
+        stem: format!("tune_{}", name.replace(|c: char| !c.is_ascii_alphanumeric(), "_")),
+        title: format!("tune {spec}: {}", request.aggregate_description()),
+        x_label: name.clone(),
+        y_label: "% of scored pixels (mean over scenes; 0 drawn at 1e-4)".into(),
+        log_x: true,
+        series: vec![
+            ("false shadow".into(), series(|p| p.false_shadow)),
+            ("false lit".into(), series(|p| p.false_lit)),
+            (format!("objective: {}", request.objective.describe()), series(|p| p.objective)),
+        ],
+        points_only: false,
+        pareto: None,
+        marks: Some(Marks {
+            point: (best[axis], percent(tuned.best.value)),
+            point_label: format!("optimum {name} = {}", best[axis]),
+            band: (safe.lo, safe.hi),
+            band_label: format!("safe range (≤ {:.0} % above)", 100.0 * crate::tune::SAFE_RANGE_SLACK),
+        }),
+    }
+}

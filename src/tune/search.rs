@@ -1,0 +1,264 @@
+//! The search for the parameter values that minimise an objective, each parameter on a log
+//! scale over a positive range (docs/tune.md):
+//!
+//! - one parameter: a grid of `GRID_1D` points brackets the best value between its two
+//!   neighbours, then golden-section search narrows the bracket to `TOLERANCE_LOG10`;
+//! - two or three: a coarse grid, then rounds of golden-section search along one coordinate at
+//!   a time, the others held at the best point so far.
+//!
+//! Error counts are piecewise constant in a bias, so the search may stop anywhere on a plateau:
+//! the best point is the best of every point evaluated, never worse than any grid point.
+
+/// A positive interval searched on a log scale.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LogRange {
+    pub lo: f64,
+    pub hi: f64,
+}
+
+impl LogRange {
+    /// `count` points from `lo` to `hi`, evenly spaced in log.
+    pub fn grid(&self, count: usize) -> Vec<f64> {
+        let (a, b) = (self.lo.ln(), self.hi.ln());
+        (0..count).map(|i| (a + (b - a) * i as f64 / (count - 1) as f64).exp()).collect()
+    }
+}
+
+/// One evaluated setting: a value per parameter and the objective there.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Point {
+    pub params: Vec<f64>,
+    pub value: f64,
+}
+
+/// Points of the one-parameter grid.
+pub const GRID_1D: usize = 16;
+/// Points per parameter of the coarse grid with two parameters, and with three.
+const GRID_2D: usize = 7;
+const GRID_3D: usize = 5;
+/// The search stops when the bracket spans less than this in log10 (about 2.3 %).
+pub const TOLERANCE_LOG10: f64 = 0.01;
+/// Rounds of coordinate refinement with several parameters.
+const ROUNDS: usize = 2;
+/// 1/φ.
+const INV_PHI: f64 = 0.618_033_988_749_894_9;
+
+/// Minimises `f` over the box of `ranges` (one to three parameters) and returns the best point;
+/// `f` sees every point the search evaluates (the caller keeps them).
+pub fn minimise(ranges: &[LogRange], f: &mut dyn FnMut(&[f64]) -> f64) -> Point {
+    assert!((1..=3).contains(&ranges.len()), "one to three parameters");
+    let grid_points = match ranges.len() {
+        1 => GRID_1D,
+        2 => GRID_2D,
+        _ => GRID_3D,
+    };
+    let grids: Vec<Vec<f64>> = ranges.iter().map(|r| r.grid(grid_points)).collect();
+    let mut best = grid_minimum(&grids, f);
+    let rounds = if ranges.len() == 1 { 1 } else { ROUNDS };
+    for _ in 0..rounds {
+        for axis in 0..ranges.len() {
+            let bracket = neighbours(&grids[axis], best.params[axis]);
+            let found = golden_section(bracket, |x| {
+                let mut p = best.params.clone();
+                p[axis] = x;
+                f(&p)
+            });
+            if found.1 < best.value {
+                best.params[axis] = found.0;
+                best.value = found.1;
+            }
+        }
+    }
+    best
+}
+
+/// The best point of the full grid; among equal values, the middle of the first run of them
+/// in grid order (the centre of a plateau is the setting farthest from its edges).
+fn grid_minimum(grids: &[Vec<f64>], f: &mut dyn FnMut(&[f64]) -> f64) -> Point {
+    let mut points = vec![Vec::new()];
+    for grid in grids {
+        points = points
+            .iter()
+            .flat_map(|p: &Vec<f64>| grid.iter().map(move |&x| [&p[..], &[x]].concat()))
+            .collect();
+    }
+    let values: Vec<f64> = points.iter().map(|p| f(p)).collect();
+    let least = values.iter().copied().fold(f64::INFINITY, f64::min);
+    let first = values.iter().position(|&v| v == least).unwrap_or(0);
+    let run = values[first..].iter().take_while(|&&v| v == least).count();
+    let middle = first + (run - 1) / 2;
+    Point { params: points[middle].clone(), value: values[middle] }
+}
+
+/// The grid points on either side of `x` (the ends of the grid at its ends), in log.
+fn neighbours(grid: &[f64], x: f64) -> (f64, f64) {
+    let i = grid.iter().position(|&g| g >= x).unwrap_or(grid.len() - 1);
+    let lo = grid[i.saturating_sub(1)];
+    let hi = grid[(i + 1).min(grid.len() - 1)];
+    (lo.ln(), hi.ln())
+}
+
+/// Golden-section search of `g` over the log bracket (a, b): the best point found, as
+/// (value of the parameter, objective).
+fn golden_section(bracket: (f64, f64), mut g: impl FnMut(f64) -> f64) -> (f64, f64) {
+    let (mut a, mut b) = bracket;
+    let mut c = b - (b - a) * INV_PHI;
+    let mut d = a + (b - a) * INV_PHI;
+    let (mut gc, mut gd) = (g(c.exp()), g(d.exp()));
+    let mut best = if gc <= gd { (c, gc) } else { (d, gd) };
+    while (b - a) / std::f64::consts::LN_10 > TOLERANCE_LOG10 {
+        if gc <= gd {
+            (b, d, gd) = (d, c, gc);
+            c = b - (b - a) * INV_PHI;
+            gc = g(c.exp());
+            if gc < best.1 {
+                best = (c, gc);
+            }
+        } else {
+            (a, c, gc) = (c, d, gd);
+            d = a + (b - a) * INV_PHI;
+            gd = g(d.exp());
+            if gd < best.1 {
+                best = (d, gd);
+            }
+        }
+    }
+    (best.0.exp(), best.1)
+}
+
+/// Where the objective along one parameter stays within a bound around the best point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SafeRange {
+    pub lo: f64,
+    pub hi: f64,
+    /// Whether the range stops at the searched range's end rather than at a worse value.
+    pub lo_at_range_end: bool,
+    pub hi_at_range_end: bool,
+}
+
+/// Bisection steps (in log) that place each end of a safe range.
+const SAFE_RANGE_STEPS: usize = 8;
+
+/// The contiguous interval of parameter `axis` around `best` (the others held) where `f` stays
+/// at most `bound`, each end placed by bisection in log between the last value within the
+/// bound and the first beyond it, walking out along `grid`.
+pub fn safe_range(
+    best: &Point,
+    axis: usize,
+    range: LogRange,
+    bound: f64,
+    f: &mut dyn FnMut(&[f64]) -> f64,
+) -> SafeRange {
+    let mut along = |x: f64| {
+        let mut p = best.params.clone();
+        p[axis] = x;
+        f(&p)
+    };
+    let x0 = best.params[axis];
+    let grid = range.grid(GRID_1D);
+    let below: Vec<f64> = grid.iter().rev().copied().filter(|&g| g < x0).collect();
+    let above: Vec<f64> = grid.iter().copied().filter(|&g| g > x0).collect();
+    let (lo, lo_at_range_end) = edge(x0, &below, bound, &mut along);
+    let (hi, hi_at_range_end) = edge(x0, &above, bound, &mut along);
+    SafeRange { lo, hi, lo_at_range_end, hi_at_range_end }
+}
+
+/// Walks `steps` outward from `x0` to the first value beyond `bound`, then bisects between it
+/// and the last value within. Returns the last value within, and whether the walk ran out.
+fn edge(x0: f64, steps: &[f64], bound: f64, along: &mut impl FnMut(f64) -> f64) -> (f64, bool) {
+    let mut good = x0;
+    for &x in steps {
+        if along(x) > bound {
+            let mut bad = x;
+            for _ in 0..SAFE_RANGE_STEPS {
+                let mid = (good.ln() * 0.5 + bad.ln() * 0.5).exp();
+                if along(mid) > bound {
+                    bad = mid;
+                } else {
+                    good = mid;
+                }
+            }
+            return (good, false);
+        }
+        good = x;
+    }
+    (good, true)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn log_distance(a: f64, b: f64) -> f64 {
+        (a.log10() - b.log10()).abs()
+    }
+
+    #[test]
+    fn one_parameter_finds_a_smooth_minimum_within_the_tolerance() {
+        let range = LogRange { lo: 1e-6, hi: 1e-1 };
+        let mut calls = 0;
+        let mut f = |p: &[f64]| {
+            calls += 1;
+            (p[0].log10() + 3.3).powi(2)
+        };
+        let best = minimise(&[range], &mut f);
+        assert!(log_distance(best.params[0], 10f64.powf(-3.3)) < TOLERANCE_LOG10, "{best:?}");
+        assert!(calls < GRID_1D + 20, "{calls} evaluations");
+    }
+
+    #[test]
+    fn one_parameter_never_ends_worse_than_a_grid_point() {
+        // Two wells: golden section refines the deeper one the grid found.
+        let range = LogRange { lo: 1e-4, hi: 1.0 };
+        let well = |x: f64, at: f64, depth: f64| depth - (-(x.log10() - at).powi(2) * 40.0).exp();
+        let mut f = |p: &[f64]| well(p[0], -3.0, 1.0).min(well(p[0], -1.0, 0.8));
+        let best = minimise(&[range], &mut f);
+        assert!(log_distance(best.params[0], 0.1) < TOLERANCE_LOG10, "{best:?}");
+        for x in range.grid(50) {
+            assert!(best.value <= f(&[x]) + 1e-12, "{x} beats {best:?}");
+        }
+    }
+
+    #[test]
+    fn a_plateau_gives_its_middle() {
+        let range = LogRange { lo: 1e-6, hi: 1e-1 };
+        let mut f = |p: &[f64]| {
+            if p[0] < 1e-5 {
+                10.0 - p[0].log10()
+            } else if p[0] > 1e-2 {
+                p[0].log10() + 10.0
+            } else {
+                0.0
+            }
+        };
+        let best = minimise(&[range], &mut f);
+        assert_eq!(best.value, 0.0);
+        assert!(log_distance(best.params[0], 10f64.powf(-3.5)) < 0.4, "{best:?}");
+        let safe = safe_range(&best, 0, range, 0.0, &mut f);
+        assert!(log_distance(safe.lo, 1e-5) < 0.01 && log_distance(safe.hi, 1e-2) < 0.01, "{safe:?}");
+        assert!(!safe.lo_at_range_end && !safe.hi_at_range_end);
+    }
+
+    #[test]
+    fn two_parameters_find_a_tilted_valley() {
+        let ranges = [LogRange { lo: 0.01, hi: 100.0 }, LogRange { lo: 0.01, hi: 100.0 }];
+        let mut f = |p: &[f64]| {
+            let (u, v) = (p[0].log10(), p[1].log10());
+            (u - 0.4).powi(2) + 2.0 * (v + 0.7).powi(2) + 0.5 * (u - 0.4) * (v + 0.7)
+        };
+        let best = minimise(&ranges, &mut f);
+        assert!(log_distance(best.params[0], 10f64.powf(0.4)) < 0.05, "{best:?}");
+        assert!(log_distance(best.params[1], 10f64.powf(-0.7)) < 0.05, "{best:?}");
+    }
+
+    #[test]
+    fn a_safe_range_open_at_the_end_of_the_range_says_so() {
+        let range = LogRange { lo: 1.0, hi: 100.0 };
+        let mut f = |p: &[f64]| p[0].log10();
+        let best = minimise(&[range], &mut f);
+        assert_eq!(best.params[0], 1.0);
+        let safe = safe_range(&best, 0, range, 0.5, &mut f);
+        assert!(safe.lo_at_range_end && !safe.hi_at_range_end, "{safe:?}");
+        assert!(log_distance(safe.hi, 10f64.powf(0.5)) < 0.01, "{safe:?}");
+    }
+}

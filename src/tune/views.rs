@@ -1,0 +1,131 @@
+//! What `tune` builds once and what each evaluation shades: per view (scene, camera, light) the
+//! G-buffer and the references; per resolution the light view and the shading order; per
+//! layer needs the depth layers, kept while the tuned setting does not change them. An
+//! evaluation of a setting on one scene is then one shading pass and one scoring per view and
+//! resolution.
+
+use crate::metrics::Counts;
+use crate::metrics::score_hard;
+use crate::plan::{BinnedView, Plan, PlanError, ViewReferences, build_layers_timed, load_selected};
+use crate::raster::{DepthFormat, LightView};
+use crate::scene::Scene;
+use crate::technique::{BuiltLayers, LayerNeeds, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated};
+use crate::trace::{GBuffer, ReferenceCache, SceneBvh};
+use glam::Vec3;
+
+/// Layer sets kept per map: the tuned setting's and one more, so that a parameter that changes
+/// the layers (a raster bias) does not keep every set it tried.
+const KEPT_LAYER_SETS: usize = 2;
+
+/// Every view of every scene of a plan, traced, with its maps set up.
+pub struct TuneViews {
+    pub scenes: Vec<SceneViews>,
+    format: DepthFormat,
+}
+
+pub struct SceneViews {
+    pub name: String,
+    scene: Scene,
+    bounds: (Vec3, Vec3),
+    views: Vec<View>,
+}
+
+struct View {
+    gbuffer: GBuffer,
+    references: ViewReferences,
+    maps: Vec<Map>,
+}
+
+/// One shadow-map resolution of a view.
+struct Map {
+    view: LightView,
+    order: ShadeOrder,
+    layers: Vec<(LayerNeeds, BuiltLayers)>,
+}
+
+impl TuneViews {
+    /// Traces every view of `plan` (its references from `cache` when given), calling `stage`
+    /// with what is under way. Each scene's BVH is dropped once its views are traced.
+    pub fn build(
+        plan: &Plan,
+        cache: Option<&ReferenceCache>,
+        stage: &mut dyn FnMut(&str),
+    ) -> Result<Self, PlanError> {
+        let format = *plan.depth_formats.first().unwrap_or(&DepthFormat::F32);
+        let mut scenes = Vec::new();
+        for selected in load_selected(plan)? {
+            let scene = selected.scene;
+            stage(&format!("{}: building the BVH", scene.name));
+            let bvh = SceneBvh::build(&scene);
+            let bounds = scene.bounds();
+            let mut views = Vec::new();
+            for (ci, li) in selected.pairs {
+                let (camera, light) = (&scene.cameras[ci], &scene.lights[li]);
+                stage(&format!("{}/{}/{}: G-buffer and reference", scene.name, camera.name, light.name));
+                let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
+                let references = ViewReferences::new(plan, cache, &scene, &bvh, &gbuffer, camera, light)?;
+                let maps = plan
+                    .resolutions
+                    .iter()
+                    .map(|&resolution| {
+                        let view = LightView::new(light, bounds, resolution);
+                        let order = ShadeOrder::new(&gbuffer, &view);
+                        Map { view, order, layers: Vec::new() }
+                    })
+                    .collect();
+                views.push(View { gbuffer, references, maps });
+            }
+            scenes.push(SceneViews { name: scene.name.clone(), scene, bounds, views });
+        }
+        Ok(TuneViews { scenes, format })
+    }
+
+    /// The counts of `spec` on every view and resolution of scene `index`, summed.
+    pub fn counts(&mut self, index: usize, spec: &TechniqueSpec) -> Counts {
+        let technique = spec.build().expect("tune shades built-in techniques only");
+        let needs = technique.layer_needs();
+        let format = self.format;
+        let s = &mut self.scenes[index];
+        let mut total = Counts::default();
+        for view in &mut s.views {
+            let (reference, _, _) = view.references.for_kind(spec.reference_kind());
+            for map in &mut view.maps {
+                let layers = layers_for(&s.scene, &map.view, &mut map.layers, format, &needs);
+                let ctx = ShadeContext::with_bounds(&s.scene, &map.view, layers.as_layers(), s.bounds);
+                let visibility = shade_evaluated(technique.as_ref(), &map.order, &ctx);
+                add(&mut total, &score_hard(&view.gbuffer, reference, &visibility));
+            }
+        }
+        total
+    }
+}
+
+/// The map's layers for `needs`: kept from an earlier evaluation, or rasterized now.
+fn layers_for<'m>(
+    scene: &Scene,
+    view: &LightView,
+    kept: &'m mut Vec<(LayerNeeds, BuiltLayers)>,
+    format: DepthFormat,
+    needs: &LayerNeeds,
+) -> &'m BuiltLayers {
+    match kept.iter().position(|(n, _)| n == needs) {
+        Some(i) => &kept[i].1,
+        None => {
+            let built = build_layers_timed(&BinnedView::new(scene, view), format, needs, 1).0;
+            if kept.len() == KEPT_LAYER_SETS {
+                kept.remove(0);
+            }
+            kept.push((*needs, built));
+            &kept.last().expect("just pushed").1
+        }
+    }
+}
+
+/// Adds the counts the objectives read.
+fn add(total: &mut Counts, c: &Counts) {
+    total.pixels += c.pixels;
+    total.evaluated += c.evaluated;
+    total.false_shadow += c.false_shadow;
+    total.false_lit += c.false_lit;
+    total.surface_mismatch += c.surface_mismatch;
+}
