@@ -65,6 +65,9 @@ pub(super) struct TuneArgs {
     /// Write tune.json and the plot only, without running the tuned settings into a report.
     #[arg(long)]
     no_report: bool,
+    /// Also run each scene's own best setting into the report, beside the suite's.
+    #[arg(long, conflicts_with = "no_report")]
+    report_scene_bests: bool,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -124,6 +127,7 @@ pub(super) fn run_tune(a: TuneArgs) -> Result<u8> {
     write_outputs(&a, &record, &result, &request)?;
     if !a.quiet {
         print_summary(&record);
+        println!("{} settings shaded and scored on one scene each", result.scene_evaluations);
         println!("tune: {}", a.out.join("tune.json").display());
     }
     Ok(0)
@@ -219,26 +223,26 @@ fn write_outputs(
 }
 
 fn print_summary(record: &TuneRecord) {
-    println!("{:<24} {:<48} {:>10}  safe range", "scene", "best", "objective");
-    let rows = std::iter::once(("suite", &record.suite))
-        .chain(record.per_scene.iter().map(|s| (s.scene.as_str(), &s.tuned)));
+    let rows: Vec<(&str, &crate::tune::TunedRecord)> = std::iter::once(("suite", &record.suite))
+        .chain(record.per_scene.iter().map(|s| (s.scene.as_str(), &s.tuned)))
+        .collect();
+    let scene_width = rows.iter().map(|(s, _)| s.len()).max().unwrap_or(5).max(5);
+    let label_width = rows.iter().map(|(_, t)| t.best.label.len()).max().unwrap_or(4).max(4);
+    println!("{:<scene_width$}  {:<label_width$}  {:>10}  safe range", "scene", "best", "objective");
     for (scene, t) in rows {
-        let safe: Vec<String> = t
-            .safe_range
-            .iter()
-            .map(|(n, r)| {
-                format!(
-                    "{n} {:.3e}..{:.3e}",
-                    r["lo"].as_f64().unwrap_or(0.0),
-                    r["hi"].as_f64().unwrap_or(0.0)
-                )
-            })
-            .collect();
-        println!("{scene:<24} {:<48} {:>9.4}%  {}", t.best.label, 100.0 * t.best.objective, safe.join(", "));
+        let safe: Vec<String> =
+            t.safe_range.iter().map(|(n, r)| format!("{n} {}..{}", r["lo"], r["hi"])).collect();
+        println!(
+            "{scene:<scene_width$}  {:<label_width$}  {:>9.4}%  {}",
+            t.best.label,
+            100.0 * t.best.objective,
+            safe.join(", ")
+        );
     }
 }
 
-/// Runs the suite's setting and each scene's (each once) into the report folder, and writes
+/// Runs the suite's setting (and with --report-scene-bests each scene's) into the report
+/// folder, and writes
 /// the gate rules that lock the suite setting's error on every view.
 fn run_tuned(
     a: &TuneArgs,
@@ -250,10 +254,12 @@ fn run_tuned(
     let suite_spec = request.spec(&result.suite.best.params).map_err(|e| anyhow!(e))?;
     let mut plan = plan.clone();
     plan.techniques = vec![suite_spec.clone()];
-    for (_, t) in &result.scenes {
-        let spec = request.spec(&t.best.params).map_err(|e| anyhow!(e))?;
-        if !plan.techniques.iter().any(|s| s.label() == spec.label()) {
-            plan.techniques.push(spec);
+    if a.report_scene_bests {
+        for (_, t) in &result.scenes {
+            let spec = request.spec(&t.best.params).map_err(|e| anyhow!(e))?;
+            if !plan.techniques.iter().any(|s| s.label() == spec.label()) {
+                plan.techniques.push(spec);
+            }
         }
     }
     write_plan_report(&plan, &a.out, cache, a.quiet, false)?;

@@ -78,6 +78,13 @@ pub fn score_hard(gbuffer: &GBuffer, reference: &HardReference, visibility: &[f3
             PixelClass::Evaluated => c.evaluated += 1,
         }
     }
+    add_false_counts(&mut c, gbuffer, reference, visibility);
+    c
+}
+
+/// Adds the false shadows, false lits and surface mismatches of `visibility` to `c`: what
+/// changes from one technique to the next on the same view.
+pub fn add_false_counts(c: &mut Counts, gbuffer: &GBuffer, reference: &HardReference, visibility: &[f32]) {
     for (&i, &v) in gbuffer.evaluated.iter().zip(visibility) {
         if v.is_nan() {
             c.surface_mismatch += 1;
@@ -88,5 +95,4 @@ pub fn score_hard(gbuffer: &GBuffer, reference: &HardReference, visibility: &[f3
         c.false_shadow += (r_lit && !v_lit) as u64;
         c.false_lit += (!r_lit && v_lit) as u64;
     }
-    c
 }

@@ -13,7 +13,7 @@ mod search;
 mod views;
 
 pub use objective::{Objective, SuiteAggregate};
-pub use record::{TuneRecord, gate_rules_toml};
+pub use record::{TuneRecord, TunedRecord, gate_rules_toml};
 pub use search::LogRange;
 pub use views::TuneViews;
 
@@ -21,6 +21,7 @@ use crate::metrics::Counts;
 use crate::technique::TechniqueSpec;
 use search::{Point, minimise, safe_range};
 use serde_json::{Map, Value};
+use std::cell::RefCell;
 use std::collections::HashMap;
 
 /// The safe range keeps the objective at most this much (relative) above the optimum.
@@ -84,6 +85,8 @@ pub struct EvaluatedPoint {
 pub struct TuneResult {
     pub suite: Tuned,
     pub scenes: Vec<(String, Tuned)>,
+    /// Settings shaded and scored on one scene (each at most once).
+    pub scene_evaluations: usize,
 }
 
 /// Evaluations of settings on scenes, each computed once.
@@ -142,16 +145,18 @@ pub fn tune(views: &mut TuneViews, request: &TuneRequest, on_evaluation: &mut dy
     let scenes = (0..names.len())
         .map(|s| (names[s].clone(), optimise(&ranges, &mut |p| ev.scene_point(s, p))))
         .collect();
-    TuneResult { suite, scenes }
+    TuneResult { suite, scenes, scene_evaluations: ev.memo.len() }
 }
 
 /// The optimum of `point`'s objective over `ranges`, the safe range of each parameter, and the
 /// points evaluated.
 fn optimise(ranges: &[LogRange], point: &mut dyn FnMut(&[f64]) -> EvaluatedPoint) -> Tuned {
-    let mut points: Vec<EvaluatedPoint> = Vec::new();
+    // Shared by the objective (which records each point) and the safe ranges (which read them).
+    let points: RefCell<Vec<EvaluatedPoint>> = RefCell::new(Vec::new());
     let mut f = |p: &[f64]| {
         let e = point(&round_all(p));
         let value = e.objective;
+        let mut points = points.borrow_mut();
         if !points.iter().any(|q| q.params == e.params) {
             points.push(e);
         }
@@ -162,11 +167,18 @@ fn optimise(ranges: &[LogRange], point: &mut dyn FnMut(&[f64]) -> EvaluatedPoint
     let bound = best.value * (1.0 + SAFE_RANGE_SLACK);
     let safe = (0..ranges.len())
         .map(|axis| {
-            let s = safe_range(&best, axis, ranges[axis], bound, &mut f);
+            let known = on_axis(&points.borrow(), &best.params, axis);
+            let s = safe_range(&best, axis, ranges[axis], &known, bound, &mut f);
             search::SafeRange { lo: round_significant(s.lo), hi: round_significant(s.hi), ..s }
         })
         .collect();
-    Tuned { best, safe, points }
+    Tuned { best, safe, points: points.into_inner() }
+}
+
+/// The values of parameter `axis` at the points evaluated with every other parameter at `at`.
+fn on_axis(points: &[EvaluatedPoint], at: &[f64], axis: usize) -> Vec<f64> {
+    let others_equal = |p: &[f64]| p.iter().zip(at).enumerate().all(|(k, (a, b))| k == axis || a == b);
+    points.iter().filter(|p| others_equal(&p.params)).map(|p| p.params[axis]).collect()
 }
 
 /// Significant digits of every evaluated value: settings read as a person would write them

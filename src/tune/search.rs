@@ -32,12 +32,14 @@ pub struct Point {
 }
 
 /// Points of the one-parameter grid.
-pub const GRID_1D: usize = 16;
+pub const GRID_1D: usize = 12;
 /// Points per parameter of the coarse grid with two parameters, and with three.
 const GRID_2D: usize = 7;
 const GRID_3D: usize = 5;
 /// The search stops when the bracket spans less than this in log10 (about 2.3 %).
 pub const TOLERANCE_LOG10: f64 = 0.01;
+/// The ends of a safe range are placed to this, in log10 (about 4.7 %).
+const SAFE_RANGE_TOLERANCE_LOG10: f64 = 0.02;
 /// Rounds of coordinate refinement with several parameters.
 const ROUNDS: usize = 2;
 /// 1/φ.
@@ -99,13 +101,18 @@ fn neighbours(grid: &[f64], x: f64) -> (f64, f64) {
 }
 
 /// Golden-section search of `g` over the log bracket (a, b): the best point found, as
-/// (value of the parameter, objective).
+/// (value of the parameter, objective). A bracket whose ends and first two inner points all
+/// score the same is flat (the function is taken to be unimodal, as golden section does), and
+/// is not searched further.
 fn golden_section(bracket: (f64, f64), mut g: impl FnMut(f64) -> f64) -> (f64, f64) {
     let (mut a, mut b) = bracket;
     let mut c = b - (b - a) * INV_PHI;
     let mut d = a + (b - a) * INV_PHI;
     let (mut gc, mut gd) = (g(c.exp()), g(d.exp()));
     let mut best = if gc <= gd { (c, gc) } else { (d, gd) };
+    if gc == gd && g(a.exp()) == gc && g(b.exp()) == gc {
+        return (best.0.exp(), best.1);
+    }
     while (b - a) / std::f64::consts::LN_10 > TOLERANCE_LOG10 {
         if gc <= gd {
             (b, d, gd) = (d, c, gc);
@@ -136,16 +143,16 @@ pub struct SafeRange {
     pub hi_at_range_end: bool,
 }
 
-/// Bisection steps (in log) that place each end of a safe range.
-const SAFE_RANGE_STEPS: usize = 8;
-
 /// The contiguous interval of parameter `axis` around `best` (the others held) where `f` stays
-/// at most `bound`, each end placed by bisection in log between the last value within the
-/// bound and the first beyond it, walking out along `grid`.
+/// at most `bound`. Each end is found by walking outward from the optimum over the points
+/// already evaluated on this axis (`known`: the value of the parameter there) and the grid,
+/// to the first value beyond the bound, then bisecting in log between it and the last value
+/// within until they are `SAFE_RANGE_TOLERANCE_LOG10` apart.
 pub fn safe_range(
     best: &Point,
     axis: usize,
     range: LogRange,
+    known: &[f64],
     bound: f64,
     f: &mut dyn FnMut(&[f64]) -> f64,
 ) -> SafeRange {
@@ -155,9 +162,11 @@ pub fn safe_range(
         f(&p)
     };
     let x0 = best.params[axis];
-    let grid = range.grid(GRID_1D);
-    let below: Vec<f64> = grid.iter().rev().copied().filter(|&g| g < x0).collect();
-    let above: Vec<f64> = grid.iter().copied().filter(|&g| g > x0).collect();
+    let mut steps: Vec<f64> = range.grid(GRID_1D).into_iter().chain(known.iter().copied()).collect();
+    steps.sort_by(f64::total_cmp);
+    steps.dedup();
+    let below: Vec<f64> = steps.iter().rev().copied().filter(|&g| g < x0).collect();
+    let above: Vec<f64> = steps.iter().copied().filter(|&g| g > x0).collect();
     let (lo, lo_at_range_end) = edge(x0, &below, bound, &mut along);
     let (hi, hi_at_range_end) = edge(x0, &above, bound, &mut along);
     SafeRange { lo, hi, lo_at_range_end, hi_at_range_end }
@@ -170,7 +179,7 @@ fn edge(x0: f64, steps: &[f64], bound: f64, along: &mut impl FnMut(f64) -> f64) 
     for &x in steps {
         if along(x) > bound {
             let mut bad = x;
-            for _ in 0..SAFE_RANGE_STEPS {
+            while (good.ln() - bad.ln()).abs() / std::f64::consts::LN_10 > SAFE_RANGE_TOLERANCE_LOG10 {
                 let mid = (good.ln() * 0.5 + bad.ln() * 0.5).exp();
                 if along(mid) > bound {
                     bad = mid;
@@ -234,8 +243,9 @@ mod tests {
         let best = minimise(&[range], &mut f);
         assert_eq!(best.value, 0.0);
         assert!(log_distance(best.params[0], 10f64.powf(-3.5)) < 0.4, "{best:?}");
-        let safe = safe_range(&best, 0, range, 0.0, &mut f);
-        assert!(log_distance(safe.lo, 1e-5) < 0.01 && log_distance(safe.hi, 1e-2) < 0.01, "{safe:?}");
+        let safe = safe_range(&best, 0, range, &[], 0.0, &mut f);
+        let close = |a, b| log_distance(a, b) < SAFE_RANGE_TOLERANCE_LOG10;
+        assert!(close(safe.lo, 1e-5) && close(safe.hi, 1e-2), "{safe:?}");
         assert!(!safe.lo_at_range_end && !safe.hi_at_range_end);
     }
 
@@ -257,8 +267,8 @@ mod tests {
         let mut f = |p: &[f64]| p[0].log10();
         let best = minimise(&[range], &mut f);
         assert_eq!(best.params[0], 1.0);
-        let safe = safe_range(&best, 0, range, 0.5, &mut f);
+        let safe = safe_range(&best, 0, range, &[], 0.5, &mut f);
         assert!(safe.lo_at_range_end && !safe.hi_at_range_end, "{safe:?}");
-        assert!(log_distance(safe.hi, 10f64.powf(0.5)) < 0.01, "{safe:?}");
+        assert!(log_distance(safe.hi, 10f64.powf(0.5)) < SAFE_RANGE_TOLERANCE_LOG10, "{safe:?}");
     }
 }

@@ -4,8 +4,7 @@
 //! evaluation of a setting on one scene is then one shading pass and one scoring per view and
 //! resolution.
 
-use crate::metrics::Counts;
-use crate::metrics::score_hard;
+use crate::metrics::{Counts, add_false_counts};
 use crate::plan::{BinnedView, Plan, PlanError, ViewReferences, build_layers_timed, load_selected};
 use crate::raster::{DepthFormat, LightView};
 use crate::scene::Scene;
@@ -93,7 +92,9 @@ impl TuneViews {
                 let layers = layers_for(&s.scene, &map.view, &mut map.layers, format, &needs);
                 let ctx = ShadeContext::with_bounds(&s.scene, &map.view, layers.as_layers(), s.bounds);
                 let visibility = shade_evaluated(technique.as_ref(), &map.order, &ctx);
-                add(&mut total, &score_hard(&view.gbuffer, reference, &visibility));
+                total.pixels += view.gbuffer.pixel_count() as u64;
+                total.evaluated += view.gbuffer.evaluated.len() as u64;
+                add_false_counts(&mut total, &view.gbuffer, reference, &visibility);
             }
         }
         total
@@ -119,13 +120,4 @@ fn layers_for<'m>(
             &kept.last().expect("just pushed").1
         }
     }
-}
-
-/// Adds the counts the objectives read.
-fn add(total: &mut Counts, c: &Counts) {
-    total.pixels += c.pixels;
-    total.evaluated += c.evaluated;
-    total.false_shadow += c.false_shadow;
-    total.false_lit += c.false_lit;
-    total.surface_mismatch += c.surface_mismatch;
 }
