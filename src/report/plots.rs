@@ -21,8 +21,12 @@ pub struct Chart {
     pub series: Vec<(String, Vec<(f64, f64)>)>,
     pub points_only: bool,
     pub pareto: Option<Vec<(f64, f64)>>,
-    /// A point marked on the chart (a tuned optimum) with an x band around it (its safe range).
-    pub marks: Option<Marks>,
+    /// Per panel, a point marked (an optimum) with an x band around it (its safe range).
+    pub marks: Vec<Option<Marks>>,
+    /// Series per panel: more are drawn as small multiples on the same axes.
+    pub panel_size: usize,
+    /// What tells the panels apart (added to the title); "k/n" when empty.
+    pub panel_titles: Vec<String>,
 }
 
 #[derive(Clone, Debug)]
@@ -77,12 +81,19 @@ pub fn charts(report: &Report) -> Vec<Chart> {
     out
 }
 
+/// The three rates of a run (in %, zeros drawn at the floor): total, false shadow, false lit.
+fn rates_percent(r: &RunRecord) -> [f64; 3] {
+    [r.rates.error, r.rates.false_shadow, r.rates.false_lit].map(|v| (100.0 * v).max(Y_FLOOR))
+}
+
 /// Error against each numeric parameter that varies while everything else about the run is
-/// fixed; one series per resolution.
+/// fixed: per resolution the error and its two parts, false shadow and false lit, whose
+/// trade-off is what a bias sets. The lowest error of a one-resolution sweep is marked, with
+/// the swept values whose error is within `SAFE_SLACK` of it.
 fn parameter_sweeps(report: &Report) -> Vec<Chart> {
     // (scene/camera/light, technique, format, parameter, the other parameters) → resolution → points
     type Key = (String, String, String, String, String);
-    let mut groups: BTreeMap<Key, BTreeMap<u32, Vec<(f64, f64)>>> = BTreeMap::new();
+    let mut groups: BTreeMap<Key, BTreeMap<u32, Vec<(f64, [f64; 3])>>> = BTreeMap::new();
     for r in &report.runs {
         for (name, value) in &r.parameters {
             let Some(x) = value.as_f64() else { continue };
@@ -95,7 +106,7 @@ fn parameter_sweeps(report: &Report) -> Vec<Chart> {
                 name.clone(),
                 serde_json::Value::Object(others).to_string(),
             );
-            groups.entry(key).or_default().entry(r.resolution).or_default().push((x, error_percent(r)));
+            groups.entry(key).or_default().entry(r.resolution).or_default().push((x, rates_percent(r)));
         }
     }
     groups
@@ -105,6 +116,15 @@ fn parameter_sweeps(report: &Report) -> Vec<Chart> {
             let xs: Vec<f64> = by_res.values().flatten().map(|p| p.0).collect();
             let (lo, hi) = xs.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));
             let others_text = others.trim_matches(|c| c == '{' || c == '}').replace('"', "");
+            let (mut series, mut marks, mut panel_titles) = (Vec::new(), Vec::new(), Vec::new());
+            for (res, mut pts) in by_res {
+                pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+                for (k, part) in ["error", "false shadow", "false lit"].iter().enumerate() {
+                    series.push((part.to_string(), pts.iter().map(|p| (p.0, p.1[k])).collect()));
+                }
+                marks.push(sweep_marks(&pts));
+                panel_titles.push(format!("{res}²"));
+            }
             Chart {
                 stem: file_safe(&format!("sweep_{view}_{technique}_{param}_{format}_{others_text}")),
                 title: format!(
@@ -113,21 +133,36 @@ fn parameter_sweeps(report: &Report) -> Vec<Chart> {
                     format
                 ),
                 x_label: param,
-                y_label: "error (% of evaluated pixels; 0 drawn at 1e-4)".into(),
+                y_label: "% of evaluated pixels (0 drawn at 1e-4)".into(),
                 log_x: lo > 0.0 && hi / lo > 20.0,
-                series: by_res
-                    .into_iter()
-                    .map(|(res, mut pts)| {
-                        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-                        (format!("{res}²"), pts)
-                    })
-                    .collect(),
+                series,
                 points_only: false,
                 pareto: None,
-                marks: None,
+                marks,
+                panel_size: 3,
+                panel_titles,
             }
         })
         .collect()
+}
+
+/// A swept value is "safe" when its error is at most this much (relative) above the lowest.
+const SAFE_SLACK: f64 = 0.1;
+
+/// The lowest error of a sweep (sorted by x) and the contiguous swept values around it whose
+/// error stays within `SAFE_SLACK` of it.
+fn sweep_marks(points: &[(f64, [f64; 3])]) -> Option<Marks> {
+    let best = (0..points.len()).min_by(|&a, &b| points[a].1[0].total_cmp(&points[b].1[0]))?;
+    let bound = points[best].1[0] * (1.0 + SAFE_SLACK);
+    let within = |i: &usize| points[*i].1[0] <= bound;
+    let lo = (0..best).rev().take_while(within).last().unwrap_or(best);
+    let hi = (best + 1..points.len()).take_while(within).last().unwrap_or(best);
+    Some(Marks {
+        point: (points[best].0, points[best].1[0]),
+        point_label: format!("lowest error at {}", compact(points[best].0)),
+        band: (points[lo].0, points[hi].0),
+        band_label: format!("within {:.0} % of it", 100.0 * SAFE_SLACK),
+    })
 }
 
 /// Points (x, y) of a chart's series, by series name.
@@ -164,7 +199,9 @@ fn resolution_charts(report: &Report) -> Vec<Chart> {
                 .collect(),
             points_only: false,
             pareto: None,
-            marks: None,
+            marks: Vec::new(),
+            panel_size: SERIES_PER_PANEL,
+            panel_titles: Vec::new(),
         })
         .collect()
 }
@@ -210,7 +247,9 @@ fn cost_charts(report: &Report) -> Vec<Chart> {
                 series: pts.into_iter().map(|(label, p)| (label, vec![p])).collect(),
                 points_only: true,
                 pareto: Some(pareto_front(&all)),
-                marks: None,
+                marks: Vec::new(),
+                panel_size: SERIES_PER_PANEL,
+                panel_titles: Vec::new(),
             }
         })
         .collect()
@@ -230,8 +269,9 @@ fn data_range(c: &Chart) -> Option<(f64, f64, f64)> {
     if x1 <= x0 {
         x1 = x0 + 1.0;
     }
-    // Errors span orders of magnitude (0.01 % to 50 %): a log axis, with zero drawn at the floor.
-    Some((x0, x1, if y1 <= Y_FLOOR { 1.0 } else { y1 * 1.5 }))
+    // Errors span orders of magnitude (0.01 % to 50 %): a log axis, with zero drawn at the floor,
+    // up to the labelled tick above the data.
+    Some((x0, x1, if y1 <= Y_FLOOR { 1.0 } else { labelled_tick_above(y1 * 1.2) }))
 }
 
 /// Eight colours told apart also by colour-blind readers (Okabe & Ito, "Color Universal
@@ -299,6 +339,12 @@ fn log_tick(x: f64) -> String {
     }
 }
 
+/// The least of 1, 2 and 5 times a power of ten that is at least `y` (> 0).
+fn labelled_tick_above(y: f64) -> f64 {
+    let decade = 10f64.powf(y.log10().floor());
+    [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * decade).find(|&t| t >= y).unwrap_or(10.0 * decade)
+}
+
 /// The Pareto front as a step line: from each non-dominated point across at its error to the
 /// next one's cost, then down to it.
 pub fn pareto_steps(front: &[(f64, f64)]) -> Vec<(f64, f64)> {
@@ -313,9 +359,35 @@ pub fn pareto_steps(front: &[(f64, f64)]) -> Vec<(f64, f64)> {
 }
 
 /// Width of the legend column right of the plot, in pixels.
-const LEGEND_WIDTH: u32 = 250;
+const LEGEND_WIDTH: u32 = 330;
 /// Longest series name drawn in the legend, in characters.
-const LEGEND_CHARS: usize = 36;
+const LEGEND_CHARS: usize = 48;
+
+/// Most series in one panel: a chart with more is drawn as small multiples, a panel per eight
+/// series on the same axes, so that colours never repeat within a panel.
+pub const SERIES_PER_PANEL: usize = 8;
+
+/// The chart's panels: itself, or its series `panel_size` at a time (each panel with the whole
+/// chart's Pareto front and its own marks).
+pub fn panels(c: &Chart) -> Vec<Chart> {
+    if c.series.len() <= c.panel_size {
+        return vec![c.clone()];
+    }
+    let count = c.series.len().div_ceil(c.panel_size);
+    c.series
+        .chunks(c.panel_size)
+        .enumerate()
+        .map(|(i, chunk)| Chart {
+            title: match c.panel_titles.get(i) {
+                Some(t) => format!("{}: {t}", c.title),
+                None => format!("{} ({}/{count})", c.title, i + 1),
+            },
+            series: chunk.to_vec(),
+            marks: vec![c.marks.get(i).cloned().flatten()],
+            ..c.clone()
+        })
+        .collect()
+}
 
 fn draw<DB: DrawingBackend>(root: DrawingArea<DB, plotters::coord::Shift>, c: &Chart) -> Result<(), String>
 where
@@ -323,7 +395,24 @@ where
 {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     root.fill(&WHITE).map_err(err)?;
-    let Some((x0, x1, y1)) = data_range(c) else { return Ok(()) };
+    let Some(range) = data_range(c) else { return Ok(()) };
+    let panels = panels(c);
+    for (area, panel) in root.split_evenly((panels.len(), 1)).into_iter().zip(&panels) {
+        draw_panel(area, panel, range)?;
+    }
+    root.present().map_err(err)
+}
+
+/// One panel of a chart, on the axes of `range` (the whole chart's).
+fn draw_panel<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    c: &Chart,
+    (x0, x1, y1): (f64, f64, f64),
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let (plot_area, legend_area) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH);
     let mut builder = ChartBuilder::on(&plot_area);
     builder.caption(&c.title, ("sans-serif", 18)).margin(12).x_label_area_size(40).y_label_area_size(56);
@@ -332,6 +421,8 @@ where
             let mut chart = $chart;
             chart
                 .configure_mesh()
+                // No light lines: on a log axis they crowd into grey bands.
+                .max_light_lines(0)
                 .x_label_formatter(&$x_format)
                 .y_label_formatter(&|y| log_tick(*y))
                 .x_desc(c.x_label.as_str())
@@ -339,7 +430,7 @@ where
                 .label_style(("sans-serif", 13))
                 .draw()
                 .map_err(err)?;
-            if let Some(m) = &c.marks {
+            if let Some(Some(m)) = c.marks.first() {
                 let band = [(m.band.0, Y_FLOOR * 0.7), (m.band.1, y1)];
                 chart
                     .draw_series(std::iter::once(Rectangle::new(band, COLOURS[2].mix(0.15).filled())))
@@ -383,7 +474,7 @@ where
                     .draw_series(front.iter().map(|&p| Circle::new(p, 7, BLACK.stroke_width(2))))
                     .map_err(err)?;
             }
-            if let Some(m) = &c.marks {
+            if let Some(Some(m)) = c.marks.first() {
                 chart
                     .draw_series(std::iter::once(Cross::new(m.point, 9, RED.stroke_width(3))))
                     .map_err(err)?;
@@ -402,8 +493,7 @@ where
             compact(*x)
         });
     }
-    draw_legend(&legend_area, c).map_err(err)?;
-    root.present().map_err(err)
+    draw_legend(&legend_area, c).map_err(err)
 }
 
 /// The legend in its own column, beside the data rather than over it.
@@ -435,7 +525,7 @@ fn draw_legend<DB: DrawingBackend>(
         row(area, "Pareto front (non-dominated)", y)?;
         y += 18;
     }
-    if let Some(m) = &c.marks {
+    if let Some(Some(m)) = c.marks.first() {
         area.draw(&Cross::new((15, y), 9, RED.stroke_width(3)))?;
         row(area, &m.point_label, y)?;
         y += 18;
@@ -445,20 +535,35 @@ fn draw_legend<DB: DrawingBackend>(
     Ok(())
 }
 
-const WIDTH: u32 = 1100;
+const WIDTH: u32 = 1180;
 const HEIGHT: u32 = 560;
+const PANEL_HEIGHT: u32 = 440;
+
+/// The chart as SVG text.
+pub fn chart_svg(chart: &Chart) -> std::io::Result<String> {
+    register_font();
+    let mut svg = String::new();
+    draw(SVGBackend::with_string(&mut svg, (WIDTH, chart_height(chart))).into_drawing_area(), chart)
+        .map_err(std::io::Error::other)?;
+    Ok(svg)
+}
+
+/// Pixels tall: one panel, or a shorter one per panel of small multiples.
+fn chart_height(chart: &Chart) -> u32 {
+    match panels(chart).len() {
+        1 => HEIGHT,
+        n => n as u32 * PANEL_HEIGHT,
+    }
+}
 
 /// Draws `chart` as `dir/<stem>.svg` and `dir/<stem>.png`.
 pub fn write_chart(dir: &Path, chart: &Chart) -> std::io::Result<()> {
-    register_font();
-    let mut svg = String::new();
-    draw(SVGBackend::with_string(&mut svg, (WIDTH, HEIGHT)).into_drawing_area(), chart)
+    write_atomic(&dir.join(format!("{}.svg", chart.stem)), chart_svg(chart)?.as_bytes())?;
+    let height = chart_height(chart);
+    let mut rgb = vec![255u8; (WIDTH * height * 3) as usize];
+    draw(BitMapBackend::with_buffer(&mut rgb, (WIDTH, height)).into_drawing_area(), chart)
         .map_err(std::io::Error::other)?;
-    write_atomic(&dir.join(format!("{}.svg", chart.stem)), svg.as_bytes())?;
-    let mut rgb = vec![255u8; (WIDTH * HEIGHT * 3) as usize];
-    draw(BitMapBackend::with_buffer(&mut rgb, (WIDTH, HEIGHT)).into_drawing_area(), chart)
-        .map_err(std::io::Error::other)?;
-    write_atomic(&dir.join(format!("{}.png", chart.stem)), &encode_rgb_png(WIDTH, HEIGHT, &rgb)?)
+    write_atomic(&dir.join(format!("{}.png", chart.stem)), &encode_rgb_png(WIDTH, height, &rgb)?)
 }
 
 /// `plots/`: every chart of the report, each as SVG and PNG.
@@ -470,5 +575,97 @@ impl super::outputs::Export for PlotsExport {
         let plots_dir = dir.join("plots");
         std::fs::create_dir_all(&plots_dir)?;
         charts(report).par_iter().try_for_each(|c| write_chart(&plots_dir, c))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn chart(series: usize) -> Chart {
+        Chart {
+            stem: "t".into(),
+            title: "t".into(),
+            x_label: "x".into(),
+            y_label: "y".into(),
+            log_x: false,
+            series: (0..series)
+                .map(|i| (format!("s{i}"), vec![(1.0, 1.0 + i as f64), (2.0, 2.0 + i as f64)]))
+                .collect(),
+            points_only: false,
+            pareto: None,
+            marks: Vec::new(),
+            panel_size: SERIES_PER_PANEL,
+            panel_titles: Vec::new(),
+        }
+    }
+
+    /// The stroke colours of the series lines (width 2) in an SVG.
+    fn line_colours(svg: &str) -> Vec<String> {
+        let doc = roxmltree::Document::parse(svg).expect("plotters writes valid SVG");
+        doc.descendants()
+            .filter(|n| n.has_tag_name("polyline") && n.attribute("stroke-width") == Some("2"))
+            .filter_map(|n| n.attribute("stroke").map(str::to_string))
+            .collect()
+    }
+
+    #[test]
+    fn series_in_one_panel_never_share_a_colour_and_marker() {
+        let styles: Vec<_> = (0..32).map(series_style).collect();
+        for (i, a) in styles.iter().enumerate() {
+            for b in &styles[i + 1..] {
+                assert_ne!(a, b);
+            }
+        }
+        // Drawn: 20 series make three panels, and within each the lines' colours differ.
+        let c = chart(20);
+        let panels = panels(&c);
+        assert_eq!(panels.iter().map(|p| p.series.len()).collect::<Vec<_>>(), [8, 8, 4]);
+        for panel in &panels {
+            let mut colours = line_colours(&chart_svg(panel).unwrap());
+            // The legend repeats each series' line once.
+            colours.sort();
+            colours.dedup();
+            assert_eq!(colours.len(), panel.series.len(), "{colours:?}");
+        }
+    }
+
+    #[test]
+    fn the_pareto_front_holds_exactly_the_non_dominated_points() {
+        let mut state = 7u64;
+        let mut next = || {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((state >> 40) % 50) as f64
+        };
+        for _ in 0..50 {
+            let points: Vec<(f64, f64)> = (0..30).map(|_| (next(), next())).collect();
+            let front = pareto_front(&points);
+            let dominates = |a: &(f64, f64), b: &(f64, f64)| a.0 <= b.0 && a.1 <= b.1 && a != b;
+            for f in &front {
+                assert!(!points.iter().any(|p| dominates(p, f)), "{f:?} is dominated");
+            }
+            for p in &points {
+                if !points.iter().any(|q| dominates(q, p)) {
+                    assert!(front.contains(p), "{p:?} is not dominated but left out");
+                }
+            }
+            // The step line turns only at front points: every other corner is (next x, previous y).
+            let steps = pareto_steps(&front);
+            assert_eq!(steps.len(), 2 * front.len() - 1);
+            for (k, w) in steps.windows(2).enumerate() {
+                assert!(w[0].0 == w[1].0 || w[0].1 == w[1].1, "segment {k} is not a step");
+            }
+        }
+    }
+
+    #[test]
+    fn log_ticks_are_labelled_only_at_one_two_and_five() {
+        let labelled: Vec<f64> = [1e-4, 1.5e-4, 2e-4, 3e-4, 5e-4, 7e-4, 1e-3, 0.02, 0.09, 40.0, 50.0]
+            .into_iter()
+            .filter(|&x| !log_tick(x).is_empty())
+            .collect();
+        assert_eq!(labelled, [1e-4, 2e-4, 5e-4, 1e-3, 0.02, 50.0]);
+        assert_eq!(labelled_tick_above(0.07), 0.1);
+        assert_eq!(labelled_tick_above(3.0), 5.0);
     }
 }
