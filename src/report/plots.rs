@@ -93,7 +93,8 @@ fn rates_percent(r: &RunRecord) -> [f64; 3] {
 fn parameter_sweeps(report: &Report) -> Vec<Chart> {
     // (scene/camera/light, technique, format, parameter, the other parameters) → resolution → points
     type Key = (String, String, String, String, String);
-    let mut groups: BTreeMap<Key, BTreeMap<u32, Vec<(f64, [f64; 3])>>> = BTreeMap::new();
+    type ByResolution = BTreeMap<u32, Vec<(f64, [f64; 3])>>;
+    let mut groups: BTreeMap<Key, ByResolution> = BTreeMap::new();
     for r in &report.runs {
         for (name, value) in &r.parameters {
             let Some(x) = value.as_f64() else { continue };
