@@ -9,7 +9,7 @@ use crate::plan::{
 };
 use crate::raster::MAX_SHADOW_MAP_RESOLUTION;
 use crate::report::{
-    FigureSink, Report, ReportWriter, load_report, write_mask_png, write_report_outputs, write_soft_exr,
+    FigureSink, ReportWriter, load_report, write_mask_png, write_report_outputs, write_soft_exr,
     write_world_obj,
 };
 use crate::scene::{Scene, load_scene};
@@ -21,11 +21,12 @@ use crate::verify::{Adjudicator, PixelSelection, ViewVerification, verify_view};
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 mod score;
+mod table;
+use table::TableLayout;
 mod trace_timing;
 mod tune;
 
@@ -313,6 +314,10 @@ struct RunArgs {
     /// No progress bar and no table.
     #[arg(short, long)]
     quiet: bool,
+    /// The tables printed at the end: one per scene, one per folder of scene files, or one over
+    /// the whole suite; each followed by the best setting of each technique and the Pareto set.
+    #[arg(long, value_enum, default_value_t = TableLayout::PerScene)]
+    table: TableLayout,
     /// Print how long each stage took (loading, BVH build, G-buffer, references, each group's
     /// layers and shading) to stderr, as it ends.
     #[arg(long)]
@@ -740,7 +745,7 @@ fn run_plan(a: RunArgs) -> Result<u8> {
     let cache = (!a.no_cache).then(|| crate::trace::ReferenceCache::new(&a.references));
     let (writer, portion) = open_run_folder(&a, &plan)?;
     let progress = Progress::timed(a.quiet, a.timing);
-    finish_plan_report(&plan, writer, &portion, cache.as_ref(), a.quiet, progress)?;
+    finish_plan_report(&plan, writer, &portion, cache.as_ref(), (!a.quiet).then_some(a.table), progress)?;
     Ok(0)
 }
 
@@ -771,7 +776,7 @@ fn open_run_folder(a: &RunArgs, plan: &Plan) -> Result<(ReportWriter, Portion)> 
 }
 
 /// Runs `plan` into the report folder `out` (report.json, figures unless the plan has none, then
-/// the CSV, plots and page) and prints the table and summary unless `quiet`.
+/// the CSV, plots and page) and prints the tables and summary unless `quiet`.
 fn write_plan_report(
     plan: &Plan,
     out: &Path,
@@ -780,17 +785,19 @@ fn write_plan_report(
     timing: bool,
 ) -> Result<()> {
     let writer = ReportWriter::create(out).with_context(|| format!("opening {}", out.display()))?;
-    finish_plan_report(plan, writer, &Portion::default(), cache, quiet, Progress::timed(quiet, timing))
+    let tables = (!quiet).then_some(TableLayout::PerScene);
+    finish_plan_report(plan, writer, &Portion::default(), cache, tables, Progress::timed(quiet, timing))
 }
 
 /// Runs the `portion` of `plan` through `writer`, the figures and `progress`, then writes the
-/// CSV, plots and page of the whole report, and prints the table and summary unless `quiet`.
+/// CSV, plots and page of the whole report, and prints the tables (in `tables`' layout) and
+/// summary unless `tables` is None.
 fn finish_plan_report(
     plan: &Plan,
     mut writer: ReportWriter,
     portion: &Portion,
     cache: Option<&crate::trace::ReferenceCache>,
-    quiet: bool,
+    tables: Option<TableLayout>,
     mut progress: Progress,
 ) -> Result<()> {
     let out = writer.dir().to_path_buf();
@@ -813,8 +820,8 @@ fn finish_plan_report(
     let outputs_s = (figures_ms / 1e3) + outputs_started.elapsed().as_secs_f64();
     let total_s = started.elapsed().as_secs_f64();
     let runs_s = total_s - outputs_s;
-    if !quiet {
-        print_table(writer.report());
+    if let Some(layout) = tables {
+        table::print_tables(writer.report(), layout);
         println!(
             "{} runs in {runs_s:.1} s ({} of them run now), then figures, plots and page in {outputs_s:.1} s \
              ({:.1} % of the runs' time); report: {} (open {})",
@@ -829,46 +836,6 @@ fn finish_plan_report(
 }
 
 /// Error rate (%) per technique setting and resolution, averaged over scenes, cameras and lights.
-fn print_table(report: &Report) {
-    let mut resolutions: Vec<u32> = report.runs.iter().map(|r| r.resolution).collect();
-    resolutions.sort_unstable();
-    resolutions.dedup();
-    let mut rows: Vec<String> = Vec::new();
-    let mut cells: BTreeMap<(String, u32), (f64, f64, usize)> = BTreeMap::new();
-    for r in &report.runs {
-        let label = if r.depth_format == "f32" {
-            r.label.clone()
-        } else {
-            format!("{} [{}]", r.label, r.depth_format)
-        };
-        if !rows.contains(&label) {
-            rows.push(label.clone());
-        }
-        let e = cells.entry((label, r.resolution)).or_default();
-        e.0 += r.rates.false_shadow;
-        e.1 += r.rates.false_lit;
-        e.2 += 1;
-    }
-    let width = rows.iter().map(|r| r.len()).max().unwrap_or(9).max(9);
-    print!("{:width$}", "technique");
-    for res in &resolutions {
-        print!("  {:>15}", format!("{res}² shd/lit %"));
-    }
-    println!();
-    for row in &rows {
-        print!("{row:width$}");
-        for res in &resolutions {
-            match cells.get(&(row.clone(), *res)) {
-                Some(&(fs, fl, n)) => {
-                    print!("  {:>15}", format!("{:.2}/{:.2}", 100.0 * fs / n as f64, 100.0 * fl / n as f64))
-                }
-                None => print!("  {:>15}", "-"),
-            }
-        }
-        println!();
-    }
-}
-
 fn pick<'a, T>(
     items: &'a [T],
     name: Option<&str>,

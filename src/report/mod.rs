@@ -18,6 +18,7 @@ pub mod plots;
 mod resume;
 mod schedule_order;
 mod soft_exr;
+pub mod summary;
 mod tune_plot;
 mod writer;
 

@@ -1,0 +1,87 @@
+//! The tables `run` prints when it ends: per scene (or per group of scenes, or the whole suite)
+//! the false shadow / false lit of every setting at every resolution, then the best setting of
+//! each technique family and the Pareto set at the highest resolution.
+
+use crate::report::Report;
+use crate::report::summary::{GroupSummary, SettingSummary, per_scene, summaries};
+use std::path::Path;
+
+/// How the runs are split into tables.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub(super) enum TableLayout {
+    /// One table per scene.
+    #[default]
+    PerScene,
+    /// One table per folder of scene files (`scenes/`, `scenes/papers/`, …).
+    Grouped,
+    /// One table over every scene.
+    Suite,
+}
+
+pub(super) fn print_tables(report: &Report, layout: TableLayout) {
+    let groups = match layout {
+        TableLayout::PerScene => summaries(report, per_scene),
+        TableLayout::Grouped => summaries(report, |scene| scene_folder(report, scene)),
+        TableLayout::Suite => summaries(report, |_| "all scenes".into()),
+    };
+    for g in &groups {
+        print_group(g);
+    }
+}
+
+/// The folder of a scene's file, as the report records it.
+fn scene_folder(report: &Report, scene: &str) -> String {
+    report
+        .scenes
+        .iter()
+        .find(|s| s.name == scene)
+        .and_then(|s| Path::new(&s.file).parent().map(|p| p.display().to_string()))
+        .filter(|p| !p.is_empty())
+        .unwrap_or_else(|| ".".into())
+}
+
+fn row_name(s: &SettingSummary) -> String {
+    if s.depth_format == "f32" { s.label.clone() } else { format!("{} [{}]", s.label, s.depth_format) }
+}
+
+fn print_group(g: &GroupSummary) {
+    let resolutions = g.resolutions();
+    let mut unique: Vec<String> = Vec::new();
+    for row in g.settings.iter().map(row_name) {
+        if !unique.contains(&row) {
+            unique.push(row);
+        }
+    }
+    let width = unique.iter().map(|r| r.len()).max().unwrap_or(9).max(9);
+    println!("\n{}", g.name);
+    print!("{:width$}", "technique");
+    for res in &resolutions {
+        print!("  {:>15}", format!("{res}² shd/lit %"));
+    }
+    println!();
+    for row in &unique {
+        print!("{row:width$}");
+        for res in &resolutions {
+            match g.settings.iter().find(|s| s.resolution == *res && row_name(s) == *row) {
+                Some(s) => {
+                    print!("  {:>15}", format!("{:.2}/{:.2}", 100.0 * s.false_shadow, 100.0 * s.false_lit))
+                }
+                None => print!("  {:>15}", "-"),
+            }
+        }
+        println!();
+    }
+    let Some(&top) = resolutions.last() else { return };
+    println!("best of each technique at {top}² (error %, shading ns/pixel):");
+    for s in g.best_per_family(top) {
+        println!(
+            "  {:<14} {:<width$} {:>8.3} {:>8.1}",
+            s.technique,
+            row_name(s),
+            100.0 * s.error,
+            s.ns_per_pixel
+        );
+    }
+    let front: Vec<String> = g.pareto(top).iter().map(|s| row_name(s)).collect();
+    println!("Pareto set at {top}² (no setting both cheaper and better), by cost: {}", front.join(", "));
+}
