@@ -11,6 +11,11 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn small_report(dir: &Path) -> Report {
+    report_of(dir, false)
+}
+
+/// A small report of plane_box (three techniques, two resolutions), with figures when asked.
+fn report_of(dir: &Path, figures: bool) -> Report {
     let text = serde_json::json!({
         "format": "shadowtruth/plan/v1",
         "techniques": [
@@ -24,7 +29,12 @@ fn small_report(dir: &Path) -> Report {
     let mut plan: Plan = parse_plan(&text, Path::new("plan.json")).unwrap();
     plan.scenes = vec![common::repo().join("scenes/plane_box.json")];
     let mut writer = ReportWriter::new(dir);
-    execute(&plan, None, &mut [&mut writer]).unwrap();
+    let mut figure_sink = shadowtruth::report::FigureSink::new(&dir.join("figures"), None);
+    if figures {
+        execute(&plan, None, &mut [&mut writer, &mut figure_sink]).unwrap();
+    } else {
+        execute(&plan, None, &mut [&mut writer]).unwrap();
+    }
     let report = writer.into_report();
     write_report_outputs(dir, &report).unwrap();
     report
@@ -101,6 +111,139 @@ fn chromium() -> Option<PathBuf> {
     })
 }
 
+/// Loads `page` in headless Chromium and returns the DOM after its scripts ran.
+fn dump_dom(browser: &Path, page: &Path) -> String {
+    let profile = tempfile::tempdir().unwrap();
+    let out = Command::new(browser)
+        .args(chromium_args(profile.path(), page, &["--dump-dom"]))
+        .output()
+        .expect("chromium runs");
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+fn chromium_args(profile: &Path, page: &Path, extra: &[&str]) -> Vec<String> {
+    let mut a: Vec<String> = [
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-quic",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        "--allow-file-access-from-files",
+        "--virtual-time-budget=15000",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    a.push(format!("--user-data-dir={}", profile.display()));
+    a.extend(extra.iter().map(|s| s.to_string()));
+    a.push(format!("file://{}", page.display()));
+    a
+}
+
+/// Drives the page as a reader would: opens a run in the viewer, flips between the reference,
+/// the technique and the error map, slides, zooms, presses a key and filters the table; writes
+/// what it saw (image sources, a checksum of each image's pixels) into `<pre id="clicks">`.
+const CLICK_DRIVER: &str = r#"<script>
+(function () {
+  var log = {};
+  var base = document.getElementById('view-base'), over = document.getElementById('view-over');
+  function checksum(img) {
+    var c = document.createElement('canvas'); c.width = img.naturalWidth; c.height = img.naturalHeight;
+    var g = c.getContext('2d'); g.drawImage(img, 0, 0);
+    var d = g.getImageData(0, 0, c.width, c.height).data, h = 0;
+    for (var i = 0; i < d.length; i += 4) h = (h * 31 + d[i] * 7 + d[i + 1] * 3 + d[i + 2]) >>> 0;
+    return h;
+  }
+  function seen() {
+    var s = { src: base.getAttribute('src'), width: base.naturalWidth, mode: document.getElementById('viewer').dataset.mode };
+    try { s.checksum = checksum(base); } catch (e) { s.checksum = 'error: ' + e; }
+    return s;
+  }
+  function click(selector) { document.querySelector(selector).dispatchEvent(new MouseEvent('click', { bubbles: true })); }
+  var steps = [
+    function () { log.hiddenBefore = document.getElementById('viewer').hidden; document.querySelectorAll('button.view')[1].click(); },
+    function () { log.opened = seen(); log.button = document.querySelectorAll('button.view')[1].dataset; click('#view-modes button[data-mode=technique]'); },
+    function () { log.technique = seen(); click('#view-modes button[data-mode=error]'); },
+    function () { log.error = seen(); click('#view-modes button[data-mode=slide]'); },
+    function () {
+      var s = document.getElementById('view-slider'); s.value = 30; s.dispatchEvent(new Event('input'));
+      log.slide = { base: base.getAttribute('src'), over: over.getAttribute('src'), overHidden: over.hidden, clip: over.style.clipPath };
+      var z = document.getElementById('view-zoom'); z.value = '4'; z.dispatchEvent(new Event('change'));
+    },
+    function () {
+      log.zoom = { style: base.style.width, natural: base.naturalWidth };
+      document.dispatchEvent(new KeyboardEvent('keydown', { key: '1', bubbles: true }));
+      log.key = seen();
+      var f = document.querySelector('#filters select[name=resolution]'); f.value = f.options[1].value;
+      f.dispatchEvent(new Event('change'));
+      log.filter = { value: f.value, shown: Number(document.getElementById('shown').dataset.shown),
+                     visible: Array.prototype.filter.call(document.querySelectorAll('#runs tbody tr'), function (r) { return !r.hidden; }).length };
+      var pre = document.createElement('pre'); pre.id = 'clicks'; pre.textContent = JSON.stringify(log);
+      document.body.appendChild(pre);
+    }
+  ];
+  function run(i) { if (i < steps.length) { steps[i](); setTimeout(function () { run(i + 1); }, 400); } }
+  window.addEventListener('load', function () { setTimeout(function () { run(0); }, 100); });
+})();
+</script>"#;
+
+#[test]
+fn the_page_viewer_flips_slides_zooms_and_filters_when_clicked_in_a_real_browser() {
+    let Some(browser) = chromium() else {
+        assert!(std::env::var_os("CI").is_none(), "CI must install chromium (see .ci/run)");
+        eprintln!("SKIPPED: no chromium on PATH (apt-get install chromium); the page was not clicked");
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let report = report_of(dir.path(), true);
+    let html = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
+    let page = dir.path().join("index-clicked.html");
+    std::fs::write(&page, html.replace("</body>", &format!("{CLICK_DRIVER}</body>"))).unwrap();
+    let dom = dump_dom(&browser, &page);
+    let at =
+        dom.find("<pre id=\"clicks\">").unwrap_or_else(|| panic!("the driver did not finish: {dom:.3000}"));
+    let text = dom[at + 17..]
+        .split("</pre>")
+        .next()
+        .unwrap()
+        .replace("&quot;", "\"")
+        .replace("&lt;", "<")
+        .replace("&gt;", ">")
+        .replace("&amp;", "&");
+    let log: serde_json::Value = serde_json::from_str(&text).unwrap_or_else(|e| panic!("{e}: {text}"));
+    assert_eq!(log["hiddenBefore"], true, "the viewer waits for a run");
+    let button = &log["button"];
+    let (opened, technique, error) = (&log["opened"], &log["technique"], &log["error"]);
+    assert_eq!(opened["src"], button["reference"], "a run opens on its view's reference");
+    assert_eq!(technique["src"], button["technique"]);
+    assert_eq!(error["src"], button["error"]);
+    for (name, s) in [("reference", opened), ("technique", technique), ("error", error)] {
+        assert!(s["width"].as_u64().unwrap() > 0, "the {name} image did not load: {s}");
+        assert!(s["checksum"].is_u64(), "the {name} image's pixels were not read: {s}");
+    }
+    // The three images differ: what the reader flips between changes.
+    assert_ne!(opened["checksum"], technique["checksum"]);
+    assert_ne!(technique["checksum"], error["checksum"]);
+    assert_ne!(opened["checksum"], error["checksum"]);
+    let slide = &log["slide"];
+    assert_eq!(slide["base"], button["reference"]);
+    assert_eq!(slide["over"], button["technique"]);
+    assert_eq!(slide["overHidden"], false);
+    assert_eq!(slide["clip"], "inset(0px 70% 0px 0px)");
+    let zoom = &log["zoom"];
+    assert_eq!(zoom["style"], format!("{}px", 4 * zoom["natural"].as_u64().unwrap()));
+    assert_eq!(log["key"]["mode"], "reference", "key 1 shows the reference");
+    assert_eq!(log["key"]["src"], button["reference"]);
+    let resolution: u32 = log["filter"]["value"].as_str().unwrap().parse().unwrap();
+    let want = report.runs.iter().filter(|r| r.resolution == resolution).count();
+    assert!(want > 0 && want < report.runs.len());
+    assert_eq!(log["filter"]["shown"], want);
+    assert_eq!(log["filter"]["visible"], want);
+}
+
 #[test]
 fn the_index_page_loads_its_table_and_every_image_in_a_real_browser() {
     let Some(browser) = chromium() else {
@@ -112,27 +255,7 @@ fn the_index_page_loads_its_table_and_every_image_in_a_real_browser() {
     let report = small_report(dir.path());
     let page = dir.path().join("index.html");
     let profile = tempfile::tempdir().unwrap();
-    let args = |extra: &[&str]| {
-        let mut a: Vec<String> = [
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-quic",
-            "--no-first-run",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            "--allow-file-access-from-files",
-            "--virtual-time-budget=15000",
-        ]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
-        a.push(format!("--user-data-dir={}", profile.path().display()));
-        a.extend(extra.iter().map(|s| s.to_string()));
-        a.push(format!("file://{}", page.display()));
-        a
-    };
+    let args = |extra: &[&str]| chromium_args(profile.path(), &page, extra);
     let out = Command::new(&browser).args(args(&["--dump-dom"])).output().expect("chromium runs");
     let dom = String::from_utf8_lossy(&out.stdout);
     let attr = |name: &str| -> usize {
@@ -144,7 +267,7 @@ fn the_index_page_loads_its_table_and_every_image_in_a_real_browser() {
     assert!(total > 0, "the page shows no image");
     assert_eq!(loaded, total, "{loaded} of {total} images loaded");
     let runs_table = &dom[dom.find("id=\"runs\"").expect("a runs table")..];
-    let rows = runs_table.matches("<tr><td class=\"l\">plane_box").count();
+    let rows = runs_table.matches("<tr data-scene=\"plane_box\"").count();
     assert_eq!(rows, report.runs.len(), "the runs table has one row per run");
     // A screenshot, kept for people to look at.
     let shot = std::env::temp_dir().join("shadowtruth-index-screenshot.png");

@@ -2,8 +2,10 @@
 //! figures, the settings and the tool version. Only relative links; no network.
 
 use super::Report;
-use super::figures::run_stem;
+use super::figures::{run_stem, view_stem};
 use super::plots::charts;
+use super::summary::{GroupSummary, per_scene, summaries};
+use crate::scene::ViewKey;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -25,45 +27,30 @@ pub struct PageAssets {
     pub figures: Vec<(String, String)>,
     /// Per run (same order as `report.runs`): its figure paths (technique, error), if written.
     pub run_figures: Vec<Option<(String, String)>>,
+    /// Per run: the reference figure of its view, if written.
+    pub run_references: Vec<Option<String>>,
 }
 
 const STYLE: &str = "body{font-family:system-ui,sans-serif;margin:1.5em;color:#222}\
 table{border-collapse:collapse;font-size:13px}th,td{border:1px solid #ccc;padding:3px 6px;text-align:right}\
 th{background:#eee;cursor:pointer;position:sticky;top:0}td.l,th.l{text-align:left}\
 tr:nth-child(even){background:#fafafa}.plots img,.figs img{max-width:100%;border:1px solid #ddd;margin:4px 0}\
-.figs figure{display:inline-block;margin:6px;vertical-align:top;max-width:48%}#status{color:#666;font-size:12px}";
+.figs figure{display:inline-block;margin:6px;vertical-align:top;max-width:48%}#status{color:#666;font-size:12px}\
+.summary{margin-bottom:1.2em}td.front{color:#070}#filters{margin:.6em 0}#filters label{margin-right:1em}\
+#viewer{border:1px solid #ccc;padding:8px;margin:1em 0;background:#f7f7f7}#view-stage{position:relative;overflow:auto;max-height:80vh;max-width:100%}\
+#view-stage img{display:block;image-rendering:pixelated}#view-over{position:absolute;left:0;top:0}\
+#view-modes button[aria-pressed=true]{font-weight:bold;background:#dde}button.view{font-size:12px}";
 
-/// Sorting by clicking a header; a status line that says how many images loaded (read by tests).
-const SCRIPT: &str = r#"
-document.querySelectorAll('#runs th').forEach(function (th, col) {
-  th.addEventListener('click', function () {
-    var body = document.querySelector('#runs tbody');
-    var rows = Array.prototype.slice.call(body.rows);
-    var dir = th.dataset.dir === 'asc' ? -1 : 1;
-    th.dataset.dir = dir === 1 ? 'asc' : 'desc';
-    rows.sort(function (a, b) {
-      var x = a.cells[col].dataset.v || a.cells[col].textContent, y = b.cells[col].dataset.v || b.cells[col].textContent;
-      var nx = parseFloat(x), ny = parseFloat(y);
-      if (!isNaN(nx) && !isNaN(ny)) return dir * (nx - ny);
-      return dir * x.localeCompare(y);
-    });
-    rows.forEach(function (r) { body.appendChild(r); });
-  });
-});
-function imagesStatus() {
-  var imgs = Array.prototype.slice.call(document.images);
-  var ok = imgs.filter(function (i) { return i.complete && i.naturalWidth > 0; }).length;
-  var s = document.getElementById('status');
-  s.textContent = 'images loaded: ' + ok + '/' + imgs.length + '; runs: ' + document.querySelectorAll('#runs tbody tr').length;
-  s.dataset.loaded = ok; s.dataset.total = imgs.length;
-}
-window.addEventListener('load', imagesStatus);
-"#;
+/// Sorting, filters, the viewer and the images-loaded status line (read by tests).
+const SCRIPT: &str = include_str!("page.js");
 
 pub fn index_html(report: &Report, assets: &PageAssets) -> String {
     let mut h = String::new();
     page_header(&mut h, report);
+    summary_section(&mut h, report);
     scenes_table(&mut h, report);
+    viewer_section(&mut h);
+    filters_section(&mut h, report);
     runs_table(&mut h, report, assets);
     figures_section(&mut h, assets);
     plots_section(&mut h, assets);
@@ -83,6 +70,91 @@ fn page_header(h: &mut String, report: &Report) {
         escape(&report.machine.cpu),
         report.machine.cores,
         escape(&report.schema)
+    );
+}
+
+/// Per scene, at each resolution: the best setting of each technique family with its error
+/// and cost, and whether it is in the Pareto set (no setting both cheaper and better).
+fn summary_section(h: &mut String, report: &Report) {
+    let groups = summaries(report, per_scene);
+    if groups.is_empty() {
+        return;
+    }
+    h.push_str("<h2>Summary</h2><p>Per scene, summed over its views: the best setting of each technique at each \
+                resolution, its error and shading cost; ✓ marks the Pareto set (no other setting is both cheaper \
+                and better).</p>");
+    for g in &groups {
+        scene_summary(h, g);
+    }
+}
+
+fn scene_summary(h: &mut String, g: &GroupSummary) {
+    let _ = write!(
+        h,
+        "<table class=\"summary\"><caption class=\"l\"><b>{}</b></caption><thead><tr><th>resolution</th>\
+         <th class=\"l\">technique</th><th class=\"l\">best setting</th><th>error %</th><th>false shadow %</th>\
+         <th>false lit %</th><th>ns/pixel</th><th>Pareto</th></tr></thead><tbody>",
+        escape(&g.name)
+    );
+    for res in g.resolutions() {
+        let front: Vec<String> = g.pareto(res).iter().map(|s| s.label.clone()).collect();
+        for s in g.best_per_family(res) {
+            let on_front = front.contains(&s.label);
+            let _ = write!(
+                h,
+                "<tr><td>{res}</td><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{:.3}</td><td>{:.3}</td>\
+                 <td>{:.3}</td><td>{:.1}</td><td class=\"front\">{}</td></tr>",
+                escape(&s.technique),
+                escape(&s.label),
+                100.0 * s.error,
+                100.0 * s.false_shadow,
+                100.0 * s.false_lit,
+                s.ns_per_pixel,
+                if on_front { "✓" } else { "" }
+            );
+        }
+    }
+    h.push_str("</tbody></table>");
+}
+
+/// Selects that keep the runs of one scene, camera, light, technique or resolution.
+fn filters_section(h: &mut String, report: &Report) {
+    h.push_str("<div id=\"filters\">Show: ");
+    let field = |name: &str, values: Vec<String>| {
+        let mut unique: Vec<String> = Vec::new();
+        for v in values {
+            if !unique.contains(&v) {
+                unique.push(v);
+            }
+        }
+        let options: String =
+            unique.iter().map(|v| format!("<option value=\"{0}\">{0}</option>", escape(v))).collect();
+        format!(
+            "<label>{name} <select name=\"{name}\"><option value=\"\">all</option>{options}</select></label>"
+        )
+    };
+    let runs = &report.runs;
+    h.push_str(&field("scene", runs.iter().map(|r| r.scene.clone()).collect()));
+    h.push_str(&field("camera", runs.iter().map(|r| r.camera.clone()).collect()));
+    h.push_str(&field("light", runs.iter().map(|r| r.light.clone()).collect()));
+    h.push_str(&field("technique", runs.iter().map(|r| r.technique.clone()).collect()));
+    h.push_str(&field("resolution", runs.iter().map(|r| r.resolution.to_string()).collect()));
+    h.push_str("<span id=\"shown\"></span></div>");
+}
+
+/// The viewer, filled by a run's "view" button: the reference, the run's shadows and its error
+/// map, flipped (buttons or keys 1–3) or slid over each other (4), with zoom.
+fn viewer_section(h: &mut String) {
+    h.push_str(
+        "<section id=\"viewer\" hidden><h2>Viewer</h2><p id=\"view-caption\"></p><div id=\"view-modes\">\
+         <button data-mode=\"reference\">1 reference</button><button data-mode=\"technique\">2 technique</button>\
+         <button data-mode=\"error\">3 error map</button><button data-mode=\"slide\">4 slide</button> \
+         <input id=\"view-slider\" type=\"range\" min=\"0\" max=\"100\" value=\"50\" hidden \
+         aria-label=\"technique shown left of\"> <label>zoom <select id=\"view-zoom\"><option value=\"1\">1×</option>\
+         <option value=\"2\">2×</option><option value=\"4\">4×</option><option value=\"8\">8×</option></select></label>\
+         </div><p>The error map shows false shadow and false lit in colour over the scene; in slide mode the \
+         technique's shadows are left of the slider, the reference's right.</p><div id=\"view-stage\">\
+         <img id=\"view-base\" alt=\"\"><img id=\"view-over\" alt=\"\" hidden></div></section>",
     );
 }
 
@@ -129,17 +201,18 @@ fn runs_table(h: &mut String, report: &Report, assets: &PageAssets) {
     h.push_str("</tr></thead><tbody>");
     for (i, r) in report.runs.iter().enumerate() {
         let c = &r.counts;
-        let figs = match assets.run_figures.get(i).and_then(|f| f.as_ref()) {
-            Some((t, e)) => {
-                format!("<a href=\"{}\">visibility</a> <a href=\"{}\">errors</a>", escape(t), escape(e))
-            }
-            None => String::new(),
-        };
+        let figs = run_figure_links(r, assets.run_figures.get(i), assets.run_references.get(i));
         let _ = write!(
             h,
-            "<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td>\
+            "<tr data-scene=\"{}\" data-camera=\"{}\" data-light=\"{}\" data-technique=\"{}\" data-resolution=\"{}\">\
+             <td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td>\
              <td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>\
              <td data-v=\"{}\">{:.3}</td><td>{:.2}</td><td>{:.2}</td><td>{:.1}</td><td class=\"l\">{figs}</td></tr>",
+            escape(&r.scene),
+            escape(&r.camera),
+            escape(&r.light),
+            escape(&r.technique),
+            r.resolution,
             escape(&r.scene),
             escape(&r.camera),
             escape(&r.light),
@@ -160,6 +233,30 @@ fn runs_table(h: &mut String, report: &Report, assets: &PageAssets) {
         );
     }
     h.push_str("</tbody></table>");
+}
+
+/// A run's figure links, and its viewer button when the reference figure is there too.
+fn run_figure_links(
+    r: &super::RunRecord,
+    figures: Option<&Option<(String, String)>>,
+    reference: Option<&Option<String>>,
+) -> String {
+    let Some(Some((t, e))) = figures else { return String::new() };
+    let links = format!("<a href=\"{}\">visibility</a> <a href=\"{}\">errors</a>", escape(t), escape(e));
+    match reference {
+        Some(Some(reference)) => format!(
+            "<button class=\"view\" data-reference=\"{}\" data-technique=\"{}\" data-error=\"{}\" \
+             data-caption=\"{}\">view</button> {links}",
+            escape(reference),
+            escape(t),
+            escape(e),
+            escape(&format!(
+                "{}/{}/{}: {} at {}² {}",
+                r.scene, r.camera, r.light, r.label, r.resolution, r.depth_format
+            ))
+        ),
+        _ => links,
+    }
 }
 
 fn figures_section(h: &mut String, assets: &PageAssets) {
@@ -224,6 +321,15 @@ fn page_assets(dir: &Path, report: &Report) -> PageAssets {
             (dir.join(&t).is_file() && dir.join(&e).is_file()).then_some((t, e))
         })
         .collect();
+    let run_references = report
+        .runs
+        .iter()
+        .map(|r| {
+            let path =
+                format!("figures/{}.reference.png", view_stem(ViewKey::new(&r.scene, &r.camera, &r.light)));
+            dir.join(&path).is_file().then_some(path)
+        })
+        .collect();
     let plots = charts(report).into_iter().map(|c| c.stem).collect();
-    PageAssets { plots, figures, run_figures }
+    PageAssets { plots, figures, run_figures, run_references }
 }
