@@ -81,6 +81,7 @@ fn the_classes_add_up_to_the_false_pixels() {
         TechniqueSpec::NormalOffset(NormalOffsetParams {
             scale_texels: 1.0,
             falloff: FalloffSpec::default(),
+            ..Default::default()
         }),
     ];
     let mut classes_seen = Attribution::default();

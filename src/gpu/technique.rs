@@ -54,6 +54,15 @@ impl GpuTechnique {
             TechniqueSpec::Constant(p) => {
                 GpuTechnique::ConstantDepth { bias_depth: p.bias_depth.unwrap_or(0.0) as f32 }
             }
+            // The device's normal offset has the two falloffs of the papers and no depth bias.
+            TechniqueSpec::NormalOffset(p)
+                if p.falloff == FalloffSpec::None
+                    || [p.bias_world, p.bias_texels, p.factor, p.units]
+                        .iter()
+                        .any(|v| v.is_some_and(|v| v != 0.0)) =>
+            {
+                return Err(unsupported());
+            }
             TechniqueSpec::NormalOffset(p) => GpuTechnique::NormalOffset {
                 scale_texels: p.scale_texels as f32,
                 one_minus_n_dot_l: p.falloff == FalloffSpec::OneMinusNDotL,
