@@ -104,3 +104,22 @@ fn parameters_without_meaning_below_zero_are_refused() {
         parse_plan(&plan(&zero, ""), Path::new("plan.json")).unwrap_or_else(|e| panic!("{zero}: {e}"));
     }
 }
+
+#[test]
+fn every_bundled_plan_reads_and_every_technique_builds() {
+    let dir = super::common::repo().join("plans");
+    let mut read = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|x| x != "json") {
+            continue;
+        }
+        let plan = shadowtruth::plan::read_plan(&path, shadowtruth::plan::DEFAULT_MAX_RUNS)
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        for t in &plan.techniques {
+            assert!(t.build().is_some(), "{}: {} builds", path.display(), t.label());
+        }
+        read += 1;
+    }
+    assert!(read >= 5, "the plans folder holds the bundled plans");
+}
