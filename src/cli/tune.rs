@@ -125,6 +125,12 @@ pub(super) fn run_tune(a: TuneArgs) -> Result<u8> {
         run_tuned(&a, &plan, &request, &result, cache.as_ref())?;
     }
     write_outputs(&a, &record, &result, &request)?;
+    if !a.no_report {
+        // The page again, now with the tuning section.
+        let (report, _) = load_report(&a.out)?;
+        crate::report::write_page(&a.out, &report)
+            .with_context(|| format!("writing {}", a.out.join("index.html").display()))?;
+    }
     if !a.quiet {
         print_summary(&record);
         println!("{} settings shaded and scored on one scene each", result.scene_evaluations);

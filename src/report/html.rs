@@ -29,6 +29,8 @@ pub struct PageAssets {
     pub run_figures: Vec<Option<(String, String)>>,
     /// Per run: the reference figure of its view, if written.
     pub run_references: Vec<Option<String>>,
+    /// A `tune` folder's tune.json and its plots (stems under `plots/`).
+    pub tune: Option<(serde_json::Value, Vec<String>)>,
 }
 
 const STYLE: &str = "body{font-family:system-ui,sans-serif;margin:1.5em;color:#222}\
@@ -47,6 +49,9 @@ const SCRIPT: &str = include_str!("page.js");
 pub fn index_html(report: &Report, assets: &PageAssets) -> String {
     let mut h = String::new();
     page_header(&mut h, report);
+    if let Some((tune, plots)) = &assets.tune {
+        tune_section(&mut h, tune, plots);
+    }
     summary_section(&mut h, report);
     scenes_table(&mut h, report);
     viewer_section(&mut h);
@@ -293,9 +298,14 @@ pub struct PageExport;
 
 impl super::outputs::Export for PageExport {
     fn write(&self, dir: &Path, report: &Report) -> std::io::Result<()> {
-        let assets = page_assets(dir, report);
-        crate::atomic_file::write_atomic(&dir.join("index.html"), index_html(report, &assets).as_bytes())
+        write_page(dir, report)
     }
+}
+
+/// Writes the report folder's `index.html` from what the folder holds.
+pub fn write_page(dir: &Path, report: &Report) -> std::io::Result<()> {
+    let assets = page_assets(dir, report);
+    crate::atomic_file::write_atomic(&dir.join("index.html"), index_html(report, &assets).as_bytes())
 }
 
 /// What the page of the report folder `dir` shows: its grids and reference figures, each run's
@@ -331,5 +341,55 @@ fn page_assets(dir: &Path, report: &Report) -> PageAssets {
         })
         .collect();
     let plots = charts(report).into_iter().map(|c| c.stem).collect();
-    PageAssets { plots, figures, run_figures, run_references }
+    PageAssets { plots, figures, run_figures, run_references, tune: tune_assets(dir) }
+}
+
+/// tune.json and the tune plots of a `tune` folder, when it is one.
+fn tune_assets(dir: &Path) -> Option<(serde_json::Value, Vec<String>)> {
+    let tune: serde_json::Value = serde_json::from_slice(&std::fs::read(dir.join("tune.json")).ok()?).ok()?;
+    let mut plots: Vec<String> = std::fs::read_dir(dir.join("plots"))
+        .ok()?
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .filter(|n| n.starts_with("tune_") && n.ends_with(".png"))
+        .map(|n| n.trim_end_matches(".png").to_string())
+        .collect();
+    plots.sort();
+    Some((tune, plots))
+}
+
+/// What `tune` found: per scene and for the suite, the best setting, its objective and the
+/// safe range of each parameter; then the plots of the search.
+fn tune_section(h: &mut String, tune: &serde_json::Value, plots: &[String]) {
+    h.push_str("<h2>Tuning</h2><p>The setting that minimises the objective, and the range of each parameter over \
+                which the objective stays within 10 % of it (<a href=\"tune.json\">tune.json</a>).</p><table id=\"tune\">\
+                <thead><tr><th class=\"l\">scene</th><th class=\"l\">best setting</th><th>objective %</th>\
+                <th class=\"l\">safe range</th></tr></thead><tbody>");
+    let suite = std::iter::once(("suite", &tune["suite"]));
+    let scenes =
+        tune["per_scene"].as_array().into_iter().flatten().map(|s| (s["scene"].as_str().unwrap_or("?"), s));
+    for (scene, t) in suite.chain(scenes) {
+        let ranges: Vec<String> = t["safe_range"]
+            .as_object()
+            .into_iter()
+            .flatten()
+            .map(|(name, r)| format!("{name} {} … {}", r["lo"], r["hi"]))
+            .collect();
+        let _ = write!(
+            h,
+            "<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{:.4}</td><td class=\"l\">{}</td></tr>",
+            escape(scene),
+            escape(t["best"]["label"].as_str().unwrap_or("")),
+            100.0 * t["best"]["objective"].as_f64().unwrap_or(f64::NAN),
+            escape(&ranges.join(", "))
+        );
+    }
+    h.push_str("</tbody></table><div class=\"plots\">");
+    for stem in plots {
+        let _ = write!(
+            h,
+            "<p><a href=\"plots/{0}.svg\"><img src=\"plots/{0}.png\" alt=\"{0}\"></a></p>",
+            escape(stem)
+        );
+    }
+    h.push_str("</div>");
 }

@@ -27,7 +27,7 @@ pub use depth_map::write_depth_map;
 pub use exports::{write_mask_png, write_world_obj};
 pub use figure_sink::FigureSink;
 pub use gate::{CheckedReport, GateOptions, evaluate, load_report, load_rules, parse_rules};
-pub use html::escape;
+pub use html::{escape, write_page};
 pub use junit::junit_xml;
 pub use merge::merge_shards;
 pub use outputs::write_report_outputs;

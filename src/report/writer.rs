@@ -19,7 +19,8 @@ use crate::record::ScheduleRecord;
 use std::path::{Path, PathBuf};
 
 /// Files of an earlier run removed from a report folder (report.json is replaced instead).
-const EARLIER_RUN_FILES: [&str; 4] = ["report.csv", "index.html", "claims.json", "claims.html"];
+const EARLIER_RUN_FILES: [&str; 6] =
+    ["report.csv", "index.html", "claims.json", "claims.html", "tune.json", "tune-gate.toml"];
 
 /// Subfolders of a report folder and the extensions of the files this tool writes into them.
 const EARLIER_RUN_FOLDERS: [(&str, &[&str]); 2] = [("figures", &["png"]), ("plots", &["svg", "png"])];
