@@ -121,10 +121,8 @@ fn the_tuned_bias_beats_a_20_point_sweep_and_sits_in_its_safe_range() {
     assert!(dir.path().join("tuned/plots/tune_bias_depth.png").is_file());
 }
 
-#[test]
-fn a_parameter_the_technique_does_not_have_is_named_before_anything_is_traced() {
-    let dir = tempfile::tempdir().unwrap();
-    write_contact_scene(&dir.path().join("contact.json"));
+/// The error of a `tune` that must fail before writing anything into `t`.
+fn tune_error(dir: &Path, param: &str) -> String {
     let out = Command::new(env!("CARGO_BIN_EXE_shadowtruth"))
         .args([
             "tune",
@@ -132,33 +130,26 @@ fn a_parameter_the_technique_does_not_have_is_named_before_anything_is_traced() 
             "--technique",
             "constant",
             "--param",
-            "scale_texels",
+            param,
             "-o",
             "t",
             "--no-cache",
             "-q",
         ])
-        .current_dir(dir.path())
+        .current_dir(dir)
         .output()
         .unwrap();
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "--param {param} was accepted");
+    assert!(!dir.join("t").exists(), "nothing is written");
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+#[test]
+fn a_parameter_the_technique_does_not_have_is_named_before_anything_is_traced() {
+    let dir = tempfile::tempdir().unwrap();
+    write_contact_scene(&dir.path().join("contact.json"));
+    let err = tune_error(dir.path(), "scale_texels");
     assert!(err.contains("scale_texels"), "{err}");
-    assert!(!dir.path().join("t").exists(), "nothing is written");
-    let out = Command::new(env!("CARGO_BIN_EXE_shadowtruth"))
-        .args([
-            "tune",
-            "contact.json",
-            "--technique",
-            "constant",
-            "--param",
-            "bias_depth=0:1",
-            "-o",
-            "t",
-            "--no-cache",
-        ])
-        .current_dir(dir.path())
-        .output()
-        .unwrap();
-    assert!(String::from_utf8_lossy(&out.stderr).contains("0 < LO < HI"));
+    let err = tune_error(dir.path(), "bias_depth=0:1");
+    assert!(err.contains("0 < LO < HI"), "{err}");
 }

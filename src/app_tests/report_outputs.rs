@@ -111,6 +111,16 @@ fn chromium() -> Option<PathBuf> {
     })
 }
 
+/// The browser, or None with a message (the page was not `what`); CI must have one.
+fn chromium_or_skip(what: &str) -> Option<PathBuf> {
+    let browser = chromium();
+    if browser.is_none() {
+        assert!(std::env::var_os("CI").is_none(), "CI must install chromium (see .ci/run)");
+        eprintln!("SKIPPED: no chromium on PATH (apt-get install chromium); the page was not {what}");
+    }
+    browser
+}
+
 /// Loads `page` in headless Chromium and returns the DOM after its scripts ran.
 fn dump_dom(browser: &Path, page: &Path) -> String {
     let profile = tempfile::tempdir().unwrap();
@@ -192,11 +202,7 @@ const CLICK_DRIVER: &str = r#"<script>
 
 #[test]
 fn the_page_viewer_flips_slides_zooms_and_filters_when_clicked_in_a_real_browser() {
-    let Some(browser) = chromium() else {
-        assert!(std::env::var_os("CI").is_none(), "CI must install chromium (see .ci/run)");
-        eprintln!("SKIPPED: no chromium on PATH (apt-get install chromium); the page was not clicked");
-        return;
-    };
+    let Some(browser) = chromium_or_skip("clicked") else { return };
     let dir = tempfile::tempdir().unwrap();
     let report = report_of(dir.path(), true);
     let html = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
@@ -246,11 +252,7 @@ fn the_page_viewer_flips_slides_zooms_and_filters_when_clicked_in_a_real_browser
 
 #[test]
 fn the_index_page_loads_its_table_and_every_image_in_a_real_browser() {
-    let Some(browser) = chromium() else {
-        assert!(std::env::var_os("CI").is_none(), "CI must install chromium (see .ci/run)");
-        eprintln!("SKIPPED: no chromium on PATH (apt-get install chromium); the page was not opened");
-        return;
-    };
+    let Some(browser) = chromium_or_skip("opened") else { return };
     let dir = tempfile::tempdir().unwrap();
     let report = small_report(dir.path());
     let page = dir.path().join("index.html");

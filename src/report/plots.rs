@@ -29,6 +29,25 @@ pub struct Chart {
     pub panel_titles: Vec<String>,
 }
 
+impl Default for Chart {
+    /// No series; lines with markers; one panel per eight series.
+    fn default() -> Self {
+        Chart {
+            stem: String::new(),
+            title: String::new(),
+            x_label: String::new(),
+            y_label: String::new(),
+            log_x: false,
+            series: Vec::new(),
+            points_only: false,
+            pareto: None,
+            marks: Vec::new(),
+            panel_size: SERIES_PER_PANEL,
+            panel_titles: Vec::new(),
+        }
+    }
+}
+
 #[derive(Clone, Debug)]
 pub struct Marks {
     pub point: (f64, f64),
@@ -137,11 +156,10 @@ fn parameter_sweeps(report: &Report) -> Vec<Chart> {
                 y_label: "% of evaluated pixels (0 drawn at 1e-4)".into(),
                 log_x: lo > 0.0 && hi / lo > 20.0,
                 series,
-                points_only: false,
-                pareto: None,
                 marks,
                 panel_size: 3,
                 panel_titles,
+                ..Chart::default()
             }
         })
         .collect()
@@ -198,11 +216,7 @@ fn resolution_charts(report: &Report) -> Vec<Chart> {
                     (label, pts)
                 })
                 .collect(),
-            points_only: false,
-            pareto: None,
-            marks: Vec::new(),
-            panel_size: SERIES_PER_PANEL,
-            panel_titles: Vec::new(),
+            ..Chart::default()
         })
         .collect()
 }
@@ -248,9 +262,7 @@ fn cost_charts(report: &Report) -> Vec<Chart> {
                 series: pts.into_iter().map(|(label, p)| (label, vec![p])).collect(),
                 points_only: true,
                 pareto: Some(pareto_front(&all)),
-                marks: Vec::new(),
-                panel_size: SERIES_PER_PANEL,
-                panel_titles: Vec::new(),
+                ..Chart::default()
             }
         })
         .collect()
@@ -593,11 +605,7 @@ mod tests {
             series: (0..series)
                 .map(|i| (format!("s{i}"), vec![(1.0, 1.0 + i as f64), (2.0, 2.0 + i as f64)]))
                 .collect(),
-            points_only: false,
-            pareto: None,
-            marks: Vec::new(),
-            panel_size: SERIES_PER_PANEL,
-            panel_titles: Vec::new(),
+            ..Chart::default()
         }
     }
 

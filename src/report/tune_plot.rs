@@ -34,15 +34,13 @@ pub fn tune_chart(result: &TuneResult, request: &TuneRequest, axis: usize) -> Ch
             ("false lit".into(), series(|p| p.false_lit)),
             (format!("objective: {}", request.objective.describe()), series(|p| p.objective)),
         ],
-        points_only: false,
-        pareto: None,
         panel_size: 3,
-        panel_titles: Vec::new(),
         marks: vec![Some(Marks {
             point: (best[axis], percent(tuned.best.value)),
             point_label: format!("optimum {name} = {}", best[axis]),
             band: (safe.lo, safe.hi),
             band_label: format!("safe range (≤ {:.0} % above)", 100.0 * crate::tune::SAFE_RANGE_SLACK),
         })],
+        ..Chart::default()
     }
 }
