@@ -4,6 +4,7 @@
 
 use super::{Report, RunRecord};
 use crate::atomic_file::{encode_rgb_png, write_atomic};
+use plotters::coord::CoordTranslate;
 use plotters::prelude::*;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -456,28 +457,7 @@ where
                         .draw_series(LineSeries::new(points.iter().copied(), colour.stroke_width(2)))
                         .map_err(err)?;
                 }
-                let r = 4;
-                match shape {
-                    MarkerShape::Circle => chart
-                        .draw_series(
-                            points
-                                .iter()
-                                .map(|&p| EmptyElement::at(p) + Circle::new((0, 0), r, colour.filled())),
-                        )
-                        .map(|_| ()),
-                    MarkerShape::Triangle => chart
-                        .draw_series(points.iter().map(|&p| TriangleMarker::new(p, r + 1, colour.filled())))
-                        .map(|_| ()),
-                    MarkerShape::Square => chart
-                        .draw_series(points.iter().map(|&p| {
-                            EmptyElement::at(p) + Rectangle::new([(-r, -r), (r, r)], colour.filled())
-                        }))
-                        .map(|_| ()),
-                    MarkerShape::Cross => chart
-                        .draw_series(points.iter().map(|&p| Cross::new(p, r, colour.stroke_width(2))))
-                        .map(|_| ()),
-                }
-                .map_err(err)?;
+                draw_markers(&mut chart, points, shape, colour).map_err(err)?;
             }
             if let Some(front) = &c.pareto {
                 chart
@@ -507,6 +487,34 @@ where
         });
     }
     draw_legend(&legend_area, c).map_err(err)
+}
+
+/// The markers of one series at its data points.
+fn draw_markers<DB: DrawingBackend, CT: CoordTranslate<From = (f64, f64)>>(
+    chart: &mut ChartContext<'_, DB, CT>,
+    points: &[(f64, f64)],
+    shape: MarkerShape,
+    colour: RGBColor,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let r = 4;
+    let at = points.iter().copied();
+    match shape {
+        MarkerShape::Circle => {
+            chart.draw_series(at.map(|p| EmptyElement::at(p) + Circle::new((0, 0), r, colour.filled())))?;
+        }
+        MarkerShape::Triangle => {
+            chart.draw_series(at.map(|p| TriangleMarker::new(p, r + 1, colour.filled())))?;
+        }
+        MarkerShape::Square => {
+            chart.draw_series(
+                at.map(|p| EmptyElement::at(p) + Rectangle::new([(-r, -r), (r, r)], colour.filled())),
+            )?;
+        }
+        MarkerShape::Cross => {
+            chart.draw_series(at.map(|p| Cross::new(p, r, colour.stroke_width(2))))?;
+        }
+    }
+    Ok(())
 }
 
 /// The legend in its own column, beside the data rather than over it.
