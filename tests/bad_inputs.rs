@@ -25,7 +25,7 @@ struct Case {
 }
 
 /// Every command the binary has; each must have bad-input cases.
-const COMMANDS: [&str; 13] = [
+const COMMANDS: [&str; 14] = [
     "run",
     "reference",
     "verify",
@@ -39,6 +39,7 @@ const COMMANDS: [&str; 13] = [
     "view-export",
     "score",
     "merge",
+    "tune",
 ];
 
 fn copy_dir(from: &Path, to: &Path) {

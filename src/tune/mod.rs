@@ -56,6 +56,11 @@ impl TuneRequest {
         }
         let spec: TechniqueSpec = serde_json::from_value(Value::Object(object)).map_err(|e| e.to_string())?;
         spec.validate().map_err(|e| e.to_string())?;
+        // A technique that lets unknown fields pass (`none`) would tune nothing.
+        let parameters = spec.parameters();
+        if let Some((name, _)) = self.params.iter().find(|(name, _)| !parameters.contains_key(name)) {
+            return Err(format!("{} has no parameter {name}", spec.name()));
+        }
         if spec.build().is_none() {
             return Err(format!("{} reads another renderer's images: there is nothing to tune", spec.name()));
         }
