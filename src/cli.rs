@@ -892,6 +892,7 @@ fn reference(a: ReferenceArgs) -> Result<u8> {
     }
     if a.timing {
         let ours = trace_timing::time_tracer(&scene, &bvh, camera, light, a.repeats);
+        println!("node test: {}", crate::trace::node_test_name());
         println!("{}", trace_timing::timing_line(&ours, a.repeats));
         if let Some(theirs) = &embree {
             println!("{}", trace_timing::ratio_line(&ours, theirs));

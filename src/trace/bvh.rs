@@ -14,8 +14,9 @@
 
 use super::cwbvh_convert::bvh2_to_cwbvh;
 use super::instances::InstanceLevel;
+use super::node_test;
+pub(super) use super::node_test::NodeRay;
 use super::shadow_ray::ShadowRay;
-use super::simd4::{F4, Span4};
 use super::watertight::WatertightRay;
 use crate::scene::Scene;
 use bytemuck::TransparentWrapper;
@@ -23,7 +24,7 @@ use glam::{UVec2, Vec3, Vec3A, uvec2};
 use obvhs::BvhBuildParams;
 use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
 use obvhs::cwbvh::CwBvh;
-use obvhs::cwbvh::node::{CwBvhNode, extract_byte64};
+use obvhs::cwbvh::node::CwBvhNode;
 use obvhs::faststack::{FastStack, HeapStack};
 use obvhs::ploc::PlocBuilder;
 use obvhs::{Boundable, aabb::Aabb};
@@ -230,10 +231,26 @@ impl SceneBvh {
     }
 }
 
+/// obvhs's group traversal with `$test` as the node test: `leaf` for each primitive reached,
+/// until it returns true.
+macro_rules! walk_loop {
+    ($bvh:expr, $state:expr, $ray:expr, $tmin:expr, $tmax:expr, $margin:expr, $leaf:expr, $test:path) => {{
+        let mut node: &CwBvhNode;
+        'walk: {
+            obvhs::traverse!($bvh, node, $state, $test(node, $ray, $tmin, *$tmax, $margin), {
+                if $leaf($state.primitive_id as usize, $tmax) {
+                    break 'walk;
+                }
+            });
+        }
+    }};
+}
+
 /// Walks the nodes of `bvh` that the ray may meet within [tmin, *tmax], their boxes widened by
 /// `margin` more, and calls `leaf(i, tmax)` for each primitive `i` (in tree order) of the
 /// leaves it reaches. `leaf` may shrink `*tmax` (closest hits), and ends the walk by
-/// returning true.
+/// returning true. Where the processor has AVX2 and FMA and the ray moves along every axis,
+/// the node test takes eight children at once (`node_test.rs`); its answers are the same.
 #[inline(always)]
 pub(super) fn walk(
     bvh: &CwBvh,
@@ -250,87 +267,30 @@ pub(super) fn walk(
     state.oct_inv4 = ray.oct_inv4;
     state.primitive_id = 0;
     state.hitmask = 0;
-    let mut node: &CwBvhNode;
-    'walk: {
-        obvhs::traverse!(bvh, node, state, intersect_node(node, ray, tmin, *tmax, margin), {
-            if leaf(state.primitive_id as usize, tmax) {
-                break 'walk;
-            }
-        });
+    #[cfg(target_arch = "x86_64")]
+    if ray.all_axes_move() && node_test::wide_available() {
+        // SAFETY: the processor has AVX2 and FMA (checked at run time).
+        unsafe { walk_wide(bvh, state, ray, tmin, tmax, margin, leaf) };
+        return;
     }
+    walk_loop!(bvh, state, ray, tmin, tmax, margin, leaf, node_test::intersect_node);
 }
 
-/// obvhs's child-ordering code for a direction (private in obvhs, same bits).
+/// `walk` with the 8-lane node test, compiled for AVX2 and FMA as a whole so that the test is
+/// inlined into the loop.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
 #[inline]
-fn octant_inv4(dir: Vec3A) -> u32 {
-    (if dir.x < 0.0 { 0 } else { 0x0404_0404 })
-        | (if dir.y < 0.0 { 0 } else { 0x0202_0202 })
-        | (if dir.z < 0.0 { 0 } else { 0x0101_0101 })
-}
-
-/// Conservative slab test of the eight children of `node` against the closed interval
-/// [tmin, tmax]. Boxes are widened by the rounding of their dequantization, and slab distances
-/// by a few ulps (Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013). An axis along which the ray
-/// does not move keeps the children whose slab holds the origin. Four children at a time.
-#[inline(always)]
-fn intersect_node(node: &CwBvhNode, ray: &NodeRay, tmin: f32, tmax: f32, margin: f32) -> u32 {
-    let p = Vec3A::from(node.p);
-    let e = node.compute_extent();
-    let widen = (p.abs() + e * 255.0) * (4.0 * f32::EPSILON) + Vec3A::splat(margin);
-    let (lo_base, hi_base) = ((p - widen).to_array(), (p + widen).to_array());
-    let e = e.to_array();
-    let quantized = [
-        (&node.child_min_x, &node.child_max_x),
-        (&node.child_min_y, &node.child_max_y),
-        (&node.child_min_z, &node.child_max_z),
-    ];
-    let mut hits = 0u32;
-    for half in 0..2 {
-        let mut span = Span4::new(tmin, tmax);
-        for (axis, (q_min, q_max)) in quantized.iter().enumerate() {
-            let lo = F4::from_u8(q_min, half * 4).mul_add(e[axis], lo_base[axis]);
-            let hi = F4::from_u8(q_max, half * 4).mul_add(e[axis], hi_base[axis]);
-            if ray.moves[axis] {
-                let (o, inv) = (ray.origin[axis], ray.inv_dir[axis]);
-                let t0 = lo.sub_scalar(o).mul_scalar(inv);
-                let t1 = hi.sub_scalar(o).mul_scalar(inv);
-                span.clip(t0.min(t1), t0.max(t1));
-            } else {
-                span.keep_if_between(lo, hi, ray.origin[axis]);
-            }
-        }
-        hits |= span.hit_bits() << (half * 4);
-    }
-    let (child_bits8, bit_index8) = node.get_child_and_index_bits(ray.oct_inv4);
-    let mut hit_mask = 0;
-    for c in 0..8 {
-        if hits & (1 << c) != 0 && node.child_meta[c] != 0 {
-            hit_mask |= extract_byte64(child_bits8, c) << extract_byte64(bit_index8, c);
-        }
-    }
-    hit_mask
-}
-
-/// What the node test needs of a ray.
-pub(super) struct NodeRay {
-    origin: Vec3A,
-    inv_dir: Vec3A,
-    /// Whether the ray moves along each axis (a zero component has no slab distances).
-    moves: [bool; 3],
-    /// The child order for the ray's direction.
-    oct_inv4: u32,
-}
-
-impl NodeRay {
-    pub(super) fn new(origin: Vec3A, direction: Vec3A) -> Self {
-        NodeRay {
-            origin,
-            inv_dir: Vec3A::ONE / direction,
-            // A component so small that its reciprocal overflows counts as no motion.
-            moves: (Vec3A::ONE / direction).is_finite_mask().into(),
-            oct_inv4: octant_inv4(direction),
-        }
-    }
+fn walk_wide(
+    bvh: &CwBvh,
+    state: &mut WalkState,
+    ray: &NodeRay,
+    tmin: f32,
+    tmax: &mut f32,
+    margin: f32,
+    mut leaf: impl FnMut(usize, &mut f32) -> bool,
+) {
+    walk_loop!(bvh, state, ray, tmin, tmax, margin, leaf, node_test::intersect_node_wide);
 }
 
 /// A scene triangle as obvhs bounds it: the builder reads the scene's own triangles, with no
