@@ -238,6 +238,14 @@ fn print_summary(record: &TuneRecord) {
     for (scene, t) in rows {
         let safe: Vec<String> =
             t.safe_range.iter().map(|(n, r)| format!("{n} {}..{}", r["lo"], r["hi"])).collect();
+        if !t.best.feasible {
+            println!(
+                "{scene:<scene_width$}  no setting meets the bound; the least false shadow is {:.4}% ({})",
+                100.0 * (t.best.objective - 1.0),
+                t.best.label
+            );
+            continue;
+        }
         println!(
             "{scene:<scene_width$}  {:<label_width$}  {:>9.4}%  {}",
             t.best.label,

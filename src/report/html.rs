@@ -374,13 +374,21 @@ fn tune_section(h: &mut String, tune: &serde_json::Value, plots: &[String]) {
             .flatten()
             .map(|(name, r)| format!("{name} {} … {}", r["lo"], r["hi"]))
             .collect();
+        let objective = 100.0 * t["best"]["objective"].as_f64().unwrap_or(f64::NAN);
+        let (objective, ranges) = if t["best"]["feasible"] == false {
+            (
+                "—".to_string(),
+                format!("no setting meets the bound (least false shadow {:.4} %)", objective - 100.0),
+            )
+        } else {
+            (format!("{objective:.4}"), ranges.join(", "))
+        };
         let _ = write!(
             h,
-            "<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{:.4}</td><td class=\"l\">{}</td></tr>",
+            "<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{objective}</td><td class=\"l\">{}</td></tr>",
             escape(scene),
             escape(t["best"]["label"].as_str().unwrap_or("")),
-            100.0 * t["best"]["objective"].as_f64().unwrap_or(f64::NAN),
-            escape(&ranges.join(", "))
+            escape(&ranges)
         );
     }
     h.push_str("</tbody></table><div class=\"plots\">");

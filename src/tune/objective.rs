@@ -30,6 +30,12 @@ impl Objective {
         }
     }
 
+    /// Whether a setting with this objective meets the objective's constraint (always, but for
+    /// `FalseLitUnder`, whose settings beyond the bound score above 1).
+    pub fn feasible(&self, value: f64) -> bool {
+        !matches!(self, Objective::FalseLitUnder { .. }) || value < 1.0
+    }
+
     /// How the objective reads in a table or on an axis.
     pub fn describe(&self) -> String {
         match *self {
@@ -77,6 +83,9 @@ mod tests {
         assert_eq!(Objective::Weighted { weight: 3.0 }.of(&c), 0.03 + 3.0 * 0.01);
         assert_eq!(Objective::FalseLitUnder { max_false_shadow: 0.03 }.of(&c), 0.01);
         assert_eq!(Objective::FalseLitUnder { max_false_shadow: 0.02 }.of(&c), 1.03);
+        assert!(!Objective::FalseLitUnder { max_false_shadow: 0.02 }.feasible(1.03));
+        assert!(Objective::FalseLitUnder { max_false_shadow: 0.03 }.feasible(0.01));
+        assert!(Objective::Total.feasible(1.5));
         // Any setting within the bound beats any setting beyond it.
         assert!(Objective::FalseLitUnder { max_false_shadow: 0.02 }.of(&counts(0, 1000)) < 1.03);
     }

@@ -50,6 +50,9 @@ pub struct TunedRecord {
 pub struct BestRecord {
     pub params: Map<String, Value>,
     pub objective: f64,
+    /// False when no setting meets the objective's constraint (`false_lit_under`): the best
+    /// is then the one with the least false shadow, and its objective is 1 + that.
+    pub feasible: bool,
     /// The run label of the tuned technique (what report.json and gate rules name).
     pub label: String,
 }
@@ -113,6 +116,7 @@ fn tuned_record(request: &TuneRequest, names: &[&str], t: &Tuned) -> TunedRecord
         best: BestRecord {
             params: named(names, &t.best.params),
             objective: t.best.value,
+            feasible: request.objective.feasible(t.best.value),
             label: request.spec(&t.best.params).map(|s| s.label()).unwrap_or_default(),
         },
         safe_range: names.iter().zip(&t.safe).map(|(n, s)| (n.to_string(), safe(s))).collect(),
