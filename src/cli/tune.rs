@@ -121,14 +121,12 @@ pub(super) fn run_tune(a: TuneArgs) -> Result<u8> {
     drop(views);
     let record = TuneRecord::new(&request, &result, &plan.resolutions, format.name());
     // The report folder's earlier outputs are cleared by the run: tune's own files come after.
-    if !a.no_report {
-        run_tuned(&a, &plan, &request, &result, cache.as_ref())?;
-    }
+    let report =
+        if a.no_report { None } else { Some(run_tuned(&a, &plan, &request, &result, cache.as_ref())?) };
     write_outputs(&a, &record, &result, &request)?;
-    if !a.no_report {
+    if let Some(report) = &report {
         // The page again, now with the tuning section.
-        let (report, _) = load_report(&a.out)?;
-        crate::report::write_page(&a.out, &report)
+        crate::report::write_page(&a.out, report)
             .with_context(|| format!("writing {}", a.out.join("index.html").display()))?;
     }
     if !a.quiet {
@@ -256,15 +254,15 @@ fn print_summary(record: &TuneRecord) {
 }
 
 /// Runs the suite's setting (and with --report-scene-bests each scene's) into the report
-/// folder, and writes
-/// the gate rules that lock the suite setting's error on every view.
+/// folder, writes the gate rules that lock the suite setting's error on every view, and
+/// returns the report.
 fn run_tuned(
     a: &TuneArgs,
     plan: &Plan,
     request: &TuneRequest,
     result: &TuneResult,
     cache: Option<&crate::trace::ReferenceCache>,
-) -> Result<()> {
+) -> Result<crate::report::Report> {
     let suite_spec = request.spec(&result.suite.best.params).map_err(|e| anyhow!(e))?;
     let mut plan = plan.clone();
     plan.techniques = vec![suite_spec.clone()];
@@ -284,5 +282,5 @@ fn run_tuned(
     if !a.quiet {
         println!("gate rules for {}: {}", suite_spec.label(), path.display());
     }
-    Ok(())
+    Ok(report)
 }

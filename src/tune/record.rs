@@ -132,17 +132,21 @@ pub fn gate_rules_toml(runs: &[RunRecord], label: &str, slack: f64) -> String {
         "# The error of the tuned setting {label} on each view, with {}% slack and one pixel.\n",
         slack * 100.0
     );
+    // TOML basic strings take JSON's escapes, so any name is written as it reads.
+    let quoted = |text: &str| serde_json::to_string(text).expect("a string serializes");
     for r in runs.iter().filter(|r| r.label == label) {
         let bound = r.rates.error * (1.0 + slack) + 1.0 / r.counts.scored().max(1) as f64;
+        let name = format!("tuned {label} on {}/{}/{} at {}", r.scene, r.camera, r.light, r.resolution);
         out.push_str(&format!(
-            "\n[[rule]]\nname = \"tuned {label} on {s}/{c}/{l} at {res}\"\nscene = \"{s}\"\ncamera = \"{c}\"\n\
-             light = \"{l}\"\nresolution = {res}\ndepth_format = \"{f}\"\nlabel = \"{label}\"\nmetric = \"error\"\n\
-             max = {bound:e}\n",
-            s = r.scene,
-            c = r.camera,
-            l = r.light,
-            res = r.resolution,
-            f = r.depth_format,
+            "\n[[rule]]\nname = {}\nscene = {}\ncamera = {}\nlight = {}\nresolution = {}\ndepth_format = {}\n\
+             label = {}\nmetric = \"error\"\nmax = {bound:e}\n",
+            quoted(&name),
+            quoted(&r.scene),
+            quoted(&r.camera),
+            quoted(&r.light),
+            r.resolution,
+            quoted(&r.depth_format),
+            quoted(label),
         ));
     }
     out

@@ -92,7 +92,6 @@ impl TuneViews {
                 let layers = layers_for(&s.scene, &map.view, &mut map.layers, format, &needs);
                 let ctx = ShadeContext::with_bounds(&s.scene, &map.view, layers.as_layers(), s.bounds);
                 let visibility = shade_evaluated(technique.as_ref(), &map.order, &ctx);
-                total.pixels += view.gbuffer.pixel_count() as u64;
                 total.evaluated += view.gbuffer.evaluated.len() as u64;
                 add_false_counts(&mut total, &view.gbuffer, reference, &visibility);
             }
