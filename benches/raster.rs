@@ -55,6 +55,8 @@ fn bench_raster(c: &mut Criterion) {
     let scene = sphere_over_plane(72, 72);
     let sun = Light {
         name: "sun".into(),
+        path: None,
+        cascades: None,
         kind: LightKind::Directional {
             direction: Vec3::new(-0.3, -1.0, -0.2).normalize(),
             angular_diameter_deg: None,

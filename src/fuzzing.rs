@@ -107,6 +107,8 @@ fn gate_reports() -> &'static (crate::report::CheckedReport, crate::report::Chec
             reference: ReferenceUsed::default(),
             soft: None,
             pipeline: None,
+            cascades: None,
+            temporal: None,
         }
     };
     REPORTS.get_or_init(|| {

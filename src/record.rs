@@ -79,6 +79,68 @@ pub struct RunRecord {
     /// The device of a run on the GPU pipeline (absent for the CPU's).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pipeline: Option<PipelineUsed>,
+    /// A run on cascaded shadow maps: the cascades and their counts (docs/cascades.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cascades: Option<CascadesRecord>,
+    /// A run over the frames of a path: per-frame errors and flicker (docs/temporal.md). Its
+    /// `counts` are then summed over every frame.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub temporal: Option<TemporalRecord>,
+}
+
+/// The cascade set a run read, and its counts per cascade (of its last frame, for a run over a
+/// path).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CascadesRecord {
+    /// "uniform", "logarithmic" or "practical(λ=…)".
+    pub split: String,
+    /// "sphere" or "frustum".
+    pub fit: String,
+    pub stabilize: bool,
+    pub blend_band: f64,
+    pub cascades: Vec<CascadeRecord>,
+    /// Evaluated pixels beyond the last cascade (lit).
+    pub beyond: CascadeCounts,
+}
+
+/// One cascade: the view depths it serves, its texel as the camera sees it, and its pixels.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CascadeRecord {
+    pub near: f64,
+    pub far: f64,
+    /// World size of one texel.
+    pub texel_world: f64,
+    /// Camera pixels one texel spans at the cascade's far split (more is blockier).
+    pub texel_pixels_at_far: f64,
+    pub counts: CascadeCounts,
+}
+
+/// Evaluated pixels shaded through one cascade (the nearer of a blend) and its false ones.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct CascadeCounts {
+    pub evaluated: u64,
+    pub false_shadow: u64,
+    pub false_lit: u64,
+}
+
+/// A run over the frames of a path (docs/temporal.md).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TemporalRecord {
+    pub frames: u32,
+    /// What moves: "camera", "light", "both" or "none".
+    pub moving: String,
+    /// The error rate of each frame.
+    pub frame_errors: Vec<f64>,
+    /// Per frame, its flickering pixels against the frame before (0 for the first).
+    pub frame_flicker: Vec<u64>,
+    /// The mean of `frame_errors`.
+    pub mean_error: f64,
+    pub worst_frame: u32,
+    pub worst_frame_error: f64,
+    /// Flickering pixels over the surface points compared between consecutive frames.
+    pub flicker_rate: f64,
+    pub flicker_pixels: u64,
+    pub compared_pixels: u64,
 }
 
 /// The GPU a run's map was drawn and its technique shaded on.

@@ -59,6 +59,8 @@ fn run(
         reference: Default::default(),
         soft: None,
         pipeline: None,
+        cascades: None,
+        temporal: None,
     }
 }
 

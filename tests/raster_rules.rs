@@ -187,6 +187,8 @@ fn jittered_grid_mesh_is_watertight() {
 fn sun(direction: Vec3) -> Light {
     Light {
         name: "sun".into(),
+        path: None,
+        cascades: None,
         kind: LightKind::Directional { direction: direction.normalize(), angular_diameter_deg: None },
     }
 }
@@ -289,6 +291,8 @@ fn culling_applies_to_closed_objects_only() {
     // Straight down from above: the box's top and bottom and the ground are each at one depth.
     let lamp = Light {
         name: "lamp".into(),
+        path: None,
+        cascades: None,
         kind: LightKind::Spot {
             position: Vec3::new(0.1, 6.0, 0.1),
             direction: Vec3::NEG_Y,
@@ -326,6 +330,8 @@ fn assert_culling(s: &Scene, view: &LightView) {
 fn spot_light_clips_a_triangle_crossing_the_near_plane() {
     let lamp = Light {
         name: "lamp".into(),
+        path: None,
+        cascades: None,
         kind: LightKind::Spot {
             position: Vec3::ZERO,
             direction: Vec3::NEG_Y,
@@ -482,6 +488,8 @@ fn hostile_input_does_not_panic() {
     s.flat_triangle_object[0] = 99; // an out-of-range object index is treated as open
     let lamp = Light {
         name: "lamp".into(),
+        path: None,
+        cascades: None,
         kind: LightKind::Spot {
             position: Vec3::new(0.0, 1.0, 0.0),
             direction: Vec3::NEG_Y,

@@ -256,6 +256,8 @@ fn record(
         reference: Default::default(),
         soft: None,
         pipeline: None,
+        cascades: None,
+        temporal: None,
     }
 }
 

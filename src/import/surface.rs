@@ -68,6 +68,7 @@ mod tests {
     fn gbuffer() -> (GBuffer, Camera) {
         let camera = Camera {
             name: "c".into(),
+            path: None,
             position: Vec3::ZERO,
             look_at: Vec3::NEG_Z,
             up: Vec3::Y,

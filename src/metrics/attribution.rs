@@ -40,6 +40,7 @@
 use super::classify::Counts;
 use crate::raster::LightView;
 use crate::trace::{GBuffer, HardReference, PixelClass};
+use glam::Vec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -84,8 +85,18 @@ pub struct LightUv {
 impl LightUv {
     /// Projects every evaluated pixel of `gbuffer` into `view` (in parallel over rows).
     pub fn new(gbuffer: &GBuffer, view: &LightView) -> LightUv {
+        Self::through(gbuffer, view.resolution, |_| Some(view))
+    }
+
+    /// Projects every evaluated pixel of `gbuffer` into the map `view_of` its surface point
+    /// chooses (a cascade), each `resolution`² texels; None leaves it unprojected.
+    pub fn through<'v>(
+        gbuffer: &GBuffer,
+        resolution: u32,
+        view_of: impl Fn(Vec3) -> Option<&'v LightView> + Sync,
+    ) -> LightUv {
         let w = gbuffer.width as usize;
-        let n = view.resolution as f32;
+        let n = resolution as f32;
         let mut texel = vec![[f32::NAN; 2]; gbuffer.pixel_count()];
         if w > 0 {
             texel.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
@@ -94,13 +105,14 @@ impl LightUv {
                     if gbuffer.class[i] != PixelClass::Evaluated {
                         continue;
                     }
-                    if let Some(p) = view.project(gbuffer.position[i]) {
+                    let position = gbuffer.position[i];
+                    if let Some(p) = view_of(position).and_then(|view| view.project(position)) {
                         *out = [p.x * n, p.y * n];
                     }
                 }
             });
         }
-        LightUv { width: gbuffer.width, height: gbuffer.height, resolution: view.resolution, texel }
+        LightUv { width: gbuffer.width, height: gbuffer.height, resolution, texel }
     }
 
     /// The shadow-map resolution N these positions are measured in.

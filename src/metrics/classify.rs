@@ -90,9 +90,16 @@ pub fn add_false_counts(c: &mut Counts, gbuffer: &GBuffer, reference: &HardRefer
             c.surface_mismatch += 1;
             continue;
         }
-        let r_lit = reference.lit[i as usize] != 0;
-        let v_lit = v >= 0.5;
-        c.false_shadow += (r_lit && !v_lit) as u64;
-        c.false_lit += (!r_lit && v_lit) as u64;
+        let (false_shadow, false_lit) = falseness(reference.lit[i as usize] != 0, v);
+        c.false_shadow += false_shadow as u64;
+        c.false_lit += false_lit as u64;
     }
+}
+
+/// Whether visibility `v` of a pixel the reference sees lit (`reference_lit`) or not is a false
+/// shadow, and whether it is a false lit: the ½ threshold.
+#[inline]
+pub fn falseness(reference_lit: bool, v: f32) -> (bool, bool) {
+    let v_lit = v >= 0.5;
+    (reference_lit && !v_lit, !reference_lit && v_lit)
 }

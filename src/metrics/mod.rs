@@ -7,6 +7,6 @@ mod soft;
 mod timing;
 
 pub use attribution::{Attribution, LightUv, MAX_RADIUS, attribute};
-pub use classify::{Counts, Rates, add_false_counts, score_hard};
+pub use classify::{Counts, Rates, add_false_counts, falseness, score_hard};
 pub use soft::{SoftErrors, score_soft, thresholded};
 pub use timing::{Stopwatch, median_ms};

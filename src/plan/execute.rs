@@ -3,11 +3,14 @@
 //! shared by every technique that reads it. What it produces goes to the sinks as events
 //! (`events.rs`); the schedule itself writes nothing.
 
+use super::cascaded_map::CascadedMap;
 use super::events::{Event, Sink, TracedView, emit};
 use super::identity::schedule_record;
 use super::portion::Portion;
 use super::references::ViewReferences;
-use super::select::{Selected, check_area_light_sizes, check_plan, check_run_count, load_selected};
+use super::select::{
+    Selected, check_area_light_sizes, check_cascaded_lights, check_plan, check_run_count, load_selected,
+};
 use super::{BinnedView, Pipeline, Plan, PlanInputError, build_layers_timed};
 use crate::gpu::{GpuDepthMap, GpuDevice, GpuTechnique, shade_visibility};
 use crate::import::{ReadOptions, evaluated_visibility, read_depth, read_visibility};
@@ -56,10 +59,13 @@ struct Schedule<'p, 's, 'k> {
 }
 
 /// One shadow map's set-up within a view: the light view and what is built from it once.
-struct MapSetting<'a> {
+pub(super) struct MapSetting<'a> {
+    /// The map (the first cascade's, for a light with cascades).
     view: &'a LightView,
     light_uv: &'a LightUv,
-    order: &'a ShadeOrder,
+    /// The shading order of the one map (None for cascades, which hold their own).
+    order: Option<&'a ShadeOrder>,
+    cascaded: Option<&'a CascadedMap>,
     resolution: u32,
     format: DepthFormat,
     /// The scene's bounds, computed once per view.
@@ -86,6 +92,7 @@ pub fn execute_portion(
     check_plan(plan)?;
     let selected = load_selected(plan)?;
     check_area_light_sizes(plan, &selected)?;
+    check_cascaded_lights(plan, &selected)?;
     // The limit holds for the whole plan, whatever share of it runs here.
     check_run_count(plan, selected.iter().map(|s| s.pairs.len()).sum())?;
     let groups = layer_groups(&plan.techniques);
@@ -236,17 +243,25 @@ impl Schedule<'_, '_, '_> {
             if formats.is_empty() {
                 continue;
             }
-            let view = match &self.plan.shadow_map {
-                Some(map_file) => map_file.light_view(light).map_err(PlanError::Import)?,
-                None => LightView::new(light, bounds, resolution),
+            let cascaded = light.cascades.is_some().then(|| {
+                CascadedMap::new(light, traced.camera, traced.camera, bounds, resolution, traced.gbuffer)
+            });
+            let view = match (&self.plan.shadow_map, &cascaded) {
+                (Some(map_file), _) => map_file.light_view(light).map_err(PlanError::Import)?,
+                (None, Some(c)) => c.cascades.views[0].clone(),
+                (None, None) => LightView::new(light, bounds, resolution),
             };
-            let light_uv = LightUv::new(traced.gbuffer, &view);
-            let order = ShadeOrder::new(traced.gbuffer, &view);
+            let light_uv = match &cascaded {
+                Some(c) => c.light_uv(traced.gbuffer, resolution),
+                None => LightUv::new(traced.gbuffer, &view),
+            };
+            let order = cascaded.is_none().then(|| ShadeOrder::new(traced.gbuffer, &view));
             for format in formats {
                 let map = MapSetting {
                     view: &view,
                     light_uv: &light_uv,
-                    order: &order,
+                    order: order.as_ref(),
+                    cascaded: cascaded.as_ref(),
                     resolution,
                     format,
                     scene_bounds: bounds,
@@ -266,8 +281,8 @@ impl Schedule<'_, '_, '_> {
             self.gpu = Some(gpu);
             return done;
         }
-        // Binned when the first group needs it, then shared by the others.
-        let mut binned: Option<BinnedView> = None;
+        // Each map binned when the first group needs it, then shared by the others.
+        let mut binned: Vec<BinnedView> = Vec::new();
         for gi in 0..self.groups.len() {
             let (scene, camera, light) = (traced.scene, traced.camera, traced.light);
             let (resolution, format) = (map.resolution, map.format.name());
@@ -275,18 +290,11 @@ impl Schedule<'_, '_, '_> {
                 "{}/{}/{}: {resolution}² {format} layers",
                 scene.name, camera.name, light.name
             ))?;
-            let (layers, prepare_ms) = match &self.plan.shadow_map {
-                Some(map_file) => (BuiltLayers::Nearest(map_file.layer.clone()), 0.0),
-                None => {
-                    let binned = binned.get_or_insert_with(|| BinnedView::new(scene, map.view));
-                    build_layers_timed(binned, map.format, &self.groups[gi].0, self.plan.repeats)
-                }
-            };
-            let ctx = ShadeContext::with_bounds(scene, map.view, layers.as_layers(), map.scene_bounds);
-            let layer_memory_bytes = layers.memory_bytes() as u64;
+            let (layers, prepare_ms) = self.group_layers(scene, map, gi, &mut binned);
+            let layer_memory_bytes = layers.iter().map(|l| l.memory_bytes() as u64).sum();
             for mi in 0..self.groups[gi].1.len() {
                 let spec = &self.plan.techniques[self.groups[gi].1[mi]];
-                let (visibility, shade_ms) = self.shade(spec, map.order, &ctx);
+                let (visibility, shade_ms) = self.shade(spec, scene, map, &layers);
                 let mut record = run_record(traced, map, spec, &visibility);
                 record.timings = timings(prepare_ms, shade_ms, record.counts.evaluated);
                 record.layer_memory_bytes = layer_memory_bytes;
@@ -296,14 +304,58 @@ impl Schedule<'_, '_, '_> {
         Ok(())
     }
 
-    /// The technique's visibility of every evaluated sample, and the median shading time (ms).
-    fn shade(&self, spec: &TechniqueSpec, order: &ShadeOrder, ctx: &ShadeContext) -> (Vec<f32>, f64) {
+    /// The layers group `gi` reads, one per map (each cascade's, or the one), built from the
+    /// maps' binned triangles (binned here on first use), and the time they took (ms).
+    pub(super) fn group_layers<'m>(
+        &self,
+        scene: &'m Scene,
+        map: &MapSetting<'m>,
+        gi: usize,
+        binned: &mut Vec<BinnedView<'m>>,
+    ) -> (Vec<BuiltLayers>, f64) {
+        if let Some(map_file) = &self.plan.shadow_map {
+            return (vec![BuiltLayers::Nearest(map_file.layer.clone())], 0.0);
+        }
+        if binned.is_empty() {
+            binned.extend(map.views().into_iter().map(|view| BinnedView::new(scene, view)));
+        }
+        let mut total_ms = 0.0;
+        let layers = binned
+            .iter()
+            .map(|b| {
+                let (layers, ms) = build_layers_timed(b, map.format, &self.groups[gi].0, self.plan.repeats);
+                total_ms += ms;
+                layers
+            })
+            .collect();
+        (layers, total_ms)
+    }
+
+    /// The technique's visibility of every evaluated sample through `layers` (one per map of
+    /// `map`), and the median shading time (ms).
+    pub(super) fn shade(
+        &self,
+        spec: &TechniqueSpec,
+        scene: &Scene,
+        map: &MapSetting,
+        layers: &[BuiltLayers],
+    ) -> (Vec<f32>, f64) {
         let technique = spec.build().expect("only shaded techniques are in a layer group");
+        let contexts: Vec<ShadeContext> = map
+            .views()
+            .into_iter()
+            .zip(layers)
+            .map(|(view, l)| ShadeContext::with_bounds(scene, view, l.as_layers(), map.scene_bounds))
+            .collect();
         let mut shade_ms = Vec::with_capacity(self.plan.repeats);
         let mut visibility = Vec::new();
         for _ in 0..self.plan.repeats.max(1) {
             let sw = Stopwatch::start();
-            visibility = shade_evaluated(technique.as_ref(), order, ctx);
+            visibility = match (map.cascaded, map.order) {
+                (Some(cascaded), _) => cascaded.orders.shade(technique.as_ref(), &contexts),
+                (None, Some(order)) => shade_evaluated(technique.as_ref(), order, &contexts[0]),
+                (None, None) => unreachable!("one map has its shading order"),
+            };
             shade_ms.push(sw.ms());
         }
         (visibility, median_ms(&shade_ms))
@@ -446,6 +498,18 @@ fn run_record(traced: &TracedView, map: &MapSetting, spec: &TechniqueSpec, visib
         reference: reference_used,
         soft: soft_reference.map(|r| score_soft(gbuffer, &r.visibility, visibility)),
         pipeline: None,
+        cascades: map.cascaded.map(|c| c.record(gbuffer, scored_against, visibility)),
+        temporal: None,
+    }
+}
+
+impl<'a> MapSetting<'a> {
+    /// The light views of the map: each cascade's, or the one.
+    fn views(&self) -> Vec<&'a LightView> {
+        match self.cascaded {
+            Some(c) => c.cascades.views.iter().collect(),
+            None => vec![self.view],
+        }
     }
 }
 

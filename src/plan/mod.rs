@@ -3,6 +3,7 @@
 //! outputs (sinks).
 
 mod area_light;
+mod cascaded_map;
 mod events;
 mod execute;
 mod file;

@@ -162,3 +162,21 @@ pub(crate) fn check_area_light_sizes(plan: &Plan, selected: &[Selected]) -> Resu
     }
     Ok(())
 }
+
+/// Cascades are drawn and shaded here: a cascaded light cannot run on the GPU pipeline or read
+/// an imported shadow map (one map), and is refused at its path in the scene file.
+pub(crate) fn check_cascaded_lights(plan: &Plan, selected: &[Selected]) -> Result<(), PlanError> {
+    let why = match (plan.pipeline, &plan.shadow_map) {
+        (super::Pipeline::Gpu, _) => "the GPU pipeline draws one map per light",
+        (_, Some(_)) => "an imported shadow map is one map",
+        _ => return Ok(()),
+    };
+    for sel in selected {
+        if let Some(&(_, li)) = sel.pairs.iter().find(|&&(_, li)| sel.scene.lights[li].cascades.is_some()) {
+            let message = format!("has cascades, which run on the CPU pipeline only: {why}");
+            let path = format!("lights[{li}].cascades");
+            return Err(PlanInputError::one(&sel.scene.source, &path, message).into());
+        }
+    }
+    Ok(())
+}

@@ -1,6 +1,7 @@
 //! The light's view: projection and frustum fitting, the CPU depth rasterizer (GPU rules),
 //! depth layers and depth formats.
 
+mod cascades;
 mod clip;
 mod depth_format;
 mod imported_view;
@@ -9,6 +10,7 @@ mod multi_depth;
 mod projection;
 mod rasterize;
 
+pub use cascades::{CascadeChoice, Cascades, default_max_distance, split_distances};
 pub use depth_format::DepthFormat;
 
 /// Largest shadow-map side accepted, in texels.

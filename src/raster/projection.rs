@@ -126,59 +126,92 @@ fn padded(lo: f64, hi: f64, min_pad: f64) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
-fn directional(direction: Vec3, scene_bounds: (Vec3, Vec3), resolution: u32) -> LightView {
-    let forward = unit_direction(direction);
-    let (lo, hi) = usable_bounds(scene_bounds);
-    let centre = 0.5 * (lo + hi);
-    let radius = 0.5 * (hi - lo).length();
-    let scale = radius.max(1e-3);
-    let eye = centre - forward * (2.0 * scale);
-    let light_from_world = light_from_world(eye, forward);
+/// A directional light's space over a scene: light_from_world (the eye two bounding radii behind
+/// the bounds' centre, so near > 0) and the light-space box of the bounds' eight corners (x, y,
+/// and the view depth D = −z), in f64. Independent of any camera, so every map of the light
+/// (the single one, each cascade) shares it.
+pub(crate) struct DirectionalFrame {
+    pub light_from_world: DMat4,
+    forward: DVec3,
+    /// The bounds' radius (at least 1e-3): the scale of the small widths given to flat extents.
+    scale: f64,
+    pub min: DVec3,
+    pub max: DVec3,
+}
 
-    let mut min = DVec3::splat(f64::INFINITY);
-    let mut max = DVec3::splat(f64::NEG_INFINITY);
-    for i in 0..8 {
-        let corner = DVec3::new(
-            if i & 1 == 0 { lo.x } else { hi.x },
-            if i & 2 == 0 { lo.y } else { hi.y },
-            if i & 4 == 0 { lo.z } else { hi.z },
+impl DirectionalFrame {
+    pub fn new(direction: Vec3, scene_bounds: (Vec3, Vec3)) -> Self {
+        let forward = unit_direction(direction);
+        let (lo, hi) = usable_bounds(scene_bounds);
+        let centre = 0.5 * (lo + hi);
+        let scale = (0.5 * (hi - lo).length()).max(1e-3);
+        let eye = centre - forward * (2.0 * scale);
+        let light_from_world = light_from_world(eye, forward);
+        let mut min = DVec3::splat(f64::INFINITY);
+        let mut max = DVec3::splat(f64::NEG_INFINITY);
+        for i in 0..8 {
+            let corner = DVec3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            );
+            let p = light_from_world.transform_point3(corner);
+            let p = DVec3::new(p.x, p.y, -p.z); // view depth D = −z
+            min = min.min(p);
+            max = max.max(p);
+        }
+        DirectionalFrame { light_from_world, forward, scale, min, max }
+    }
+
+    /// The x and y ranges of the scene's box; a flat extent (bounds seen edge-on) gets a small
+    /// width so that the projection stays invertible.
+    pub fn scene_xy(&self) -> ((f64, f64), (f64, f64)) {
+        let min_extent = 1e-3 * self.scale;
+        let fit = |lo: f64, hi: f64| if hi > lo { (lo, hi) } else { padded(lo, hi, min_extent) };
+        (fit(self.min.x, self.max.x), fit(self.min.y, self.max.y))
+    }
+
+    /// The orthographic map over light-space x ∈ `x`, y ∈ `y`, its depth range the scene's
+    /// padded by 1 % on each side (so that no caster lies on a clip plane).
+    pub fn orthographic(
+        &self,
+        (left, right): (f64, f64),
+        (bottom, top): (f64, f64),
+        resolution: u32,
+    ) -> LightView {
+        let (near, far) = padded(self.min.z, self.max.z, 1e-3 * self.scale);
+        // d = (D − n)/(f − n) with D = −z_view; x, y map [left, right], [bottom, top] to [−1, 1].
+        let (w, h, depth) = (right - left, top - bottom, far - near);
+        let clip_from_light = DMat4::from_cols(
+            DVec4::new(2.0 / w, 0.0, 0.0, 0.0),
+            DVec4::new(0.0, 2.0 / h, 0.0, 0.0),
+            DVec4::new(0.0, 0.0, -1.0 / depth, 0.0),
+            DVec4::new(-(right + left) / w, -(top + bottom) / h, -near / depth, 1.0),
         );
-        let p = light_from_world.transform_point3(corner);
-        let p = DVec3::new(p.x, p.y, -p.z); // view depth D = −z
-        min = min.min(p);
-        max = max.max(p);
+        LightView {
+            resolution,
+            projection: Projection::Orthographic {
+                left: left as f32,
+                right: right as f32,
+                bottom: bottom as f32,
+                top: top as f32,
+            },
+            light_from_world: self.light_from_world.as_mat4(),
+            clip_from_world: (clip_from_light * self.light_from_world).as_mat4(),
+            near: near as f32,
+            far: far as f32,
+            to_light: Some((-self.forward).as_vec3()),
+            position: None,
+            light_size: None,
+        }
     }
-    // x/y fit the corners exactly; a flat extent (bounds seen edge-on) gets a small width so
-    // that the projection stays invertible.
-    let min_extent = 1e-3 * scale;
-    let (left, right) = if max.x > min.x { (min.x, max.x) } else { padded(min.x, max.x, min_extent) };
-    let (bottom, top) = if max.y > min.y { (min.y, max.y) } else { padded(min.y, max.y, min_extent) };
-    let (near, far) = padded(min.z, max.z, min_extent);
+}
 
-    // d = (D − n)/(f − n) with D = −z_view; x, y map [left, right], [bottom, top] to [−1, 1].
-    let (w, h, depth) = (right - left, top - bottom, far - near);
-    let clip_from_light = DMat4::from_cols(
-        DVec4::new(2.0 / w, 0.0, 0.0, 0.0),
-        DVec4::new(0.0, 2.0 / h, 0.0, 0.0),
-        DVec4::new(0.0, 0.0, -1.0 / depth, 0.0),
-        DVec4::new(-(right + left) / w, -(top + bottom) / h, -near / depth, 1.0),
-    );
-    LightView {
-        resolution,
-        projection: Projection::Orthographic {
-            left: left as f32,
-            right: right as f32,
-            bottom: bottom as f32,
-            top: top as f32,
-        },
-        light_from_world: light_from_world.as_mat4(),
-        clip_from_world: (clip_from_light * light_from_world).as_mat4(),
-        near: near as f32,
-        far: far as f32,
-        to_light: Some((-forward).as_vec3()),
-        position: None,
-        light_size: None,
-    }
+/// The map fitted exactly to the scene's box in light space.
+fn directional(direction: Vec3, scene_bounds: (Vec3, Vec3), resolution: u32) -> LightView {
+    let frame = DirectionalFrame::new(direction, scene_bounds);
+    let (x, y) = frame.scene_xy();
+    frame.orthographic(x, y, resolution)
 }
 
 fn spot(position: Vec3, direction: Vec3, cone_deg: f32, near: f32, far: f32, resolution: u32) -> LightView {
@@ -218,7 +251,7 @@ mod tests {
     use super::*;
 
     fn light(kind: LightKind) -> Light {
-        Light { name: "l".into(), kind }
+        Light { name: "l".into(), kind, path: None, cascades: None }
     }
 
     fn sun(direction: Vec3) -> Light {

@@ -1,5 +1,6 @@
 //! The pinhole camera (docs/conventions.md, "Camera"): pixel centres, row 0 at the top.
 
+use super::path::CameraPath;
 use glam::{DVec3, Vec3};
 
 #[derive(Clone, Debug, PartialEq)]
@@ -11,6 +12,8 @@ pub struct Camera {
     pub fov_y_deg: f32,
     pub width: u32,
     pub height: u32,
+    /// A keyframed path (docs/temporal.md); `position` and `look_at` are its first key's.
+    pub path: Option<CameraPath>,
 }
 
 impl Camera {
@@ -30,6 +33,21 @@ impl Camera {
             width: self.width as f64,
             height: self.height as f64,
         }
+    }
+
+    /// The camera at time `t` of its path (itself when it has none), without the path.
+    pub fn at_time(&self, t: f64) -> Camera {
+        let mut camera = Camera { path: None, ..self.clone() };
+        if let Some(path) = &self.path {
+            camera.position = path.position.at(t).as_vec3();
+            camera.look_at = path.look_at.at(t).as_vec3();
+        }
+        camera
+    }
+
+    /// Unit viewing direction in f64 (what cascade splits measure depth along).
+    pub fn forward(&self) -> DVec3 {
+        (self.look_at.as_dvec3() - self.position.as_dvec3()).normalize()
     }
 
     pub fn pixel_count(&self) -> usize {

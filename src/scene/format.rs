@@ -4,6 +4,9 @@
 //! serde: a derive stops at the first error, while users fixing a scene want all of them at once,
 //! each with its JSON path.
 
+use super::cascade_settings::read_cascades;
+use super::path::{CameraPath, Keyframes};
+use super::path_format::{read_camera_path, read_light_path};
 use super::shapes::Shape;
 use super::{Camera, Light, LightKind, LightSize, SCENE_FORMAT, Transform};
 use crate::json_input::{
@@ -224,8 +227,16 @@ fn read_shape(r: &mut Reader) -> Option<Shape> {
 
 fn read_camera(r: &mut Reader) -> Option<Camera> {
     let name = r.required("name", as_name);
-    let position = r.required("position", as_vec3);
-    let look_at = r.required("look_at", as_vec3);
+    let path = r.optional_object("path", read_camera_path);
+    // A camera on a path starts at its first key.
+    let first =
+        |track: fn(&CameraPath) -> &Keyframes| path.clone().flatten().map(|p| track(&p).values[0].as_vec3());
+    let (position, look_at) = if path.is_some() {
+        refuse_beside_path(r, &["position", "look_at"]);
+        (first(|p| &p.position), first(|p| &p.look_at))
+    } else {
+        (r.required("position", as_vec3), r.required("look_at", as_vec3))
+    };
     let up = r.optional_or("up", as_vec3, Vec3::Y);
     let fov_y_deg = r.required("fov_y_deg", open_range(0.0, 180.0));
     let width = r.required("width", count(1, MAX_IMAGE_SIDE));
@@ -257,6 +268,7 @@ fn read_camera(r: &mut Reader) -> Option<Camera> {
         fov_y_deg: fov_y_deg? as f32,
         width: width?,
         height: height?,
+        path: path.flatten(),
     };
     valid.then_some(camera)
 }
@@ -264,18 +276,29 @@ fn read_camera(r: &mut Reader) -> Option<Camera> {
 fn read_light(r: &mut Reader) -> Option<Light> {
     let name = r.required("name", as_name);
     let light_type = r.required("type", as_string);
-    let direction = r.required("direction", as_direction);
-    let light = match light_type.as_deref() {
+    let spot = light_type.as_deref() == Some("spot");
+    let path = r.optional_object("path", |p| read_light_path(p, spot));
+    let direction = match path.clone() {
+        None => r.required("direction", as_direction),
+        Some(path) => {
+            refuse_beside_path(r, &["direction", "position"]);
+            path.map(|p| p.direction.values[0].normalize().as_vec3())
+        }
+    };
+    let mut light = match light_type.as_deref() {
         Some("directional") => {
             let angular = r.optional(LightSize::ANGULAR_DIAMETER_FIELD, open_range(0.0, 90.0));
             let kind = LightKind::Directional {
                 direction: direction?,
                 angular_diameter_deg: angular.map(|a| a as f32),
             };
-            Light { name: name?, kind }
+            Light { name: name?, kind, path: None, cascades: None }
         }
         Some("spot") => {
-            let position = r.required("position", as_vec3);
+            let position = match &path {
+                None => r.required("position", as_vec3),
+                Some(p) => p.as_ref().and_then(|p| p.position.as_ref()).map(|k| k.values[0].as_vec3()),
+            };
             let cone_deg = r.required("cone_deg", open_range(0.0, 180.0));
             let near = r.required("near", as_positive);
             let far = r.required("far", as_positive);
@@ -293,7 +316,7 @@ fn read_light(r: &mut Reader) -> Option<Light> {
                 far: far as f32,
                 radius: radius.map(|x| x as f32),
             };
-            Light { name: name?, kind }
+            Light { name: name?, kind, path: None, cascades: None }
         }
         Some(other) => {
             r.problem("type", format!("unknown light type \"{other}\"; expected directional or spot"));
@@ -305,7 +328,31 @@ fn read_light(r: &mut Reader) -> Option<Light> {
             return None;
         }
     };
+    let cascades = r.optional_object("cascades", read_cascades);
+    if cascades.is_some() && spot {
+        r.problem("cascades", "cascaded shadow maps are for directional lights only");
+        return None;
+    }
+    // Present and invalid (reported): the light is not made.
+    light.path = match path {
+        Some(read) => Some(read?),
+        None => None,
+    };
+    light.cascades = match cascades {
+        Some(read) => Some(read?),
+        None => None,
+    };
     Some(light)
+}
+
+/// Fields a path's first key gives, reported where they are given too (and then not read).
+fn refuse_beside_path(r: &mut Reader, fields: &[&'static str]) {
+    for &key in fields {
+        if r.has(key) {
+            r.get(key);
+            r.problem(key, "is given by the first key of `path`: leave it out");
+        }
+    }
 }
 
 fn as_vec3(v: &Value) -> Result<Vec3, String> {

@@ -1,6 +1,8 @@
 //! Directional and spot lights, each with the optional area-light size of its own kind (used by
 //! the soft references and PCSS).
 
+use super::cascade_settings::CascadeSettings;
+use super::path::LightPath;
 use glam::Vec3;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -18,6 +20,12 @@ pub enum LightKind {
 pub struct Light {
     pub name: String,
     pub kind: LightKind,
+    /// A keyframed path (docs/temporal.md); the kind's direction and position are its first
+    /// key's.
+    pub path: Option<LightPath>,
+    /// Cascaded shadow maps instead of one map fitted to the scene (directional lights only;
+    /// docs/cascades.md).
+    pub cascades: Option<CascadeSettings>,
 }
 
 /// The size of an area light: what the area-light reference samples and PCSS filters by.
@@ -82,6 +90,24 @@ impl LightKind {
 }
 
 impl Light {
+    /// The light at time `t` of its path (itself when it has none), without the path.
+    pub fn at_time(&self, t: f64) -> Light {
+        let mut light = Light { path: None, ..self.clone() };
+        if let Some(path) = &self.path {
+            let towards = path.direction.at(t).try_normalize().unwrap_or(glam::DVec3::NEG_Y).as_vec3();
+            match &mut light.kind {
+                LightKind::Directional { direction, .. } => *direction = towards,
+                LightKind::Spot { position, direction, .. } => {
+                    *direction = towards;
+                    if let Some(track) = &path.position {
+                        *position = track.at(t).as_vec3();
+                    }
+                }
+            }
+        }
+        light
+    }
+
     pub fn is_directional(&self) -> bool {
         matches!(self.kind, LightKind::Directional { .. })
     }

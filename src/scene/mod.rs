@@ -2,6 +2,7 @@
 //! cameras and lights. The output is a `Scene` of world-space triangles that every later stage reads.
 
 mod camera;
+mod cascade_settings;
 mod error;
 mod format;
 mod gltf;
@@ -11,6 +12,8 @@ mod load;
 mod load_gltf;
 mod mesh_cache;
 mod obj;
+mod path;
+mod path_format;
 mod placement;
 mod shapes;
 mod transform;
@@ -18,6 +21,7 @@ mod triangles;
 mod view_key;
 
 pub use camera::{Camera, Film};
+pub use cascade_settings::{CascadeFit, CascadeSettings, MAX_CASCADES, SplitScheme};
 pub use error::{Problem, SceneError};
 pub use instance::{Instance, SharedMesh, box_corners, is_degenerate, world_vertex};
 pub use light::{Light, LightKind, LightSize, NoLightSize};
@@ -25,6 +29,7 @@ pub(crate) use load::load_scene_str_within;
 pub use load::{load_scene, load_scene_str};
 pub use mesh_cache::{MESH_CACHE_DIR, MIN_CACHED_BYTES, mesh_cache_path};
 pub(crate) use obj::parse_obj;
+pub use path::{CameraPath, Interpolation, Keyframes, LightPath, frame_times, union_span};
 pub use shapes::{IndexedMesh, Shape};
 pub use transform::Transform;
 pub use triangles::TriangleSource;

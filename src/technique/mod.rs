@@ -9,6 +9,7 @@ mod adaptive;
 mod bias;
 mod built_layers;
 mod canonical;
+mod cascaded;
 mod depth_layers;
 mod external;
 mod filter_params;
@@ -30,6 +31,7 @@ pub use bias::{
 };
 pub use built_layers::BuiltLayers;
 pub use canonical::canonical_json;
+pub use cascaded::CascadeOrders;
 pub use depth_layers::{DualDepth, DualParams, Midpoint, MidpointParams, SecondDepth, SecondDepthParams};
 pub use external::ExternalParams;
 pub use filter_params::{KernelSpec, TapBiasSpec};

@@ -57,12 +57,17 @@ pub struct ShadeOrder {
 
 impl ShadeOrder {
     pub fn new(gbuffer: &GBuffer, view: &LightView) -> Self {
+        Self::of_pixels(gbuffer, view, (0..gbuffer.evaluated.len() as u32).collect())
+    }
+
+    /// The order of some of the evaluated pixels: `slots` are positions in `gbuffer.evaluated`
+    /// (a cascade's pixels).
+    pub fn of_pixels(gbuffer: &GBuffer, view: &LightView, slots: Vec<u32>) -> Self {
         let n = view.resolution as u64;
-        let mut keyed: Vec<u64> = gbuffer
-            .evaluated
-            .par_iter()
-            .enumerate()
-            .map(|(k, &i)| {
+        let mut keyed: Vec<u64> = slots
+            .into_par_iter()
+            .map(|k| {
+                let i = gbuffer.evaluated[k as usize];
                 let texel = match view.project(gbuffer.position[i as usize]) {
                     Some(uvd) => {
                         let (x, row) = super::texel_at(view.resolution, uvd.x, uvd.y);
@@ -92,11 +97,17 @@ impl ShadeOrder {
 
 /// Visibility of every evaluated pixel, in the order of `gbuffer.evaluated`, shaded in `order`.
 pub fn shade_evaluated(technique: &dyn Technique, order: &ShadeOrder, ctx: &ShadeContext) -> Vec<f32> {
+    let mut visibility = vec![0.0; order.slot.len()];
+    shade_into(technique, order, ctx, &mut visibility);
+    visibility
+}
+
+/// Shades the pixels of `order` into `visibility` (indexed as `gbuffer.evaluated`), leaving the
+/// other entries as they are.
+pub fn shade_into(technique: &dyn Technique, order: &ShadeOrder, ctx: &ShadeContext, visibility: &mut [f32]) {
     let shaded: Vec<f32> =
         order.samples.par_iter().with_min_len(4096).map(|s| technique.visibility(s, ctx)).collect();
-    let mut visibility = vec![0.0; shaded.len()];
     for (&k, v) in order.slot.iter().zip(shaded) {
         visibility[k as usize] = v;
     }
-    visibility
 }

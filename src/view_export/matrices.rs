@@ -195,6 +195,7 @@ mod tests {
     fn hand_worked_camera_projection() {
         let camera = Camera {
             name: "c".into(),
+            path: None,
             position: Vec3::ZERO,
             look_at: Vec3::NEG_Z,
             up: Vec3::Y,

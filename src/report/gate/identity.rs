@@ -176,6 +176,8 @@ mod tests {
             reference: Default::default(),
             soft: None,
             pipeline: None,
+            cascades: None,
+            temporal: None,
         }
     }
 

@@ -69,5 +69,7 @@ pub(crate) fn test_run(
         reference: Default::default(),
         soft: None,
         pipeline: None,
+        cascades: None,
+        temporal: None,
     }
 }

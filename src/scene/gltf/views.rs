@@ -90,7 +90,7 @@ fn camera_of(
     // A look_at far enough from a distant position that f32 rounding keeps the direction.
     let look_at = position + forward * position.length().max(1.0);
     let (position, look_at, up) = (position.as_vec3(), look_at.as_vec3(), up.as_vec3());
-    Some(Camera { name, position, look_at, up, fov_y_deg, width, height })
+    Some(Camera { name, position, look_at, up, fov_y_deg, width, height, path: None })
 }
 
 pub(super) fn lights(
@@ -108,7 +108,7 @@ pub(super) fn lights(
         let name = names.take(node.name(), || format!("light{k}"));
         let extras = Extras::read(node.extras(), &format!("nodes[{}]", item.node));
         if let Some(kind) = light_kind(&light, item, &extras, &bounds, problems) {
-            out.push(Light { name, kind });
+            out.push(Light { name, kind, path: None, cascades: None });
         }
     }
     out
