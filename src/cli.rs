@@ -4,8 +4,8 @@
 use crate::atomic_file::write_atomic;
 use crate::metrics::{Stopwatch, median_ms};
 use crate::plan::{
-    DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_MAX_RUNS, Event, MAX_REFERENCE_GRID, MAX_REPEATS,
-    Plan, PlanError, Portion, Sink, execute_portion, read_plan,
+    DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_MAX_RUNS, Event, MAX_FRAMES, MAX_REFERENCE_GRID,
+    MAX_REPEATS, Plan, PlanError, Portion, Sink, execute_portion, read_plan,
 };
 use crate::raster::MAX_SHADOW_MAP_RESOLUTION;
 use crate::report::{
@@ -308,6 +308,11 @@ struct RunArgs {
     /// Timings are medians of this many layer builds and shading passes (default: the plan's, 3).
     #[arg(long, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_REPEATS as u64))]
     repeats: Option<usize>,
+    /// Evaluate this many frames spread over each view's camera and light paths (default: the
+    /// plan's, 1): every frame traced and scored, then per run the mean and worst frame's
+    /// error, the flicker rate, an animated error map and a flicker heat map (docs/temporal.md).
+    #[arg(long, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_FRAMES as u64))]
+    frames: Option<usize>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -741,6 +746,9 @@ fn run_plan(a: RunArgs) -> Result<u8> {
     }
     if let Some(n) = a.repeats {
         plan.repeats = n;
+    }
+    if let Some(n) = a.frames {
+        plan.frames = n;
     }
     let cache = (!a.no_cache).then(|| crate::trace::ReferenceCache::new(&a.references));
     let (writer, portion) = open_run_folder(&a, &plan)?;

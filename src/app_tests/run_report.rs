@@ -33,6 +33,7 @@ fn a_plan_writes_one_record_per_run_with_consistent_counts() {
         max_runs: shadowtruth::plan::DEFAULT_MAX_RUNS,
         shadow_map: None,
         pipeline: shadowtruth::plan::Pipeline::Cpu,
+        frames: 1,
     };
     let mut writer = ReportWriter::new(dir.path());
     let mut done = 0;

@@ -57,6 +57,21 @@ impl Counts {
 }
 
 impl Counts {
+    /// Adds every count of `other` (the frames of a path).
+    pub fn add(&mut self, other: &Counts) {
+        self.pixels += other.pixels;
+        self.background += other.background;
+        self.facing_away += other.facing_away;
+        self.outside_light += other.outside_light;
+        self.evaluated += other.evaluated;
+        self.false_shadow += other.false_shadow;
+        self.false_lit += other.false_lit;
+        self.aliasing += other.aliasing;
+        self.acne += other.acne;
+        self.leak += other.leak;
+        self.surface_mismatch += other.surface_mismatch;
+    }
+
     /// The pixels the rates are over: evaluated, less the surface mismatches.
     pub fn scored(&self) -> u64 {
         self.evaluated.saturating_sub(self.surface_mismatch)

@@ -84,6 +84,7 @@ pub(super) fn plan_of(
         max_runs: DEFAULT_MAX_RUNS,
         shadow_map: None,
         pipeline: crate::plan::Pipeline::Cpu,
+        frames: 1,
     }
 }
 

@@ -39,6 +39,19 @@ pub enum Event<'a> {
     /// A run finished: its record, and its visibility per evaluated pixel (in the order of the
     /// G-buffer's `evaluated`), for outputs that need more than the record.
     RunDone { record: &'a RunRecord, visibility: &'a [f32] },
+    /// One frame of a run over a path (`run --frames`), before the run's `RunDone`: the frame's
+    /// view, the run's record for this frame alone, its visibility, and the frame's index of
+    /// `frames`.
+    FrameDone {
+        view: &'a TracedView<'a>,
+        record: &'a RunRecord,
+        visibility: &'a [f32],
+        frame: u32,
+        frames: u32,
+    },
+    /// A run over a path ended (just before its `RunDone`, with the same record): how many times
+    /// each pixel of the camera image flickered, row-major, `width` × `height`.
+    FlickerDone { record: &'a RunRecord, heat: &'a [u16], width: u32, height: u32 },
     /// Every run of the view at this shadow-map resolution and depth format has finished.
     MapsDone { view: &'a TracedView<'a>, resolution: u32, format: DepthFormat },
 }

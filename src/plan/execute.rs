@@ -6,6 +6,7 @@
 use super::cascaded_map::CascadedMap;
 use super::events::{Event, Sink, TracedView, emit};
 use super::identity::schedule_record;
+use super::map_setup::MapSetup;
 use super::portion::Portion;
 use super::references::ViewReferences;
 use super::select::{
@@ -46,14 +47,14 @@ pub enum PlanError {
 type LayerGroups = Vec<(LayerNeeds, Vec<usize>)>;
 
 /// What every step of one plan's schedule reads.
-struct Schedule<'p, 's, 'k> {
-    plan: &'p Plan,
+pub(super) struct Schedule<'p, 's, 'k> {
+    pub(super) plan: &'p Plan,
     cache: Option<&'p ReferenceCache>,
-    groups: LayerGroups,
-    sinks: &'s mut [&'k mut dyn Sink],
+    pub(super) groups: LayerGroups,
+    pub(super) sinks: &'s mut [&'k mut dyn Sink],
     /// The device of a plan on the GPU pipeline.
     gpu: Option<GpuDevice>,
-    portion: &'p Portion,
+    pub(super) portion: &'p Portion,
     /// The schedule position of the next view (from 0).
     position: usize,
 }
@@ -61,15 +62,15 @@ struct Schedule<'p, 's, 'k> {
 /// One shadow map's set-up within a view: the light view and what is built from it once.
 pub(super) struct MapSetting<'a> {
     /// The map (the first cascade's, for a light with cascades).
-    view: &'a LightView,
-    light_uv: &'a LightUv,
+    pub view: &'a LightView,
+    pub light_uv: &'a LightUv,
     /// The shading order of the one map (None for cascades, which hold their own).
-    order: Option<&'a ShadeOrder>,
-    cascaded: Option<&'a CascadedMap>,
-    resolution: u32,
-    format: DepthFormat,
+    pub order: Option<&'a ShadeOrder>,
+    pub cascaded: Option<&'a CascadedMap>,
+    pub resolution: u32,
+    pub format: DepthFormat,
     /// The scene's bounds, computed once per view.
-    scene_bounds: (Vec3, Vec3),
+    pub scene_bounds: (Vec3, Vec3),
 }
 
 /// Runs `plan`, sending what it produces to `sinks` in order. References come from `cache`
@@ -93,6 +94,7 @@ pub fn execute_portion(
     let selected = load_selected(plan)?;
     check_area_light_sizes(plan, &selected)?;
     check_cascaded_lights(plan, &selected)?;
+    check_frames(plan)?;
     // The limit holds for the whole plan, whatever share of it runs here.
     check_run_count(plan, selected.iter().map(|s| s.pairs.len()).sum())?;
     let groups = layer_groups(&plan.techniques);
@@ -107,6 +109,29 @@ pub fn execute_portion(
     emit(sinks, &Event::Planned { runs, schedule: &schedule })?;
     let mut schedule = Schedule { plan, cache, groups, sinks, gpu, portion, position: 0 };
     selected.iter().try_for_each(|sel| schedule.scene(sel))
+}
+
+/// Frames are shaded here, from buffers traced here: a plan over several frames cannot run on
+/// the GPU pipeline, read an imported shadow map or score imported buffers (one per view).
+fn check_frames(plan: &Plan) -> Result<(), PlanError> {
+    if plan.frames <= 1 {
+        return Ok(());
+    }
+    let refused = if plan.pipeline == Pipeline::Gpu {
+        Some("the GPU pipeline")
+    } else if plan.shadow_map.is_some() {
+        Some("an imported shadow map")
+    } else if plan.techniques.iter().any(|t| matches!(t, TechniqueSpec::External(_))) {
+        Some("`external` techniques (one imported buffer per view)")
+    } else {
+        None
+    };
+    match refused {
+        Some(what) => {
+            Err(PlanError::Invalid(format!("{} frames: a plan over frames cannot use {what}", plan.frames)))
+        }
+        None => Ok(()),
+    }
 }
 
 /// The number of runs of `portion`.
@@ -159,7 +184,7 @@ fn layer_groups(techniques: &[TechniqueSpec]) -> LayerGroups {
 }
 
 impl Schedule<'_, '_, '_> {
-    fn stage(&mut self, what: &str) -> Result<(), PlanError> {
+    pub(super) fn stage(&mut self, what: &str) -> Result<(), PlanError> {
         emit(self.sinks, &Event::Stage(what))
     }
 
@@ -194,6 +219,10 @@ impl Schedule<'_, '_, '_> {
         let last = pairs.len() - 1;
         for (k, (ci, li)) in pairs.into_iter().enumerate() {
             let (camera, light) = (&scene.cameras[ci], &scene.lights[li]);
+            if self.plan.frames > 1 {
+                self.view_over_frames(scene, bvh.as_ref().expect("kept for every frame"), camera, light)?;
+                continue;
+            }
             let (gbuffer, references) =
                 self.trace(scene, bvh.as_ref().expect("kept until the last view"), camera, light)?;
             if k == last {
@@ -243,29 +272,10 @@ impl Schedule<'_, '_, '_> {
             if formats.is_empty() {
                 continue;
             }
-            let cascaded = light.cascades.is_some().then(|| {
-                CascadedMap::new(light, traced.camera, traced.camera, bounds, resolution, traced.gbuffer)
-            });
-            let view = match (&self.plan.shadow_map, &cascaded) {
-                (Some(map_file), _) => map_file.light_view(light).map_err(PlanError::Import)?,
-                (None, Some(c)) => c.cascades.views[0].clone(),
-                (None, None) => LightView::new(light, bounds, resolution),
-            };
-            let light_uv = match &cascaded {
-                Some(c) => c.light_uv(traced.gbuffer, resolution),
-                None => LightUv::new(traced.gbuffer, &view),
-            };
-            let order = cascaded.is_none().then(|| ShadeOrder::new(traced.gbuffer, &view));
+            let views = (traced.gbuffer, traced.camera, traced.camera);
+            let setup = MapSetup::new(self.plan, views, light, bounds, resolution)?;
             for format in formats {
-                let map = MapSetting {
-                    view: &view,
-                    light_uv: &light_uv,
-                    order: order.as_ref(),
-                    cascaded: cascaded.as_ref(),
-                    resolution,
-                    format,
-                    scene_bounds: bounds,
-                };
+                let map = setup.setting(format, bounds);
                 self.map(traced, &map)?;
                 self.imported_runs(traced, &map, &external)?;
                 emit(self.sinks, &Event::MapsDone { view: traced, resolution, format })?;
@@ -473,7 +483,12 @@ fn read_external(params: &ExternalParams, traced: &TracedView) -> Result<Vec<f32
 
 /// A run's record scored against the reference its technique is judged by (timings and layer
 /// memory are the caller's).
-fn run_record(traced: &TracedView, map: &MapSetting, spec: &TechniqueSpec, visibility: &[f32]) -> RunRecord {
+pub(super) fn run_record(
+    traced: &TracedView,
+    map: &MapSetting,
+    spec: &TechniqueSpec,
+    visibility: &[f32],
+) -> RunRecord {
     let gbuffer = traced.gbuffer;
     let (scored_against, soft_reference, reference_used) = traced.references.for_kind(spec.reference_kind());
     let counts = score_hard(gbuffer, scored_against, visibility).with_attribution(attribute(
@@ -513,6 +528,6 @@ impl<'a> MapSetting<'a> {
     }
 }
 
-fn timings(prepare_ms: f64, shade_ms: f64, evaluated: u64) -> Timings {
+pub(super) fn timings(prepare_ms: f64, shade_ms: f64, evaluated: u64) -> Timings {
     Timings { prepare: prepare_ms, shade: shade_ms, ns_per_pixel: shade_ms * 1e6 / evaluated.max(1) as f64 }
 }

@@ -92,6 +92,7 @@ fn read_plan_value(root: &Value, path: &Path, max_runs: u64, problems: &mut Prob
     let depth_formats =
         top.optional_list("depth_formats", as_depth_format).unwrap_or(Some(vec![DepthFormat::F32]));
     let repeats = top.optional_or("repeats", count(1, MAX_REPEATS as u64), 3);
+    let frames = top.optional_or("frames", count(1, super::MAX_FRAMES as u64), 1);
     let max_grid = super::MAX_REFERENCE_GRID as u64;
     let coverage_grid = top.optional_or("coverage_grid", count(1, max_grid), super::DEFAULT_COVERAGE_GRID);
     let area_light_grid =
@@ -133,6 +134,7 @@ fn read_plan_value(root: &Value, path: &Path, max_runs: u64, problems: &mut Prob
         max_runs,
         shadow_map: None,
         pipeline: pipeline?,
+        frames: frames? as usize,
     })
 }
 

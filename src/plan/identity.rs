@@ -39,7 +39,8 @@ pub(super) fn schedule_record(plan: &Plan, selected: &[Selected]) -> ScheduleRec
         for &(ci, li) in &sel.pairs {
             let (camera, light) = (&sel.scene.cameras[ci], &sel.scene.lights[li]);
             let names = format!("{}/{}/{}", sel.scene.name, camera.name, light.name);
-            field("view", format!("{names} {} {light:?}", reference_digest(&sel.scene, camera, light)));
+            let digest = reference_digest(&sel.scene, camera, light);
+            field("view", format!("{names} {digest} {light:?} {:?}", camera.path));
         }
     }
     for t in &plan.techniques {
@@ -50,6 +51,7 @@ pub(super) fn schedule_record(plan: &Plan, selected: &[Selected]) -> ScheduleRec
     field("depth_formats", format!("{formats:?}"));
     field("grids", format!("{} {}", plan.coverage_grid, plan.area_light_grid));
     field("repeats", plan.repeats.to_string());
+    field("frames", plan.frames.to_string());
     field("figures", format!("{} {:?}", plan.figures, plan.zoom));
     field("pipeline", format!("{:?}", plan.pipeline));
     if let Some(map) = &plan.shadow_map {

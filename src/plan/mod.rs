@@ -7,8 +7,10 @@ mod cascaded_map;
 mod events;
 mod execute;
 mod file;
+mod frames;
 mod identity;
 mod layers;
+mod map_setup;
 mod portion;
 mod references;
 mod select;
@@ -27,5 +29,6 @@ pub(crate) use references::ViewReferences;
 pub(crate) use select::{check_plan, load_selected};
 pub use shard::Shard;
 pub use spec::{
-    DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, MAX_REFERENCE_GRID, MAX_REPEATS, Pipeline, Plan,
+    DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, MAX_FRAMES, MAX_REFERENCE_GRID, MAX_REPEATS, Pipeline,
+    Plan,
 };

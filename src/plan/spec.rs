@@ -34,6 +34,9 @@ pub struct Plan {
     pub shadow_map: Option<crate::import::ImportedShadowMap>,
     /// Where the shadow maps are drawn and the techniques shaded.
     pub pipeline: Pipeline,
+    /// Frames evaluated along each view's camera and light paths (docs/temporal.md); 1 scores
+    /// the paths' first key only.
+    pub frames: usize,
 }
 
 /// Where a plan's shadow maps are drawn and its techniques shaded: the CPU rasterizer and
@@ -62,6 +65,9 @@ pub const DEFAULT_AREA_LIGHT_GRID: u32 = 8;
 /// Largest N of the N×N sample grid of a fractional reference (4096 samples per pixel), in a
 /// plan and on the command line.
 pub const MAX_REFERENCE_GRID: u32 = 64;
+
+/// Most frames along a path, in a plan and on the command line.
+pub const MAX_FRAMES: usize = 10_000;
 
 /// Largest number of timing repeats, in a plan and on the command line.
 pub const MAX_REPEATS: usize = 1000;
