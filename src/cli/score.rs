@@ -117,6 +117,7 @@ pub(super) fn score(a: ScoreArgs) -> Result<u8> {
         max_runs: DEFAULT_MAX_RUNS,
         shadow_map,
         pipeline: crate::plan::Pipeline::Cpu,
+        frames: 1,
     };
     let cache = (!a.no_cache).then(|| crate::trace::ReferenceCache::new(&a.references));
     write_plan_report(&plan, &a.out, cache.as_ref(), a.quiet, false)?;
