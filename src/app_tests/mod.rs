@@ -5,6 +5,7 @@
 mod common;
 
 mod figures;
+mod frames;
 mod generate;
 mod papers_island;
 mod plan_input;

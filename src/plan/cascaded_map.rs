@@ -4,7 +4,7 @@
 use crate::metrics::{LightUv, falseness};
 use crate::raster::{CascadeChoice, Cascades, default_max_distance};
 use crate::record::{CascadeCounts, CascadeRecord, CascadesRecord};
-use crate::scene::{Camera, CascadeFit, CascadeSettings, Light, LightKind};
+use crate::scene::{Camera, CascadeFit, CascadeSettings, Light};
 use crate::technique::CascadeOrders;
 use crate::trace::{GBuffer, HardReference};
 use glam::Vec3;
@@ -30,12 +30,9 @@ impl CascadedMap {
         gbuffer: &GBuffer,
     ) -> Self {
         let settings = light.cascades.expect("a light with cascades");
-        let LightKind::Directional { direction, .. } = light.kind else {
-            unreachable!("scene files give cascades to directional lights only")
-        };
         let max_distance =
             settings.max_distance.unwrap_or_else(|| default_max_distance(first_camera, scene_bounds));
-        let cascades = Cascades::new(&settings, direction, camera, scene_bounds, resolution, max_distance);
+        let cascades = Cascades::new(&settings, light, camera, scene_bounds, resolution, max_distance);
         let orders = CascadeOrders::new(gbuffer, &cascades);
         let tan_half_fov = (0.5 * (camera.fov_y_deg as f64).to_radians()).tan();
         CascadedMap {

@@ -290,8 +290,11 @@ impl Schedule<'_, '_, '_> {
         emit(self.sinks, &Event::ViewTraced(traced))?;
         let (width, height) = (traced.camera.width, traced.camera.height);
         let per_map = self.plan.techniques.len();
+        // In the order a still view sends its runs: group by group.
+        let order: Vec<usize> = self.groups.iter().flat_map(|(_, members)| members.iter().copied()).collect();
         for (m, &(resolution, format)) in maps.iter().enumerate() {
-            for track in &mut tracks[m * per_map..(m + 1) * per_map] {
+            for &ti in &order {
+                let track = &mut tracks[m * per_map + ti];
                 let (record, visibility) = track.finish(moving);
                 emit(self.sinks, &Event::FlickerDone { record: &record, heat: &track.heat, width, height })?;
                 emit(self.sinks, &Event::RunDone { record: &record, visibility: &visibility })?;

@@ -10,7 +10,7 @@
 //! is the single map, bit for bit.
 
 use super::projection::{DirectionalFrame, LightView, Projection};
-use crate::scene::{Camera, CascadeFit, CascadeSettings, SplitScheme};
+use crate::scene::{Camera, CascadeFit, CascadeSettings, Light, LightKind, SplitScheme};
 use glam::{DVec3, Vec3};
 
 /// The cascades of one light for one camera and resolution.
@@ -66,12 +66,12 @@ pub fn default_max_distance(camera: &Camera, scene_bounds: (Vec3, Vec3)) -> f64 
 }
 
 impl Cascades {
-    /// The cascades of the directional light shining along `direction` for `camera` at
-    /// `resolution`, with `settings` and the last split at `max_distance` (resolved by the
-    /// caller: `settings.max_distance` or `default_max_distance`).
+    /// The cascades of the directional `light` for `camera` at `resolution`, with `settings`
+    /// and the last split at `max_distance` (resolved by the caller: `settings.max_distance` or
+    /// `default_max_distance`).
     pub fn new(
         settings: &CascadeSettings,
-        direction: Vec3,
+        light: &Light,
         camera: &Camera,
         scene_bounds: (Vec3, Vec3),
         resolution: u32,
@@ -79,6 +79,9 @@ impl Cascades {
     ) -> Self {
         let near = settings.near_distance.unwrap_or(max_distance / 1000.0).min(max_distance * 0.999);
         let splits = split_distances(settings.split, near, max_distance, settings.count);
+        let LightKind::Directional { direction, .. } = light.kind else {
+            unreachable!("scene files give cascades to directional lights only")
+        };
         let frame = DirectionalFrame::new(direction, scene_bounds);
         let slice = FrustumSlices::new(camera);
         let views = (0..settings.count as usize)
@@ -97,7 +100,7 @@ impl Cascades {
                         slice.corner_box(&frame, start, splits[i + 1], resolution, settings.stabilize)
                     }
                 };
-                frame.orthographic(x, y, resolution)
+                LightView { light_size: light.size().ok(), ..frame.orthographic(x, y, resolution) }
             })
             .collect();
         Cascades {
