@@ -41,10 +41,7 @@ pub fn write_atomic_unsynced(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 }
 
 fn replace_file(path: &Path, bytes: &[u8], sync: bool) -> std::io::Result<()> {
-    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    std::fs::create_dir_all(dir)?;
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let mut tmp = locked_temp_file(dir, &name)?;
+    let mut tmp = temp_file_for(path)?;
     tmp.write_all(bytes)?;
     if sync {
         tmp.as_file().sync_all()?;
@@ -52,6 +49,16 @@ fn replace_file(path: &Path, bytes: &[u8], sync: bool) -> std::io::Result<()> {
     // On failure the temporary file is removed when the returned `NamedTempFile` drops.
     tmp.persist(path).map_err(|e| e.error)?;
     Ok(())
+}
+
+/// A new temporary file beside `path` (its folder created), locked by this process until it is
+/// persisted to `path` or dropped: for a file written piece by piece (an animation) that must
+/// appear whole.
+pub fn temp_file_for(path: &Path) -> std::io::Result<NamedTempFile> {
+    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    std::fs::create_dir_all(dir)?;
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    locked_temp_file(dir, &name)
 }
 
 /// A new temporary file in `dir` for the target `target_name`, exclusively locked by this

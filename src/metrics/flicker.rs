@@ -40,16 +40,16 @@ pub struct FrameDecisions<'a> {
 /// and the points compared: those both frames score.
 pub fn count_flicker(before: &FrameDecisions, after: &FrameDecisions, heat: &mut [u16]) -> (u64, u64) {
     let (mut flicker, mut compared) = (0u64, 0u64);
-    for i in 0..heat.len() {
-        let (t0, t1) = (before.technique[i], after.technique[i]);
-        let (r0, r1) = (before.reference[i], after.reference[i]);
+    let technique = before.technique.iter().zip(after.technique);
+    let reference = before.reference.iter().zip(after.reference);
+    for ((count, (&t0, &t1)), (&r0, &r1)) in heat.iter_mut().zip(technique).zip(reference) {
         if t0 == NOT_SCORED || t1 == NOT_SCORED || r0 == NOT_SCORED || r1 == NOT_SCORED {
             continue;
         }
         compared += 1;
         if t0 != t1 && r0 == r1 {
             flicker += 1;
-            heat[i] = heat[i].saturating_add(1);
+            *count = count.saturating_add(1);
         }
     }
     (flicker, compared)

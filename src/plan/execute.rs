@@ -20,7 +20,8 @@ use crate::raster::{DepthFormat, LightView};
 use crate::record::{PipelineUsed, RunRecord, SceneRecord, ScheduleRecord, Timings};
 use crate::scene::{Camera, Light, Scene, SceneError, ViewKey};
 use crate::technique::{
-    BuiltLayers, ExternalParams, LayerNeeds, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated,
+    BuiltLayers, ExternalParams, LayerNeeds, ShadeContext, ShadeOrder, Technique, TechniqueSpec,
+    shade_evaluated,
 };
 use crate::trace::{GBuffer, ReferenceCache, SceneBvh};
 use glam::Vec3;
@@ -60,7 +61,7 @@ pub(super) struct Schedule<'p, 's, 'k> {
 }
 
 /// One shadow map's set-up within a view: the light view and what is built from it once.
-pub(super) struct MapSetting<'a> {
+pub(crate) struct MapSetting<'a> {
     /// The map (the first cascade's, for a light with cascades).
     pub view: &'a LightView,
     pub light_uv: &'a LightUv,
@@ -351,21 +352,12 @@ impl Schedule<'_, '_, '_> {
         layers: &[BuiltLayers],
     ) -> (Vec<f32>, f64) {
         let technique = spec.build().expect("only shaded techniques are in a layer group");
-        let contexts: Vec<ShadeContext> = map
-            .views()
-            .into_iter()
-            .zip(layers)
-            .map(|(view, l)| ShadeContext::with_bounds(scene, view, l.as_layers(), map.scene_bounds))
-            .collect();
+        let contexts = map.contexts(scene, layers);
         let mut shade_ms = Vec::with_capacity(self.plan.repeats);
         let mut visibility = Vec::new();
         for _ in 0..self.plan.repeats.max(1) {
             let sw = Stopwatch::start();
-            visibility = match (map.cascaded, map.order) {
-                (Some(cascaded), _) => cascaded.orders.shade(technique.as_ref(), &contexts),
-                (None, Some(order)) => shade_evaluated(technique.as_ref(), order, &contexts[0]),
-                (None, None) => unreachable!("one map has its shading order"),
-            };
+            visibility = map.shade(technique.as_ref(), &contexts);
             shade_ms.push(sw.ms());
         }
         (visibility, median_ms(&shade_ms))
@@ -520,10 +512,30 @@ pub(super) fn run_record(
 
 impl<'a> MapSetting<'a> {
     /// The light views of the map: each cascade's, or the one.
-    fn views(&self) -> Vec<&'a LightView> {
+    pub(crate) fn views(&self) -> Vec<&'a LightView> {
         match self.cascaded {
             Some(c) => c.cascades.views.iter().collect(),
             None => vec![self.view],
+        }
+    }
+
+    /// What the technique reads of each map, with `layers` (one per map, in `views` order).
+    pub(crate) fn contexts<'s>(&self, scene: &'s Scene, layers: &'s [BuiltLayers]) -> Vec<ShadeContext<'s>>
+    where
+        'a: 's,
+    {
+        let views = self.views().into_iter().zip(layers);
+        views
+            .map(|(view, l)| ShadeContext::with_bounds(scene, view, l.as_layers(), self.scene_bounds))
+            .collect()
+    }
+
+    /// The technique's visibility of every evaluated pixel through `contexts` (`contexts`).
+    pub(crate) fn shade(&self, technique: &dyn Technique, contexts: &[ShadeContext]) -> Vec<f32> {
+        match (self.cascaded, self.order) {
+            (Some(cascaded), _) => cascaded.orders.shade(technique, contexts),
+            (None, Some(order)) => shade_evaluated(technique, order, &contexts[0]),
+            (None, None) => unreachable!("one map has its shading order"),
         }
     }
 }

@@ -12,7 +12,7 @@ use crate::technique::ShadeOrder;
 use crate::trace::GBuffer;
 use glam::Vec3;
 
-pub(super) struct MapSetup {
+pub(crate) struct MapSetup {
     /// The map (the first cascade's, for a light with cascades).
     view: LightView,
     light_uv: LightUv,

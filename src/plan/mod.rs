@@ -24,6 +24,7 @@ pub use events::{Event, Sink, TracedView, emit};
 pub use execute::{PlanError, execute, execute_portion};
 pub use file::{DEFAULT_MAX_RUNS, PlanInputError, parse_plan, parse_plan_limited, read_plan};
 pub use layers::{BinnedView, build_layers_timed};
+pub(crate) use map_setup::MapSetup;
 pub use portion::{MapKey, Portion};
 pub(crate) use references::ViewReferences;
 pub(crate) use select::{check_plan, load_selected};

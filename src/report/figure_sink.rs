@@ -1,12 +1,15 @@
 //! The figures of a plan's runs, as a sink of the schedule's events: each view's reference
 //! figure when it is traced; each run's technique and error figures (and zoom) and the grid of
 //! one (view, resolution, depth format), drawn and encoded together in parallel once its runs
-//! are done.
+//! are done; for runs over a path, each run's animated error map as its frames arrive
+//! (`frame_movie.rs`) and its flicker heat map when it ends (`flicker_map.rs`).
 
 use super::figures::{
     GridCell, ViewCanvas, downscale, grid, run_stem, view_stem, write_reference_figure, write_run_figures,
     zoom,
 };
+use super::flicker_map::write_flicker_map;
+use super::frame_movie::FrameMovies;
 use super::indexed_image::IndexedImage;
 use crate::metrics::Stopwatch;
 use crate::plan::{Event, PlanError, Sink, TracedView};
@@ -40,6 +43,8 @@ pub struct FigureSink {
     zoom: Option<[u32; 4]>,
     canvas: Option<ViewCanvas>,
     pending: Vec<PendingRun>,
+    /// The animated error maps of the runs over a path being written.
+    movies: FrameMovies,
     /// Wall time spent drawing and writing figures (the runs wait for it), milliseconds.
     spent_ms: f64,
 }
@@ -48,7 +53,14 @@ impl FigureSink {
     /// Figures into `figures_dir`; `zoom` (x, y, width, height in camera pixels) is also
     /// written enlarged for every run.
     pub fn new(figures_dir: &Path, zoom: Option<[u32; 4]>) -> Self {
-        FigureSink { dir: figures_dir.to_path_buf(), zoom, canvas: None, pending: Vec::new(), spent_ms: 0.0 }
+        FigureSink {
+            dir: figures_dir.to_path_buf(),
+            zoom,
+            canvas: None,
+            pending: Vec::new(),
+            movies: FrameMovies::new(figures_dir),
+            spent_ms: 0.0,
+        }
     }
 
     /// Wall time spent on figures so far, milliseconds.
@@ -79,6 +91,34 @@ impl FigureSink {
             visibility: visibility.to_vec(),
             kind: record.reference.kind,
         });
+    }
+
+    /// One frame of a run over a path, appended to the run's animated error map.
+    fn frame_done(
+        &mut self,
+        view: &TracedView,
+        record: &RunRecord,
+        visibility: &[f32],
+        frame: (u32, u32),
+    ) -> Result<(), PlanError> {
+        let sw = Stopwatch::start();
+        self.movies.frame_done(view, record, visibility, frame).map_err(self.io())?;
+        self.spent_ms += sw.ms();
+        Ok(())
+    }
+
+    /// The flicker heat map of a run over a path. Under a still camera every frame shows the same
+    /// surfaces, so the heat is drawn over the last frame's shaded image; under a moving one no
+    /// image fits every frame, and it is drawn over plain grey.
+    fn flicker_done(&mut self, record: &RunRecord, heat: &[u16], size: (u32, u32)) -> Result<(), PlanError> {
+        let sw = Stopwatch::start();
+        let still_camera =
+            record.temporal.as_ref().is_some_and(|t| matches!(t.moving.as_str(), "light" | "none"));
+        let view = view_stem(ViewKey::new(&record.scene, &record.camera, &record.light));
+        let base = if still_camera { self.movies.last_base(&view, size) } else { None };
+        write_flicker_map(&self.dir, &run_stem(record), heat, size, base).map_err(self.io())?;
+        self.spent_ms += sw.ms();
+        Ok(())
     }
 
     /// Every pending run's figures, then the grid of their error maps.
@@ -132,6 +172,12 @@ impl Sink for FigureSink {
                 Ok(())
             }
             Event::MapsDone { view, resolution, format } => self.maps_done(view, *resolution, *format),
+            Event::FrameDone { view, record, visibility, frame, frames } => {
+                self.frame_done(view, record, visibility, (*frame, *frames))
+            }
+            Event::FlickerDone { record, heat, width, height } => {
+                self.flicker_done(record, heat, (*width, *height))
+            }
             Event::Planned { .. } | Event::Stage(_) | Event::SceneBuilt(_) => Ok(()),
         }
     }

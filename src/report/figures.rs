@@ -50,7 +50,7 @@ fn scale_level(v: u8, f: f32) -> u8 {
 }
 
 /// `scale_level(·, f)` for every grey.
-fn lut(f: f32) -> [u8; 256] {
+pub(super) fn lut(f: f32) -> [u8; 256] {
     std::array::from_fn(|v| scale_level(v as u8, f))
 }
 
@@ -237,22 +237,38 @@ pub fn legend_strip_height(width: u32) -> u32 {
     font::text_height(s) + 8 * s
 }
 
-fn legend_scale(width: u32) -> u32 {
+/// Font scale of the legend strip below an image of the given width.
+pub(super) fn legend_scale(width: u32) -> u32 {
     (width / 512).clamp(1, 4)
 }
 
 #[cfg(test)]
 /// The error map of a run: `base` dimmed (×[`ERROR_DIM`], and ×[`ERROR_REFERENCE_SHADOW`] more
 /// where the reference is shadowed, so the true shadows show), false-shadow pixels exactly
-/// [`FALSE_SHADOW`], false-lit pixels exactly [`FALSE_LIT`] (the thresholds of
-/// `metrics::score_hard`), and a legend strip of [`legend_strip_height`] rows added below the
-/// image; the image area is the top `gbuffer.height` rows.
+/// [`FALSE_SHADOW`](super::indexed_image::FALSE_SHADOW), false-lit pixels exactly
+/// [`FALSE_LIT`](super::indexed_image::FALSE_LIT) (the thresholds of `metrics::score_hard`), and a
+/// legend strip of [`legend_strip_height`] rows added below the image; the image area is the top
+/// `gbuffer.height` rows.
 pub fn error_map(
     gbuffer: &GBuffer,
     reference: &HardReference,
     visibility: &[f32],
     canvas: &ViewCanvas,
 ) -> IndexedImage {
+    let (mut out, false_shadow, false_lit) = error_map_unlabelled(gbuffer, reference, visibility, canvas);
+    draw_legend(&mut out, gbuffer.height, false_shadow, false_lit, gbuffer.evaluated.len());
+    out
+}
+
+/// The error map of a run (`error_map`) with its legend strip left blank, and the false-shadow
+/// and false-lit pixels it coloured: for maps whose legend is drawn at another size (the frames
+/// of `frame_movie.rs`).
+pub fn error_map_unlabelled(
+    gbuffer: &GBuffer,
+    reference: &HardReference,
+    visibility: &[f32],
+    canvas: &ViewCanvas,
+) -> (IndexedImage, u64, u64) {
     canvas.assert_fits(gbuffer, visibility);
     let (w, h) = (gbuffer.width as usize, gbuffer.height as usize);
     let mut out = canvas.error_background.clone();
@@ -272,8 +288,7 @@ pub fn error_map(
             (fs, fl)
         })
         .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
-    draw_legend(&mut out, h as u32, false_shadow, false_lit, gbuffer.evaluated.len());
-    out
+    (out, false_shadow, false_lit)
 }
 
 /// The legend on the strip that starts at row `top`.

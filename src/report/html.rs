@@ -1,8 +1,11 @@
-//! `index.html`: one offline page per report folder — the runs table (sortable), the plots, the
+//! `index.html`: one offline page per report folder — the runs table (sortable), runs over a path
+//! (`path_section.rs`) and on cascaded shadow maps (`cascades_section.rs`), the plots, the
 //! figures, the settings and the tool version. Only relative links; no network.
 
 use super::Report;
+use super::cascades_section::cascades_section;
 use super::figures::{run_stem, view_stem};
+use super::path_section::{PathAssets, path_assets, path_section};
 use super::plots::charts;
 use super::summary::{GroupSummary, per_scene, summaries};
 use crate::scene::ViewKey;
@@ -31,6 +34,8 @@ pub struct PageAssets {
     pub run_references: Vec<Option<String>>,
     /// A `tune` folder's tune.json and its plots (stems under `plots/`).
     pub tune: Option<(serde_json::Value, Vec<String>)>,
+    /// The animations, heat maps and per-frame plots of runs over a path.
+    pub path: PathAssets,
 }
 
 const STYLE: &str = "body{font-family:system-ui,sans-serif;margin:1.5em;color:#222}\
@@ -57,6 +62,8 @@ pub fn index_html(report: &Report, assets: &PageAssets) -> String {
     viewer_section(&mut h);
     filters_section(&mut h, report);
     runs_table(&mut h, report, assets);
+    path_section(&mut h, report, &assets.path);
+    cascades_section(&mut h, report);
     figures_section(&mut h, assets);
     plots_section(&mut h, assets);
     let _ = writeln!(h, "<script>{SCRIPT}</script></body></html>");
@@ -341,7 +348,14 @@ fn page_assets(dir: &Path, report: &Report) -> PageAssets {
         })
         .collect();
     let plots = charts(report).into_iter().map(|c| c.stem).collect();
-    PageAssets { plots, figures, run_figures, run_references, tune: tune_assets(dir) }
+    PageAssets {
+        plots,
+        figures,
+        run_figures,
+        run_references,
+        tune: tune_assets(dir),
+        path: path_assets(dir, report),
+    }
 }
 
 /// tune.json and the tune plots of a `tune` folder, when it is one.

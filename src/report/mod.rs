@@ -2,18 +2,23 @@
 //! report.json, report.csv, figures (PNG), plots, the HTML index, the gate, OBJ exports, masks and
 //! soft reference EXRs.
 
+mod cascades_section;
 pub mod csv_rows;
 mod depth_map;
 mod exports;
 mod figure_sink;
 pub mod figures;
+pub mod flicker_map;
 pub mod font;
+pub mod frame_movie;
+pub mod frame_plots;
 pub mod gate;
 pub mod html;
 pub mod indexed_image;
 mod junit;
 mod merge;
 mod outputs;
+mod path_section;
 pub mod plots;
 mod resume;
 mod schedule_order;

@@ -1,10 +1,11 @@
 //! Everything a report folder holds besides report.json and the figures, rendered from the
 //! report at the end of a command (`shadowtruth report DIR` renders them again): each output is
-//! an `Export` in its own file — `report.csv` (`csv_rows.rs`), `plots/` (`plots.rs`) and
-//! `index.html` (`html.rs`).
+//! an `Export` in its own file — `report.csv` (`csv_rows.rs`), `plots/` (`plots.rs`, and the
+//! per-frame plots of runs over a path: `frame_plots.rs`) and `index.html` (`html.rs`).
 
 use super::Report;
 use super::csv_rows::CsvExport;
+use super::frame_plots::FramePlotsExport;
 use super::html::PageExport;
 use super::plots::PlotsExport;
 use std::path::Path;
@@ -16,7 +17,7 @@ pub trait Export: Sync {
 }
 
 /// Every output, in the order written (the page links the plots and figures before it).
-const EXPORTS: [&dyn Export; 3] = [&CsvExport, &PlotsExport, &PageExport];
+const EXPORTS: [&dyn Export; 4] = [&CsvExport, &PlotsExport, &FramePlotsExport, &PageExport];
 
 /// Writes report.csv, the plots and index.html into `dir`.
 pub fn write_report_outputs(dir: &Path, report: &Report) -> std::io::Result<()> {

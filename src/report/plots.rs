@@ -18,6 +18,10 @@ pub struct Chart {
     pub x_label: String,
     pub y_label: String,
     pub log_x: bool,
+    /// A linear y axis from 0 (pixel counts) instead of the log axis of rates.
+    pub linear_y: bool,
+    /// The x values are whole numbers (frames): a linear x axis labels whole ticks only.
+    pub integer_x: bool,
     /// Series drawn as lines with markers (`points_only` draws markers alone).
     pub series: Vec<(String, Vec<(f64, f64)>)>,
     pub points_only: bool,
@@ -39,6 +43,8 @@ impl Default for Chart {
             x_label: String::new(),
             y_label: String::new(),
             log_x: false,
+            linear_y: false,
+            integer_x: false,
             series: Vec::new(),
             points_only: false,
             pareto: None,
@@ -88,7 +94,8 @@ fn compact(x: f64) -> String {
     if text.contains('.') { text.trim_end_matches('0').trim_end_matches('.').to_string() } else { text }
 }
 
-fn file_safe(s: &str) -> String {
+/// `s` with every character but ASCII letters, digits, `-` and `.` replaced by `_`.
+pub(super) fn file_safe(s: &str) -> String {
     s.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect()
 }
 
@@ -269,23 +276,27 @@ fn cost_charts(report: &Report) -> Vec<Chart> {
         .collect()
 }
 
-/// The chart's x range and the top of its y axis; None for a chart without points.
-fn data_range(c: &Chart) -> Option<(f64, f64, f64)> {
-    let (mut x0, mut x1, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
-    for &(x, y) in c.series.iter().flat_map(|s| s.1.iter()) {
+/// The x range of charts drawn on one x axis; None when they have no points.
+fn x_range(charts: &[Chart]) -> Option<(f64, f64)> {
+    let (mut x0, mut x1) = (f64::INFINITY, f64::NEG_INFINITY);
+    for &(x, _) in charts.iter().flat_map(|c| &c.series).flat_map(|s| s.1.iter()) {
         x0 = x0.min(x);
         x1 = x1.max(x);
-        y1 = y1.max(y);
     }
     if !x0.is_finite() {
         return None;
     }
-    if x1 <= x0 {
-        x1 = x0 + 1.0;
+    Some((x0, if x1 <= x0 { x0 + 1.0 } else { x1 }))
+}
+
+/// The top of the chart's y axis: the labelled tick above its data.
+fn y_top(c: &Chart) -> f64 {
+    let y1 = c.series.iter().flat_map(|s| s.1.iter()).fold(0.0f64, |top, p| top.max(p.1));
+    if c.linear_y {
+        return if y1 <= 0.0 { 1.0 } else { linear_top_above(y1 * 1.05) };
     }
-    // Errors span orders of magnitude (0.01 % to 50 %): a log axis, with zero drawn at the floor,
-    // up to the labelled tick above the data.
-    Some((x0, x1, if y1 <= Y_FLOOR { 1.0 } else { labelled_tick_above(y1 * 1.2) }))
+    // Errors span orders of magnitude (0.01 % to 50 %): a log axis, with zero drawn at the floor.
+    if y1 <= Y_FLOOR { 1.0 } else { labelled_tick_above(y1 * 1.2) }
 }
 
 /// Eight colours told apart also by colour-blind readers (Okabe & Ito, "Color Universal
@@ -359,6 +370,18 @@ fn labelled_tick_above(y: f64) -> f64 {
     [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * decade).find(|&t| t >= y).unwrap_or(10.0 * decade)
 }
 
+/// The least round number (1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6 or 8 times a power of ten) that is at
+/// least `y` (> 0): the top of a linear axis, finer than the log axis' steps so that the data fill
+/// the panel.
+fn linear_top_above(y: f64) -> f64 {
+    let decade = 10f64.powf(y.log10().floor());
+    [1.0, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0]
+        .iter()
+        .map(|m| m * decade)
+        .find(|&t| t >= y)
+        .unwrap_or(10.0 * decade)
+}
+
 /// The Pareto front as a step line: from each non-dominated point across at its error to the
 /// next one's cost, then down to it.
 pub fn pareto_steps(front: &[(f64, f64)]) -> Vec<(f64, f64)> {
@@ -371,6 +394,9 @@ pub fn pareto_steps(front: &[(f64, f64)]) -> Vec<(f64, f64)> {
     }
     out
 }
+
+/// Most markers drawn on one series.
+const MAX_MARKERS: usize = 60;
 
 /// Width of the legend column right of the plot, in pixels.
 const LEGEND_WIDTH: u32 = 330;
@@ -403,18 +429,72 @@ pub fn panels(c: &Chart) -> Vec<Chart> {
         .collect()
 }
 
-fn draw<DB: DrawingBackend>(root: DrawingArea<DB, plotters::coord::Shift>, c: &Chart) -> Result<(), String>
+/// The rows of charts drawn one above the other: each chart's panels, on its own y axis.
+fn rows(charts: &[Chart]) -> Vec<(Chart, f64)> {
+    charts.iter().flat_map(|c| panels(c).into_iter().map(move |p| (p, y_top(c)))).collect()
+}
+
+/// Charts one above the other (usually one), each as its panels, all on the same x axis.
+fn draw<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    charts: &[Chart],
+) -> Result<(), String>
 where
     DB::ErrorType: 'static,
 {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     root.fill(&WHITE).map_err(err)?;
-    let Some(range) = data_range(c) else { return Ok(()) };
-    let panels = panels(c);
-    for (area, panel) in root.split_evenly((panels.len(), 1)).into_iter().zip(&panels) {
-        draw_panel(area, panel, range)?;
+    let Some((x0, x1)) = x_range(charts) else { return Ok(()) };
+    let rows = rows(charts);
+    for (area, (panel, y1)) in root.split_evenly((rows.len(), 1)).into_iter().zip(&rows) {
+        draw_panel(area, panel, (x0, x1, *y1))?;
     }
     root.present().map_err(err)
+}
+
+/// Draws a panel's grid, series, Pareto front and marks on `$chart` (a chart context over any
+/// of the four pairs of linear and log axes, which are different types): `$c` the panel,
+/// `$band_y` the y extent of its marked band, `$x_tick`/`$y_tick` its tick labels.
+macro_rules! panel_body {
+    ($chart:expr, $c:expr, $band_y:expr, $x_tick:expr, $y_tick:expr, $err:expr) => {{
+        let (c, err, (band_bottom, band_top)) = ($c, $err, $band_y);
+        let mut chart = $chart;
+        chart
+            .configure_mesh()
+            // No light lines: on a log axis they crowd into grey bands.
+            .max_light_lines(0)
+            .x_label_formatter(&|x: &f64| $x_tick(*x))
+            .y_label_formatter(&|y: &f64| $y_tick(*y))
+            .x_desc(c.x_label.as_str())
+            .y_desc(c.y_label.as_str())
+            .label_style(("sans-serif", 13))
+            .draw()
+            .map_err(err)?;
+        if let Some(Some(m)) = c.marks.first() {
+            let band = [(m.band.0, band_bottom), (m.band.1, band_top)];
+            chart
+                .draw_series(std::iter::once(Rectangle::new(band, COLOURS[2].mix(0.15).filled())))
+                .map_err(err)?;
+        }
+        for (i, (_, points)) in c.series.iter().enumerate() {
+            let (colour, shape) = series_style(i);
+            if !c.points_only {
+                chart
+                    .draw_series(LineSeries::new(points.iter().copied(), colour.stroke_width(2)))
+                    .map_err(err)?;
+            }
+            draw_markers(&mut chart, points, shape, colour).map_err(err)?;
+        }
+        if let Some(front) = &c.pareto {
+            chart.draw_series(LineSeries::new(pareto_steps(front), BLACK.stroke_width(2))).map_err(err)?;
+            chart
+                .draw_series(front.iter().map(|&p| Circle::new(p, 7, BLACK.stroke_width(2))))
+                .map_err(err)?;
+        }
+        if let Some(Some(m)) = c.marks.first() {
+            chart.draw_series(std::iter::once(Cross::new(m.point, 9, RED.stroke_width(3)))).map_err(err)?;
+        }
+    }};
 }
 
 /// One panel of a chart, on the axes of `range` (the whole chart's).
@@ -430,61 +510,43 @@ where
     let (plot_area, legend_area) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH);
     let mut builder = ChartBuilder::on(&plot_area);
     builder.caption(&c.title, ("sans-serif", 18)).margin(12).x_label_area_size(40).y_label_area_size(56);
-    macro_rules! body {
-        ($chart:expr, $x_format:expr) => {{
-            let mut chart = $chart;
-            chart
-                .configure_mesh()
-                // No light lines: on a log axis they crowd into grey bands.
-                .max_light_lines(0)
-                .x_label_formatter(&$x_format)
-                .y_label_formatter(&|y| log_tick(*y))
-                .x_desc(c.x_label.as_str())
-                .y_desc(c.y_label.as_str())
-                .label_style(("sans-serif", 13))
-                .draw()
-                .map_err(err)?;
-            if let Some(Some(m)) = c.marks.first() {
-                let band = [(m.band.0, Y_FLOOR * 0.7), (m.band.1, y1)];
-                chart
-                    .draw_series(std::iter::once(Rectangle::new(band, COLOURS[2].mix(0.15).filled())))
-                    .map_err(err)?;
-            }
-            for (i, (_, points)) in c.series.iter().enumerate() {
-                let (colour, shape) = series_style(i);
-                if !c.points_only {
-                    chart
-                        .draw_series(LineSeries::new(points.iter().copied(), colour.stroke_width(2)))
-                        .map_err(err)?;
-                }
-                draw_markers(&mut chart, points, shape, colour).map_err(err)?;
-            }
-            if let Some(front) = &c.pareto {
-                chart
-                    .draw_series(LineSeries::new(pareto_steps(front), BLACK.stroke_width(2)))
-                    .map_err(err)?;
-                chart
-                    .draw_series(front.iter().map(|&p| Circle::new(p, 7, BLACK.stroke_width(2))))
-                    .map_err(err)?;
-            }
-            if let Some(Some(m)) = c.marks.first() {
-                chart
-                    .draw_series(std::iter::once(Cross::new(m.point, 9, RED.stroke_width(3))))
-                    .map_err(err)?;
-            }
-        }};
-    }
-    let y_range = (Y_FLOOR * 0.7..y1).log_scale();
-    if c.log_x {
-        body!(
-            builder.build_cartesian_2d((x0 * 0.9..x1 * 1.1).log_scale(), y_range).map_err(err)?,
-            |x: &f64| log_tick(*x)
-        );
-    } else {
-        let pad = (x1 - x0) * 0.05;
-        body!(builder.build_cartesian_2d((x0 - pad).max(0.0)..x1 + pad, y_range).map_err(err)?, |x: &f64| {
-            compact(*x)
-        });
+    let y0 = if c.linear_y { 0.0 } else { Y_FLOOR * 0.7 };
+    let pad = (x1 - x0) * 0.05;
+    let (log_x, linear_x) = (x0 * 0.9..x1 * 1.1, (x0 - pad).max(0.0)..x1 + pad);
+    let x_tick = |x: f64| if c.integer_x && x.fract() != 0.0 { String::new() } else { compact(x) };
+    match (c.log_x, c.linear_y) {
+        (true, false) => panel_body!(
+            builder.build_cartesian_2d(log_x.log_scale(), (y0..y1).log_scale()).map_err(err)?,
+            c,
+            (y0, y1),
+            log_tick,
+            log_tick,
+            err
+        ),
+        (true, true) => panel_body!(
+            builder.build_cartesian_2d(log_x.log_scale(), y0..y1).map_err(err)?,
+            c,
+            (y0, y1),
+            log_tick,
+            compact,
+            err
+        ),
+        (false, false) => panel_body!(
+            builder.build_cartesian_2d(linear_x, (y0..y1).log_scale()).map_err(err)?,
+            c,
+            (y0, y1),
+            x_tick,
+            log_tick,
+            err
+        ),
+        (false, true) => panel_body!(
+            builder.build_cartesian_2d(linear_x, y0..y1).map_err(err)?,
+            c,
+            (y0, y1),
+            x_tick,
+            compact,
+            err
+        ),
     }
     draw_legend(&legend_area, c).map_err(err)
 }
@@ -497,7 +559,9 @@ fn draw_markers<DB: DrawingBackend, CT: CoordTranslate<From = (f64, f64)>>(
     colour: RGBColor,
 ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
     let r = 4;
-    let at = points.iter().copied();
+    // Markers on a long series (the frames of a path) would hide its line: at most
+    // `MAX_MARKERS` of them, evenly spaced.
+    let at = points.iter().copied().step_by(points.len().div_ceil(MAX_MARKERS).max(1));
     match shape {
         MarkerShape::Circle => {
             chart.draw_series(at.map(|p| EmptyElement::at(p) + Circle::new((0, 0), r, colour.filled())))?;
@@ -560,31 +624,44 @@ const WIDTH: u32 = 1180;
 const HEIGHT: u32 = 560;
 const PANEL_HEIGHT: u32 = 440;
 
+#[cfg(test)]
 /// The chart as SVG text.
 pub fn chart_svg(chart: &Chart) -> std::io::Result<String> {
+    stacked_svg(std::slice::from_ref(chart))
+}
+
+/// Charts one above the other on one x axis (each with its own y axis, and as small multiples
+/// when it has many series), as SVG text.
+pub fn stacked_svg(charts: &[Chart]) -> std::io::Result<String> {
     register_font();
     let mut svg = String::new();
-    draw(SVGBackend::with_string(&mut svg, (WIDTH, chart_height(chart))).into_drawing_area(), chart)
+    draw(SVGBackend::with_string(&mut svg, (WIDTH, charts_height(charts))).into_drawing_area(), charts)
         .map_err(std::io::Error::other)?;
     Ok(svg)
 }
 
-/// Pixels tall: one panel, or a shorter one per panel of small multiples.
-fn chart_height(chart: &Chart) -> u32 {
-    match panels(chart).len() {
-        1 => HEIGHT,
+/// Pixels tall: one panel, or a shorter one per panel of small multiples or stacked charts.
+fn charts_height(charts: &[Chart]) -> u32 {
+    match charts.iter().map(|c| panels(c).len()).sum::<usize>() {
+        0 | 1 => HEIGHT,
         n => n as u32 * PANEL_HEIGHT,
     }
 }
 
 /// Draws `chart` as `dir/<stem>.svg` and `dir/<stem>.png`.
 pub fn write_chart(dir: &Path, chart: &Chart) -> std::io::Result<()> {
-    write_atomic(&dir.join(format!("{}.svg", chart.stem)), chart_svg(chart)?.as_bytes())?;
-    let height = chart_height(chart);
+    write_stacked(dir, &chart.stem, std::slice::from_ref(chart))
+}
+
+/// Draws `charts` one above the other (see [`stacked_svg`]) as `dir/<stem>.svg` and
+/// `dir/<stem>.png`.
+pub fn write_stacked(dir: &Path, stem: &str, charts: &[Chart]) -> std::io::Result<()> {
+    write_atomic(&dir.join(format!("{stem}.svg")), stacked_svg(charts)?.as_bytes())?;
+    let height = charts_height(charts);
     let mut rgb = vec![255u8; (WIDTH * height * 3) as usize];
-    draw(BitMapBackend::with_buffer(&mut rgb, (WIDTH, height)).into_drawing_area(), chart)
+    draw(BitMapBackend::with_buffer(&mut rgb, (WIDTH, height)).into_drawing_area(), charts)
         .map_err(std::io::Error::other)?;
-    write_atomic(&dir.join(format!("{}.png", chart.stem)), &encode_rgb_png(WIDTH, height, &rgb)?)
+    write_atomic(&dir.join(format!("{stem}.png")), &encode_rgb_png(WIDTH, height, &rgb)?)
 }
 
 /// `plots/`: every chart of the report, each as SVG and PNG.
@@ -684,5 +761,7 @@ mod tests {
         assert_eq!(labelled, [1e-4, 2e-4, 5e-4, 1e-3, 0.02, 50.0]);
         assert_eq!(labelled_tick_above(0.07), 0.1);
         assert_eq!(labelled_tick_above(3.0), 5.0);
+        assert_eq!(linear_top_above(210.0), 250.0);
+        assert_eq!(linear_top_above(7.0), 8.0);
     }
 }

@@ -1,14 +1,15 @@
 //! What `tune` builds once and what each evaluation shades: per view (scene, camera, light) the
-//! G-buffer and the references; per resolution the light view and the shading order; per
+//! G-buffer and the references; per resolution the light view or the light's cascades and the
+//! shading order (`plan`'s `MapSetup`); per
 //! layer needs the depth layers, kept while the tuned setting does not change them. An
 //! evaluation of a setting on one scene is then one shading pass and one scoring per view and
 //! resolution.
 
 use crate::metrics::{Counts, add_false_counts};
-use crate::plan::{BinnedView, Plan, PlanError, ViewReferences, build_layers_timed, load_selected};
+use crate::plan::{BinnedView, MapSetup, Plan, PlanError, ViewReferences, build_layers_timed, load_selected};
 use crate::raster::{DepthFormat, LightView};
 use crate::scene::Scene;
-use crate::technique::{BuiltLayers, LayerNeeds, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated};
+use crate::technique::{BuiltLayers, LayerNeeds, TechniqueSpec};
 use crate::trace::{GBuffer, ReferenceCache, SceneBvh};
 use glam::Vec3;
 
@@ -35,11 +36,11 @@ struct View {
     maps: Vec<Map>,
 }
 
-/// One shadow-map resolution of a view.
+/// One shadow-map resolution of a view: its map or cascades, and the layers kept for them (one
+/// per map of the set-up).
 struct Map {
-    view: LightView,
-    order: ShadeOrder,
-    layers: Vec<(LayerNeeds, BuiltLayers)>,
+    setup: MapSetup,
+    layers: Vec<(LayerNeeds, Vec<BuiltLayers>)>,
 }
 
 impl TuneViews {
@@ -67,11 +68,11 @@ impl TuneViews {
                     .resolutions
                     .iter()
                     .map(|&resolution| {
-                        let view = LightView::new(light, bounds, resolution);
-                        let order = ShadeOrder::new(&gbuffer, &view);
-                        Map { view, order, layers: Vec::new() }
+                        let setup =
+                            MapSetup::new(plan, (&gbuffer, camera, camera), light, bounds, resolution)?;
+                        Ok(Map { setup, layers: Vec::new() })
                     })
-                    .collect();
+                    .collect::<Result<_, PlanError>>()?;
                 views.push(View { gbuffer, references, maps });
             }
             scenes.push(SceneViews { name: scene.name.clone(), scene, bounds, views });
@@ -89,9 +90,9 @@ impl TuneViews {
         for view in &mut s.views {
             let (reference, _, _) = view.references.for_kind(spec.reference_kind());
             for map in &mut view.maps {
-                let layers = layers_for(&s.scene, &map.view, &mut map.layers, format, &needs);
-                let ctx = ShadeContext::with_bounds(&s.scene, &map.view, layers.as_layers(), s.bounds);
-                let visibility = shade_evaluated(technique.as_ref(), &map.order, &ctx);
+                let setting = map.setup.setting(format, s.bounds);
+                let layers = layers_for(&s.scene, &setting.views(), &mut map.layers, format, &needs);
+                let visibility = setting.shade(technique.as_ref(), &setting.contexts(&s.scene, layers));
                 total.evaluated += view.gbuffer.evaluated.len() as u64;
                 add_false_counts(&mut total, &view.gbuffer, reference, &visibility);
             }
@@ -100,18 +101,20 @@ impl TuneViews {
     }
 }
 
-/// The map's layers for `needs`: kept from an earlier evaluation, or rasterized now.
+/// The layers for `needs` of each of `views`: kept from an earlier evaluation, or rasterized now.
 fn layers_for<'m>(
     scene: &Scene,
-    view: &LightView,
-    kept: &'m mut Vec<(LayerNeeds, BuiltLayers)>,
+    views: &[&LightView],
+    kept: &'m mut Vec<(LayerNeeds, Vec<BuiltLayers>)>,
     format: DepthFormat,
     needs: &LayerNeeds,
-) -> &'m BuiltLayers {
+) -> &'m [BuiltLayers] {
     match kept.iter().position(|(n, _)| n == needs) {
         Some(i) => &kept[i].1,
         None => {
-            let built = build_layers_timed(&BinnedView::new(scene, view), format, needs, 1).0;
+            let build =
+                |view: &&LightView| build_layers_timed(&BinnedView::new(scene, view), format, needs, 1).0;
+            let built = views.iter().map(build).collect();
             if kept.len() == KEPT_LAYER_SETS {
                 kept.remove(0);
             }

@@ -23,12 +23,17 @@ pub struct Measured {
 }
 
 /// The value of `metric` for `run`, or `None` if the run does not carry it. Hard rates come from
-/// the counts; soft metrics from the run's `soft` (or `rates`) object when the report has one.
+/// the counts; the metrics of a run over a path from its `temporal` record (`Metric::temporal`
+/// maps their names); soft metrics from the run's `soft` (or `rates`) object when the report has
+/// one.
 pub fn measure(run: &RunRecord, metric: Metric) -> Option<Measured> {
     let evaluated = run.counts.evaluated;
     if let Some(count) = metric.count(run) {
         let value = if evaluated == 0 { 0.0 } else { count as f64 / evaluated as f64 };
         return Some(Measured { value, count: Some(count), evaluated });
+    }
+    if let Some(value) = metric.temporal(run) {
+        return value.map(|value| Measured { value, count: None, evaluated });
     }
     let json = serde_json::to_value(run).ok()?;
     let name = metric.name();
@@ -407,6 +412,36 @@ mod tests {
             e.contains("rules.toml: rule[0]") && e.contains("1 of 1 matched runs have no mae value"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn temporal_metrics_are_read_from_the_path_and_a_run_without_one_is_bad_input() {
+        let mut over_path = run("path", 100, 1, 0);
+        over_path.temporal = Some(crate::record::TemporalRecord {
+            frames: 3,
+            moving: "light".into(),
+            frame_errors: vec![0.0, 0.03, 0.0],
+            frame_flicker: vec![0, 4, 2],
+            mean_error: 0.01,
+            worst_frame: 1,
+            worst_frame_error: 0.03,
+            flicker_rate: 0.03,
+            flicker_pixels: 6,
+            compared_pixels: 200,
+        });
+        let now = report(vec![over_path, run("still", 100, 1, 0)]);
+        let on_path = |metric: &str, max: f64| {
+            let text = format!("[[rule]]\nscene = \"path\"\nmetric = \"{metric}\"\nmax = {max}\n");
+            gate(&now, None, &text).unwrap()
+        };
+        assert!(on_path("flicker_rate", 0.03).passed(), "the bound is inclusive");
+        let out = on_path("flicker_rate", 0.029);
+        assert!(!out.passed());
+        assert_eq!(out.checks[0].measured, Measured { value: 0.03, count: None, evaluated: 100 });
+        assert!(on_path("worst_frame_error", 0.03).passed() && !on_path("worst_frame_error", 0.02).passed());
+        assert!(on_path("mean_frame_error", 0.01).passed() && !on_path("mean_frame_error", 0.009).passed());
+        let e = gate(&now, None, "[[rule]]\nmetric = \"flicker_rate\"\nmax = 1\n").unwrap_err().to_string();
+        assert!(e.contains("1 of 2 matched runs have no flicker_rate value") && e.contains("runs[1]"), "{e}");
     }
 
     #[test]

@@ -121,6 +121,19 @@ fn run_problems(run: &RunRecord) -> Vec<String> {
             }
         }
     }
+    if let Some(t) = &run.temporal {
+        // The rates the gate bounds (`rules.rs`), so that NaN or a count mistaken for a rate
+        // cannot pass a rule.
+        for (field, v) in [
+            ("mean_error", t.mean_error),
+            ("worst_frame_error", t.worst_frame_error),
+            ("flicker_rate", t.flicker_rate),
+        ] {
+            if !(0.0..=1.0).contains(&v) {
+                problems.push(format!(".temporal.{field}: {v} is not a number in [0, 1]"));
+            }
+        }
+    }
     problems
 }
 

@@ -3,13 +3,17 @@
 
 use super::GateError;
 use super::render::fmt_value;
+use crate::record::TemporalRecord;
 use crate::report::RunRecord;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::path::Path;
 
 /// The metrics a rule may bound. The first three are rates of the evaluated pixels computed from
-/// the run's counts; the soft metrics are read from the run when its report carries them.
+/// the run's counts; the soft metrics (`mae`, `false_shadow_mass`, `false_lit_mass`) and the
+/// metrics of a run over a path (`flicker_rate`, `worst_frame_error`, `mean_frame_error`: its
+/// `temporal.flicker_rate`, `temporal.worst_frame_error` and `temporal.mean_error`) are read
+/// from the run when its report carries them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Metric {
@@ -19,16 +23,22 @@ pub enum Metric {
     Mae,
     FalseShadowMass,
     FalseLitMass,
+    FlickerRate,
+    WorstFrameError,
+    MeanFrameError,
 }
 
 impl Metric {
-    pub const ALL: [Metric; 6] = [
+    pub const ALL: [Metric; 9] = [
         Metric::FalseShadow,
         Metric::FalseLit,
         Metric::Error,
         Metric::Mae,
         Metric::FalseShadowMass,
         Metric::FalseLitMass,
+        Metric::FlickerRate,
+        Metric::WorstFrameError,
+        Metric::MeanFrameError,
     ];
 
     pub fn name(self) -> &'static str {
@@ -39,10 +49,25 @@ impl Metric {
             Metric::Mae => "mae",
             Metric::FalseShadowMass => "false_shadow_mass",
             Metric::FalseLitMass => "false_lit_mass",
+            Metric::FlickerRate => "flicker_rate",
+            Metric::WorstFrameError => "worst_frame_error",
+            Metric::MeanFrameError => "mean_frame_error",
         }
     }
 
-    /// The pixel count behind a hard rate (`None` for the soft metrics).
+    /// A metric of a run over a path, read from its `temporal` record (`None` for the others,
+    /// and for a run without one).
+    pub(super) fn temporal(self, run: &RunRecord) -> Option<Option<f64>> {
+        let field: fn(&TemporalRecord) -> f64 = match self {
+            Metric::FlickerRate => |t| t.flicker_rate,
+            Metric::WorstFrameError => |t| t.worst_frame_error,
+            Metric::MeanFrameError => |t| t.mean_error,
+            _ => return None,
+        };
+        Some(run.temporal.as_ref().map(field))
+    }
+
+    /// The pixel count behind a hard rate (`None` for the soft and path metrics).
     pub(super) fn count(self, run: &RunRecord) -> Option<u64> {
         let c = &run.counts;
         match self {
