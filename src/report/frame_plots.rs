@@ -112,6 +112,7 @@ mod tests {
     use crate::metrics::Counts;
     use crate::record::TemporalRecord;
     use crate::report::outputs::Export;
+    use crate::report::plots::tests::line_colours;
 
     fn run(label: &str, resolution: u32, frames: usize) -> RunRecord {
         let counts = Counts { pixels: 100, evaluated: 100, ..Counts::default() };
@@ -130,15 +131,6 @@ mod tests {
             compared_pixels: 100,
         });
         r
-    }
-
-    /// The stroke colours of the series lines (width 2) in an SVG, each once per line drawn.
-    fn line_colours(svg: &str) -> Vec<String> {
-        let doc = roxmltree::Document::parse(svg).expect("plotters writes valid SVG");
-        doc.descendants()
-            .filter(|n| n.has_tag_name("polyline") && n.attribute("stroke-width") == Some("2"))
-            .filter_map(|n| n.attribute("stroke").map(str::to_string))
-            .collect()
     }
 
     #[test]

@@ -677,7 +677,7 @@ impl super::outputs::Export for PlotsExport {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     fn chart(series: usize) -> Chart {
@@ -694,8 +694,8 @@ mod tests {
         }
     }
 
-    /// The stroke colours of the series lines (width 2) in an SVG.
-    fn line_colours(svg: &str) -> Vec<String> {
+    /// The stroke colours of the series lines (width 2) in an SVG, each once per line drawn.
+    pub(crate) fn line_colours(svg: &str) -> Vec<String> {
         let doc = roxmltree::Document::parse(svg).expect("plotters writes valid SVG");
         doc.descendants()
             .filter(|n| n.has_tag_name("polyline") && n.attribute("stroke-width") == Some("2"))
