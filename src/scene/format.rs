@@ -248,17 +248,17 @@ fn read_camera(r: &mut Reader) -> Option<Camera> {
         r.problem("", format!("image {w}×{h} has more than 64 megapixels"));
         valid = false;
     }
-    if let (Some(position), Some(look_at), Some(up)) = (position, look_at, up) {
-        let forward = look_at.as_dvec3() - position.as_dvec3();
-        let up = up.as_dvec3();
-        if forward == DVec3::ZERO {
-            r.problem("look_at", "equals `position`: the camera has no viewing direction");
-            valid = false;
-        } else if !is_unit_safe(up) || forward.normalize().cross(up.normalize()).length() < 1e-6 {
-            let message = "is zero or parallel to the viewing direction (look_at − position)";
-            r.problem("up", message);
-            valid = false;
+    match (&path, position, look_at, up) {
+        // Every key of a path must give the camera a frame.
+        (Some(Some(path)), _, _, Some(up)) => {
+            for (i, (p, l)) in path.position.values.iter().zip(&path.look_at.values).enumerate() {
+                valid &= camera_frame_problem(r, Some(i), *p, *l, up.as_dvec3());
+            }
         }
+        (None, Some(position), Some(look_at), Some(up)) => {
+            valid &= camera_frame_problem(r, None, position.as_dvec3(), look_at.as_dvec3(), up.as_dvec3());
+        }
+        _ => {}
     }
     let camera = Camera {
         name: name?,
@@ -343,6 +343,29 @@ fn read_light(r: &mut Reader) -> Option<Light> {
         None => None,
     };
     Some(light)
+}
+
+/// Whether `position`, `look_at` and `up` give a camera frame; if not, the problem is reported
+/// at the field at fault (`look_at` of path key `key`, when the values are a key's).
+fn camera_frame_problem(
+    r: &mut Reader,
+    key: Option<usize>,
+    position: DVec3,
+    look_at: DVec3,
+    up: DVec3,
+) -> bool {
+    let forward = look_at - position;
+    let of_key = key.map_or_else(String::new, |i| format!(" (path key {i})"));
+    if forward == DVec3::ZERO {
+        let field = key.map_or_else(|| "look_at".to_string(), |i| format!("path.keys[{i}].look_at"));
+        r.problem(&field, "equals `position`: the camera has no viewing direction");
+        return false;
+    }
+    if !is_unit_safe(up) || forward.normalize().cross(up.normalize()).length() < 1e-6 {
+        r.problem("up", format!("is zero or parallel to the viewing direction (look_at − position){of_key}"));
+        return false;
+    }
+    true
 }
 
 /// Fields a path's first key gives, reported where they are given too (and then not read).
