@@ -59,17 +59,31 @@ impl Counts {
 impl Counts {
     /// Adds every count of `other` (the frames of a path).
     pub fn add(&mut self, other: &Counts) {
-        self.pixels += other.pixels;
-        self.background += other.background;
-        self.facing_away += other.facing_away;
-        self.outside_light += other.outside_light;
-        self.evaluated += other.evaluated;
-        self.false_shadow += other.false_shadow;
-        self.false_lit += other.false_lit;
-        self.aliasing += other.aliasing;
-        self.acne += other.acne;
-        self.leak += other.leak;
-        self.surface_mismatch += other.surface_mismatch;
+        // Destructured so that a new field cannot be left out.
+        let Counts {
+            pixels,
+            background,
+            facing_away,
+            outside_light,
+            evaluated,
+            false_shadow,
+            false_lit,
+            aliasing,
+            acne,
+            leak,
+            surface_mismatch,
+        } = *other;
+        self.pixels += pixels;
+        self.background += background;
+        self.facing_away += facing_away;
+        self.outside_light += outside_light;
+        self.evaluated += evaluated;
+        self.false_shadow += false_shadow;
+        self.false_lit += false_lit;
+        self.aliasing += aliasing;
+        self.acne += acne;
+        self.leak += leak;
+        self.surface_mismatch += surface_mismatch;
     }
 
     /// The pixels the rates are over: evaluated, less the surface mismatches.

@@ -57,8 +57,12 @@ impl CascadedMap {
         let mut counts = vec![CascadeCounts::default(); count + 1];
         for (k, (&i, &v)) in gbuffer.evaluated.iter().zip(visibility).enumerate() {
             let c = &mut counts[self.orders.cascade_of(k).unwrap_or(count)];
-            let (false_shadow, false_lit) = falseness(reference.lit[i as usize] != 0, v);
             c.evaluated += 1;
+            // A surface mismatch (an imported buffer's NaN) is scored neither way, as in `counts`.
+            if v.is_nan() {
+                continue;
+            }
+            let (false_shadow, false_lit) = falseness(reference.lit[i as usize] != 0, v);
             c.false_shadow += false_shadow as u64;
             c.false_lit += false_lit as u64;
         }

@@ -265,8 +265,10 @@ impl Schedule<'_, '_, '_> {
                 None => std::mem::take(&mut track.before),
                 Some((setting, points, index)) => {
                     let layers = &before.frame.layers[index].layers;
-                    let spec = &self.plan.techniques[ti];
-                    technique_decisions(points, &self.shade(spec, traced.scene, &setting, layers).0)
+                    // Shaded once: the earlier frame's maps are read for the comparison, not timed.
+                    let technique = self.plan.techniques[ti].build().expect("a shaded technique");
+                    let contexts = setting.contexts(traced.scene, layers);
+                    technique_decisions(points, &setting.shade(technique.as_ref(), &contexts))
                 }
             };
             let earlier = FrameDecisions { technique: &technique_before, reference: &before.reference };

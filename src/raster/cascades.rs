@@ -179,12 +179,18 @@ impl FrustumSlices {
         let radius = ((z - a).powi(2) + a * a * k2).max((b - z).powi(2) + b * b * k2).sqrt();
         let centre = frame.light_from_world.transform_point3(self.position + self.basis.2 * z);
         let (mut cx, mut cy) = (centre.x, centre.y);
-        if stabilize {
-            let texel = 2.0 * radius / resolution as f64;
-            cx = (cx / texel).floor() * texel;
-            cy = (cy / texel).floor() * texel;
+        if !stabilize {
+            return ((cx - radius, cx + radius), (cy - radius, cy + radius));
         }
-        ((cx - radius, cx + radius), (cy - radius, cy + radius))
+        // Snapping moves the centre by up to a texel: the box is wider than the sphere by one
+        // texel on each side (half = r + texel with texel = 2·half/N), so it still holds the
+        // whole slice, and its size stays independent of the camera.
+        let n = resolution.max(3) as f64;
+        let half = radius * n / (n - 2.0);
+        let texel = 2.0 * half / n;
+        cx = (cx / texel).floor() * texel;
+        cy = (cy / texel).floor() * texel;
+        ((cx - half, cx + half), (cy - half, cy + half))
     }
 
     /// The light-space x and y ranges of the slice's eight corners, clipped to the scene's box;
