@@ -21,6 +21,7 @@ use crate::record::{RunRecord, TemporalRecord};
 use crate::scene::{Camera, Light, Scene, frame_times, union_span};
 use crate::technique::BuiltLayers;
 use crate::trace::{GBuffer, SceneBvh, trace_hard_reference};
+use glam::Vec3;
 use std::sync::Arc;
 
 /// One run along the path, as its frames come.
@@ -104,6 +105,8 @@ impl Schedule<'_, '_, '_> {
         let key = crate::scene::ViewKey::from_view(scene, camera, light);
         let maps = self.maps_left(key);
         let first_camera = camera.at_time(times[0]);
+        // Every triangle walked once per view, not per frame or map.
+        let bounds = scene.bounds();
         let runs = maps.len() * self.plan.techniques.len();
         let pixels = camera.pixel_count();
         let mut tracks: Vec<RunTrack> = (0..runs).map(|_| RunTrack::new(pixels, times.len())).collect();
@@ -123,7 +126,7 @@ impl Schedule<'_, '_, '_> {
                 TracedView { scene, camera: &cam, light: &lit, gbuffer: &gbuffer, references: &references };
             let reference = reference_decisions(&gbuffer, &references.hard);
             let before = previous.as_ref().map(|p| before_frame(scene, bvh, p, (&cam, &lit), &reference));
-            let frame = (f, times.len(), &first_camera);
+            let frame = (f, times.len(), &first_camera, bounds);
             let layers = self.frame_maps(&traced, frame, &maps, before.as_ref(), &reference, &mut tracks)?;
             drop(before);
             if f + 1 == times.len() {
@@ -184,26 +187,32 @@ impl Schedule<'_, '_, '_> {
     fn frame_maps(
         &mut self,
         traced: &TracedView,
-        (frame, frames, first_camera): (usize, usize, &Camera),
+        (frame, frames, first_camera, bounds): (usize, usize, &Camera, (Vec3, Vec3)),
         maps: &[(u32, DepthFormat)],
         before: Option<&Before>,
         reference: &[u8],
         tracks: &mut [RunTrack],
     ) -> Result<Vec<KeptLayers>, PlanError> {
-        let (scene, bounds) = (traced.scene, traced.scene.bounds());
+        let scene = traced.scene;
         let mut kept = Vec::new();
+        // Built once per resolution (maps come resolution by resolution), shared by its formats.
+        let mut setups: Option<(u32, MapSetup, Option<EarlierSetup>)> = None;
         for (m, &(resolution, format)) in maps.iter().enumerate() {
-            let cameras = (traced.gbuffer, traced.camera, first_camera);
-            let setup = MapSetup::new(self.plan, cameras, traced.light, bounds, resolution)?;
-            let earlier = before
-                .map(|b| earlier_setup(self.plan, b, traced, first_camera, resolution))
-                .transpose()?
-                .flatten();
+            if setups.as_ref().is_none_or(|(r, _, _)| *r != resolution) {
+                let cameras = (traced.gbuffer, traced.camera, first_camera);
+                let setup = MapSetup::new(self.plan, cameras, traced.light, bounds, resolution)?;
+                let earlier = before
+                    .map(|b| earlier_setup(self.plan, b, traced, (first_camera, bounds), resolution))
+                    .transpose()?
+                    .flatten();
+                setups = Some((resolution, setup, earlier));
+            }
+            let (_, setup, earlier) = setups.as_ref().expect("set up above");
             let setting = setup.setting(format, bounds);
+            let views = setup.views();
             let mut binned: Vec<BinnedView> = Vec::new();
             for gi in 0..self.groups.len() {
                 let index = m * self.groups.len() + gi;
-                let views = setup.views();
                 let reused = before.and_then(|b| b.frame.layers.get(index)).filter(|k| k.views == views);
                 let (layers, prepare_ms) = match reused {
                     Some(k) => (k.layers.clone(), 0.0),
@@ -220,7 +229,7 @@ impl Schedule<'_, '_, '_> {
                     let earlier = earlier.as_ref().map(|(s, g)| (s.setting(format, bounds), *g, index));
                     self.flicker(traced, before, earlier, (ti, &visibility), reference, track);
                 }
-                kept.push(KeptLayers { views, layers });
+                kept.push(KeptLayers { views: views.clone(), layers });
             }
         }
         Ok(kept)
@@ -316,22 +325,24 @@ struct RunInFrame<'a> {
     frames: usize,
 }
 
+/// The earlier frame's maps set up over this frame's points, and the G-buffer of those points.
+type EarlierSetup<'b> = (MapSetup, &'b GBuffer);
+
 /// The earlier frame's maps over this frame's points, when the camera moved (None for a still
 /// camera: its pixels were shaded in that frame): the set-up and the G-buffer shaded.
 fn earlier_setup<'b>(
     plan: &super::Plan,
     before: &'b Before,
     traced: &'b TracedView,
-    first_camera: &Camera,
+    (first_camera, bounds): (&Camera, (Vec3, Vec3)),
     resolution: u32,
-) -> Result<Option<(MapSetup, &'b GBuffer)>, PlanError> {
+) -> Result<Option<EarlierSetup<'b>>, PlanError> {
     let points = match &before.points {
         Points::SamePixels => return Ok(None),
         Points::Here => traced.gbuffer,
         Points::Traced(gbuffer) => gbuffer,
     };
     let frame = before.frame;
-    let bounds = traced.scene.bounds();
     let setup = MapSetup::new(plan, (points, &frame.camera, first_camera), &frame.light, bounds, resolution)?;
     Ok(Some((setup, points)))
 }
