@@ -14,18 +14,18 @@
 
 use super::cwbvh_convert::bvh2_to_cwbvh;
 use super::instances::InstanceLevel;
-use super::node_test;
 pub(super) use super::node_test::NodeRay;
+use super::node_test::{self, NodeHits};
 use super::shadow_ray::ShadowRay;
 use super::watertight::WatertightRay;
+pub(super) use super::wide_bvh::tree_depth;
+use super::wide_bvh::{ChildRef, WideBvh, WideNode};
 use crate::scene::Scene;
 use bytemuck::TransparentWrapper;
-use glam::{UVec2, Vec3, Vec3A, uvec2};
+use glam::{Vec3, Vec3A};
 use obvhs::BvhBuildParams;
 use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
 use obvhs::cwbvh::CwBvh;
-use obvhs::cwbvh::node::CwBvhNode;
-use obvhs::faststack::{FastStack, HeapStack};
 use obvhs::ploc::PlocBuilder;
 use obvhs::{Boundable, aabb::Aabb};
 use rayon::prelude::*;
@@ -33,7 +33,7 @@ use rayon::prelude::*;
 /// The BVH of a scene: its flat triangles in traversal order, and its instanced meshes
 /// behind a second level (src/trace/instances.rs).
 pub struct SceneBvh {
-    pub(super) bvh: CwBvh,
+    pub(super) tree: WideBvh,
     /// Triangles in BVH order: `triangles[i]` is scene triangle `scene_ids[i]`.
     pub(super) triangles: Vec<[Vec3A; 3]>,
     pub(super) scene_ids: Vec<u32>,
@@ -69,26 +69,17 @@ pub struct TraversalScratch {
     pub(super) inner: WalkState,
 }
 
-/// The state of one walk down one tree.
+/// The state of one walk down one tree: its stack of children still to visit, with the
+/// distance at which the ray may enter each.
 pub(super) struct WalkState {
-    stack: HeapStack<UVec2>,
-    current_group: UVec2,
-    primitive_group: UVec2,
-    oct_inv4: u32,
-    primitive_id: u32,
-    hitmask: u32,
+    stack: Vec<(ChildRef, f32)>,
 }
 
 impl WalkState {
+    /// A stack that a walk of a tree `depth` nodes deep never outgrows: each level leaves at
+    /// most seven children behind.
     pub(super) fn new(depth: usize) -> Self {
-        WalkState {
-            stack: HeapStack::new_with_capacity(depth + 2),
-            current_group: UVec2::ZERO,
-            primitive_group: UVec2::ZERO,
-            oct_inv4: 0,
-            primitive_id: 0,
-            hitmask: 0,
-        }
+        WalkState { stack: Vec::with_capacity(7 * depth + 1) }
     }
 }
 
@@ -102,36 +93,29 @@ impl SceneBvh {
     pub fn build_from_triangles(tris: &[[Vec3; 3]]) -> Self {
         if tris.is_empty() {
             return SceneBvh {
-                bvh: CwBvh::default(),
+                tree: WideBvh::default(),
                 triangles: Vec::new(),
                 scene_ids: Vec::new(),
                 depth: 0,
                 instances: None,
             };
         }
-        let bvh = build_cwbvh(BoundedTriangle::wrap_slice(tris));
-        let scene_ids = bvh.primitive_indices.clone();
-        let triangles = scene_ids
+        let cwbvh = build_cwbvh(BoundedTriangle::wrap_slice(tris));
+        let triangles: Vec<[Vec3A; 3]> = cwbvh
+            .primitive_indices
             .par_iter()
             .map(|&i| {
                 let t = &tris[i as usize];
                 [t[0].into(), t[1].into(), t[2].into()]
             })
             .collect();
-        let depth = tree_depth(&bvh);
-        SceneBvh { bvh, triangles, scene_ids, depth, instances: None }
-    }
-
-    /// The obvhs tree, whose primitive order is that of `triangles_in_tree_order`.
-    #[doc(hidden)]
-    pub fn cwbvh(&self) -> &CwBvh {
-        &self.bvh
-    }
-
-    /// The triangles in the tree's primitive order.
-    #[doc(hidden)]
-    pub fn triangles_in_tree_order(&self) -> &[[Vec3A; 3]] {
-        &self.triangles
+        let tree = WideBvh::from_cwbvh(&cwbvh, |i| {
+            let [a, b, c] = triangles[i];
+            (a.min(b).min(c), a.max(b).max(c))
+        });
+        let scene_ids = cwbvh.primitive_indices;
+        let depth = tree_depth(&tree);
+        SceneBvh { tree, triangles, scene_ids, depth, instances: None }
     }
 
     /// Depth of the tree in nodes (root = 1).
@@ -163,7 +147,7 @@ impl SceneBvh {
         let node_ray = NodeRay::new(ray.origin, ray.direction);
         let mut best: Option<Hit> = None;
         let mut best_t = tmax;
-        walk(&self.bvh, &mut scratch.outer, &node_ray, tmin, &mut best_t, 0.0, |i, best_t| {
+        walk(&self.tree, &mut scratch.outer, &node_ray, tmin, &mut best_t, 0.0, |i, best_t| {
             let [v0, v1, v2] = self.triangles[i];
             if let Some(h) = ray.intersect(v0, v1, v2, tmin, *best_t) {
                 let hit = Hit { triangle: self.scene_ids[i], t: h.t, barycentric: h.barycentric };
@@ -192,7 +176,7 @@ impl SceneBvh {
         let ray = WatertightRay::new(origin.into(), direction.into());
         let node_ray = NodeRay::new(ray.origin, ray.direction);
         let mut hit = false;
-        walk(&self.bvh, &mut scratch.outer, &node_ray, tmin, &mut tmax.clone(), 0.0, |i, _| {
+        walk(&self.tree, &mut scratch.outer, &node_ray, tmin, &mut tmax.clone(), 0.0, |i, _| {
             let [v0, v1, v2] = self.triangles[i];
             hit = ray.intersect(v0, v1, v2, tmin, tmax).is_some();
             hit
@@ -214,7 +198,7 @@ impl SceneBvh {
         let ray = WatertightRay::new(shadow.origin.into(), shadow.direction.into());
         let node_ray = NodeRay::new(ray.origin, ray.direction);
         let mut occluder = None;
-        walk(&self.bvh, &mut scratch.outer, &node_ray, 0.0, &mut shadow.tmax.clone(), 0.0, |i, _| {
+        walk(&self.tree, &mut scratch.outer, &node_ray, 0.0, &mut shadow.tmax.clone(), 0.0, |i, _| {
             let id = self.scene_ids[i];
             let [v0, v1, v2] = self.triangles[i];
             if id != shadow.skip_triangle && ray.intersect_beyond_error(v0, v1, v2, shadow.tmax).is_some() {
@@ -231,66 +215,119 @@ impl SceneBvh {
     }
 }
 
-/// obvhs's group traversal with `$test` as the node test: `leaf` for each primitive reached,
-/// until it returns true.
-macro_rules! walk_loop {
-    ($bvh:expr, $state:expr, $ray:expr, $tmin:expr, $tmax:expr, $margin:expr, $leaf:expr, $test:path) => {{
-        let mut node: &CwBvhNode;
-        'walk: {
-            obvhs::traverse!($bvh, node, $state, $test(node, $ray, $tmin, *$tmax, $margin), {
-                if $leaf($state.primitive_id as usize, $tmax) {
-                    break 'walk;
-                }
-            });
-        }
-    }};
-}
-
-/// Walks the nodes of `bvh` that the ray may meet within [tmin, *tmax], their boxes widened by
+/// Walks the nodes of `tree` that the ray may meet within [tmin, *tmax], their boxes widened by
 /// `margin` more, and calls `leaf(i, tmax)` for each primitive `i` (in tree order) of the
-/// leaves it reaches. `leaf` may shrink `*tmax` (closest hits), and ends the walk by
-/// returning true. Where the processor has AVX2 and FMA and the ray moves along every axis,
+/// leaves it reaches, nearer children first. `leaf` may shrink `*tmax` (closest hits), and ends
+/// the walk by returning true. Where the processor has AVX2 and the ray moves along every axis,
 /// the node test takes eight children at once (`node_test.rs`); its answers are the same.
 #[inline(always)]
 pub(super) fn walk(
-    bvh: &CwBvh,
+    tree: &WideBvh,
     state: &mut WalkState,
     ray: &NodeRay,
     tmin: f32,
     tmax: &mut f32,
     margin: f32,
-    mut leaf: impl FnMut(usize, &mut f32) -> bool,
+    leaf: impl FnMut(usize, &mut f32) -> bool,
 ) {
-    state.stack.clear();
-    state.current_group = if bvh.nodes.is_empty() { UVec2::ZERO } else { uvec2(0, 0x8000_0000) };
-    state.primitive_group = UVec2::ZERO;
-    state.oct_inv4 = ray.oct_inv4;
-    state.primitive_id = 0;
-    state.hitmask = 0;
-    #[cfg(target_arch = "x86_64")]
-    if ray.all_axes_move() && node_test::wide_available() {
-        // SAFETY: the processor has AVX2 and FMA (checked at run time).
-        unsafe { walk_wide(bvh, state, ray, tmin, tmax, margin, leaf) };
+    debug_assert!(tmin >= 0.0, "the node test needs tmin ≥ 0");
+    if tree.nodes.is_empty() {
         return;
     }
-    walk_loop!(bvh, state, ray, tmin, tmax, margin, leaf, node_test::intersect_node);
+    #[cfg(target_arch = "x86_64")]
+    if ray.all_axes_move() && node_test::wide_available() {
+        // SAFETY: the processor has AVX2 (checked at run time).
+        unsafe { walk_wide(tree, state, ray, tmin, tmax, margin, leaf) };
+        return;
+    }
+    walk_loop(tree, state, ray, tmin, tmax, margin, leaf, node_test::intersect_node);
 }
 
-/// `walk` with the 8-lane node test, compiled for AVX2 and FMA as a whole so that the test is
-/// inlined into the loop.
+/// `walk` with the 8-lane node test, compiled for AVX2 as a whole so that the test is inlined
+/// into the loop.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-#[inline]
+#[target_feature(enable = "avx2")]
 fn walk_wide(
-    bvh: &CwBvh,
+    tree: &WideBvh,
+    state: &mut WalkState,
+    ray: &NodeRay,
+    tmin: f32,
+    tmax: &mut f32,
+    margin: f32,
+    leaf: impl FnMut(usize, &mut f32) -> bool,
+) {
+    // A closure inside `walk_wide` is compiled with AVX2 too, so it may call the wide test.
+    let test = |node: &WideNode, ray: &NodeRay, tmin, tmax, margin| {
+        node_test::intersect_node_wide(node, ray, tmin, tmax, margin)
+    };
+    walk_loop(tree, state, ray, tmin, tmax, margin, leaf, test);
+}
+
+/// The walk itself, over any form of the node test: a node's children that the ray may meet go
+/// on the stack farthest first, and the nearest is visited next; a stacked child entered beyond
+/// the current `*tmax` is dropped when popped.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn walk_loop(
+    tree: &WideBvh,
     state: &mut WalkState,
     ray: &NodeRay,
     tmin: f32,
     tmax: &mut f32,
     margin: f32,
     mut leaf: impl FnMut(usize, &mut f32) -> bool,
+    test: impl Fn(&WideNode, &NodeRay, f32, f32, f32) -> NodeHits,
 ) {
-    walk_loop!(bvh, state, ray, tmin, tmax, margin, leaf, node_test::intersect_node_wide);
+    let stack = &mut state.stack;
+    stack.clear();
+    let mut current = ChildRef::ROOT;
+    loop {
+        if current.is_leaf() {
+            for i in current.primitives() {
+                if leaf(i, tmax) {
+                    return;
+                }
+            }
+        } else {
+            let hits = test(&tree.nodes[current.index()], ray, tmin, *tmax, margin);
+            if hits.mask != 0 {
+                current = push_children(&tree.nodes[current.index()], &hits, stack);
+                continue;
+            }
+        }
+        current = loop {
+            match stack.pop() {
+                None => return,
+                Some((child, enter)) if enter <= *tmax => break child,
+                Some(_) => {}
+            }
+        };
+    }
+}
+
+/// Pushes the children in `hits` but the nearest, farthest first, and returns the nearest.
+#[inline(always)]
+fn push_children(node: &WideNode, hits: &NodeHits, stack: &mut Vec<(ChildRef, f32)>) -> ChildRef {
+    let mut mask = hits.mask;
+    if mask & (mask - 1) == 0 {
+        return node.child[mask.trailing_zeros() as usize];
+    }
+    let mut sorted = [(ChildRef::ROOT, 0.0f32); 8];
+    let mut count = 0;
+    while mask != 0 {
+        let c = mask.trailing_zeros() as usize;
+        mask &= mask - 1;
+        let entry = (node.child[c], hits.enter[c]);
+        let mut k = count;
+        while k > 0 && sorted[k - 1].1 < entry.1 {
+            sorted[k] = sorted[k - 1];
+            k -= 1;
+        }
+        sorted[k] = entry;
+        count += 1;
+    }
+    stack.extend_from_slice(&sorted[..count - 1]);
+    sorted[count - 1].0
 }
 
 /// A scene triangle as obvhs bounds it: the builder reads the scene's own triangles, with no
@@ -330,23 +367,4 @@ pub(super) fn build_cwbvh<T: Boundable>(primitives: &[T]) -> CwBvh {
     bvh2.parents = Vec::new();
     bvh2.primitives_to_nodes = Vec::new();
     bvh2_to_cwbvh(&bvh2)
-}
-
-/// Depth of a CWBVH in nodes, by walking it.
-pub(super) fn tree_depth(bvh: &CwBvh) -> usize {
-    if bvh.nodes.is_empty() {
-        return 0;
-    }
-    let mut deepest = 0;
-    let mut todo = vec![(0u32, 1usize)];
-    while let Some((index, depth)) = todo.pop() {
-        deepest = deepest.max(depth);
-        let node = &bvh.nodes[index as usize];
-        for child in 0..8 {
-            if !node.is_leaf(child) && !node.is_child_empty(child) {
-                todo.push((node.child_node_index(child), depth + 1));
-            }
-        }
-    }
-    deepest
 }

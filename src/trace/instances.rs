@@ -11,17 +11,17 @@
 
 use super::bvh::{Hit, NodeRay, SceneBvh, TraversalScratch, WalkState, build_cwbvh, tree_depth, walk};
 use super::watertight::WatertightRay;
+use super::wide_bvh::WideBvh;
 use crate::scene::{Scene, SharedMesh, box_corners, is_degenerate, world_vertex};
 use glam::{DAffine3, DVec3, Vec3, Vec3A};
 use obvhs::aabb::Aabb;
-use obvhs::cwbvh::CwBvh;
 
 /// Relative widening of an instance's world box and of the margin's rounding bound: far above
 /// the f32 roundings it must cover (2^-24 each), far below anything that costs time.
 const SLACK: f64 = 1.0 / (1u64 << 18) as f64;
 
 pub(super) struct InstanceLevel {
-    top: CwBvh,
+    top: WideBvh,
     top_depth: usize,
     /// The placement of each top-level primitive, in the top tree's order.
     placements: Vec<Placement>,
@@ -61,10 +61,14 @@ impl InstanceLevel {
             scene.instances.iter().map(|i| Placement::new(i, &scene.meshes[i.mesh as usize])).collect();
         let boxes: Vec<Aabb> =
             placements.iter().map(|p| Aabb::new(p.world_lo.as_vec3a(), p.world_hi.as_vec3a())).collect();
-        let top = build_cwbvh(&boxes);
+        let top_order = build_cwbvh(&boxes);
+        let top = WideBvh::from_cwbvh(&top_order, |i| {
+            let b = &boxes[top_order.primitive_indices[i] as usize];
+            (b.min, b.max)
+        });
         let mut by_index: Vec<Option<Placement>> = placements.into_iter().map(Some).collect();
         let placements =
-            top.primitive_indices.iter().map(|&i| by_index[i as usize].take().unwrap()).collect();
+            top_order.primitive_indices.iter().map(|&i| by_index[i as usize].take().unwrap()).collect();
         let top_depth = tree_depth(&top);
         Some(InstanceLevel { top, top_depth, placements, meshes })
     }
@@ -212,7 +216,7 @@ impl Placement {
         let local_ray = NodeRay::new(origin.as_vec3a(), direction.as_vec3a());
         let mut local_tmax = tmax.min(t_exit as f32);
         let mut stopped = false;
-        walk(&mesh.tree.bvh, state, &local_ray, tmin, &mut local_tmax, margin, |i, local_tmax| {
+        walk(&mesh.tree.tree, state, &local_ray, tmin, &mut local_tmax, margin, |i, local_tmax| {
             let [a, b, c] =
                 mesh.local_triangles[i].map(|p| Vec3A::from(world_vertex(&self.world_from_local, p)));
             let world = if self.mirrored { [a, c, b] } else { [a, b, c] };

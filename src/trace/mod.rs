@@ -20,6 +20,7 @@ mod simd4;
 mod soft_reference;
 pub(crate) mod splitmix;
 mod watertight;
+mod wide_bvh;
 
 pub use area_light::{AreaLightError, trace_area_light_reference, validate_area_light};
 

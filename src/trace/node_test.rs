@@ -1,95 +1,56 @@
-//! The node test of the BVH walk: which of a wide node's eight children a ray may meet.
+//! The node test of the BVH walk: which of a wide node's eight children a ray may meet, and how
+//! far along the ray it enters each.
 //!
-//! Conservative, so that the walk reaches every triangle the ray can hit (docs/reference.md):
-//! boxes are widened by the rounding of their dequantization, and slab distances by a few ulps
-//! (Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013). Two forms with the same answers:
-//! `intersect_node`, four children at a time on any processor (simd4.rs), and
-//! `intersect_node_wide`, eight at a time with AVX2 and FMA, chosen at run time
-//! (`wide_available`). Every operation of the wide form rounds as the portable one does (a
-//! fused multiply–add of a quantized plane is exact in its product), and it takes each slab's
-//! near and far plane by the ray's signs instead of a min and max of the two, which gives the
-//! same two numbers; tests/node_test_forms.rs compares the two forms' traversals.
+//! Conservative, so that the walk reaches every triangle the ray can hit (docs/reference.md).
+//! Child boxes are exact f32 planes (wide_bvh.rs); the only rounding is the test's own. Along
+//! each axis the ray enters a child's slab at the plane it faces and leaves at the other (chosen
+//! by the direction's sign), at t = (plane − origin) · (1/d). The reciprocal is rounded once and
+//! then shrunk (for entry distances) or grown (for exit distances) by 4 ulps of relative size,
+//! which outweighs the three roundings of the reciprocal, the difference and the product: an
+//! entry distance is never later than the exact one, an exit never earlier, as far as their
+//! signs allow (a distance keeps its exact sign through both roundings, so a box behind the
+//! origin stays behind it). This is Ize's robust traversal ("Robust BVH Ray Traversal",
+//! JCGT 2(2), 2013) with the slack folded into the reciprocal, so it costs nothing per node.
+//! The interval [tmin, tmax] is closed and tmin ≥ 0.
+//!
+//! Two forms with the same answers: `intersect_node`, four children at a time on any processor
+//! (simd4.rs), and `intersect_node_wide`, eight at a time with AVX2, chosen at run time
+//! (`wide_available`); each does the same operations in the same order, lane by lane.
+//! tests/node_test_forms.rs compares the two forms' references.
 
 use super::simd4::{F4, Span4};
+use super::wide_bvh::WideNode;
 use glam::Vec3A;
-use obvhs::cwbvh::node::{CwBvhNode, extract_byte64};
 
-/// obvhs's child-ordering code for a direction (private in obvhs, same bits).
-#[inline]
-fn octant_inv4(dir: Vec3A) -> u32 {
-    (if dir.x < 0.0 { 0 } else { 0x0404_0404 })
-        | (if dir.y < 0.0 { 0 } else { 0x0202_0202 })
-        | (if dir.z < 0.0 { 0 } else { 0x0101_0101 })
-}
-
-/// Conservative slab test of the eight children of `node` against the closed interval
-/// [tmin, tmax]. Boxes are widened by the rounding of their dequantization, and slab distances
-/// by a few ulps (Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013). An axis along which the ray
-/// does not move keeps the children whose slab holds the origin. Four children at a time.
-#[inline(always)]
-pub(super) fn intersect_node(node: &CwBvhNode, ray: &NodeRay, tmin: f32, tmax: f32, margin: f32) -> u32 {
-    let NodeFrame { lo_base, hi_base, extent: e } = NodeFrame::new(node, margin);
-    let quantized = [
-        (&node.child_min_x, &node.child_max_x),
-        (&node.child_min_y, &node.child_max_y),
-        (&node.child_min_z, &node.child_max_z),
-    ];
-    let mut hits = 0u32;
-    for half in 0..2 {
-        let mut span = Span4::new(tmin, tmax);
-        for (axis, (q_min, q_max)) in quantized.iter().enumerate() {
-            let lo = F4::from_u8(q_min, half * 4).mul_add(e[axis], lo_base[axis]);
-            let hi = F4::from_u8(q_max, half * 4).mul_add(e[axis], hi_base[axis]);
-            if ray.moves[axis] {
-                let (o, inv) = (ray.origin[axis], ray.inv_dir[axis]);
-                let t0 = lo.sub_scalar(o).mul_scalar(inv);
-                let t1 = hi.sub_scalar(o).mul_scalar(inv);
-                span.clip(t0.min(t1), t0.max(t1));
-            } else {
-                span.keep_if_between(lo, hi, ray.origin[axis]);
-            }
-        }
-        hits |= span.hit_bits() << (half * 4);
-    }
-    let (child_bits8, bit_index8) = node.get_child_and_index_bits(ray.oct_inv4);
-    let mut hit_mask = 0;
-    for c in 0..8 {
-        if hits & (1 << c) != 0 && node.child_meta[c] != 0 {
-            hit_mask |= extract_byte64(child_bits8, c) << extract_byte64(bit_index8, c);
-        }
-    }
-    hit_mask
-}
+/// Relative shrink and growth of the reciprocal direction: covers the three roundings of a slab
+/// distance (2⁻²⁴ each) with room to spare.
+const SLACK: f32 = 4.0 * f32::EPSILON;
 
 /// What the node test needs of a ray.
 pub(crate) struct NodeRay {
     origin: Vec3A,
-    inv_dir: Vec3A,
-    /// Whether the ray moves along each axis (a zero component has no slab distances).
+    /// 1/d shrunk by `SLACK`: entry distances are never late.
+    inv_near: Vec3A,
+    /// 1/d grown by `SLACK`: exit distances are never early.
+    inv_far: Vec3A,
+    /// Whether the ray moves along each axis: a component so small that its (grown) reciprocal
+    /// overflows counts as no motion, and keeps the children whose slab holds the origin.
     moves: [bool; 3],
-    /// The child order for the ray's direction.
-    pub(super) oct_inv4: u32,
-    /// Per axis, the byte offsets in a node of the quantized planes the ray enters and leaves
-    /// a child's slab by: the minimum plane first where the ray moves towards +, else the maximum.
-    near_offset: [usize; 3],
-    far_offset: [usize; 3],
+    /// Whether the direction is negative along each axis: the ray then enters a slab at its
+    /// maximum plane.
+    negative: [bool; 3],
 }
-
-/// Byte offset of `child_min_x` in a `CwBvhNode`; then `child_max_x`, `child_min_y`, … 8 bytes apart.
-const PLANES_OFFSET: usize = std::mem::offset_of!(CwBvhNode, child_min_x);
 
 impl NodeRay {
     pub(crate) fn new(origin: Vec3A, direction: Vec3A) -> Self {
-        let negative = direction.to_array().map(|d| d < 0.0);
-        let plane = |axis: usize, max: bool| PLANES_OFFSET + 16 * axis + 8 * max as usize;
+        let inv = Vec3A::ONE / direction;
+        let inv_far = inv * (1.0 + SLACK);
         NodeRay {
             origin,
-            inv_dir: Vec3A::ONE / direction,
-            // A component so small that its reciprocal overflows counts as no motion.
-            moves: (Vec3A::ONE / direction).is_finite_mask().into(),
-            oct_inv4: octant_inv4(direction),
-            near_offset: std::array::from_fn(|axis| plane(axis, negative[axis])),
-            far_offset: std::array::from_fn(|axis| plane(axis, !negative[axis])),
+            inv_near: inv * (1.0 - SLACK),
+            inv_far,
+            moves: inv_far.is_finite_mask().into(),
+            negative: direction.to_array().map(|d| d < 0.0),
         }
     }
 
@@ -97,93 +58,236 @@ impl NodeRay {
     pub(crate) fn all_axes_move(&self) -> bool {
         self.moves.iter().all(|&m| m)
     }
-}
 
-/// A node's quantization frame: per axis the bases of its children's minimum and maximum planes
-/// (the node's origin moved out by the rounding of dequantization, and by `margin`), and the
-/// step of one quantization unit.
-struct NodeFrame {
-    lo_base: [f32; 3],
-    hi_base: [f32; 3],
-    extent: [f32; 3],
-}
-
-impl NodeFrame {
+    /// The planes a ray meets first and last along `axis`, as (near, far).
     #[inline(always)]
-    fn new(node: &CwBvhNode, margin: f32) -> Self {
-        let p = Vec3A::from(node.p);
-        let e = node.compute_extent();
-        let widen = (p.abs() + e * 255.0) * (4.0 * f32::EPSILON) + Vec3A::splat(margin);
-        NodeFrame { lo_base: (p - widen).to_array(), hi_base: (p + widen).to_array(), extent: e.to_array() }
+    fn planes<'a>(&self, node: &'a WideNode, axis: usize) -> (&'a [f32; 8], &'a [f32; 8]) {
+        if self.negative[axis] { (&node.hi[axis], &node.lo[axis]) } else { (&node.lo[axis], &node.hi[axis]) }
     }
+}
+
+/// The children a ray may meet: bit c of `mask` for child c, and the distance at which it may
+/// enter each (meaningful where its bit is set).
+pub(super) struct NodeHits {
+    pub(super) mask: u32,
+    pub(super) enter: [f32; 8],
+}
+
+/// How far a box must grow outwards so that it holds every point within `margin` of it, with
+/// the rounding of the widened plane covered: margin + (|plane| + margin) · `SLACK`. Infinite
+/// planes (empty slots) stay infinite.
+#[inline(always)]
+fn widening(plane: F4, margin: f32) -> F4 {
+    plane.abs().min(F4::splat(f32::MAX)).add(F4::splat(margin)).mul(F4::splat(SLACK)).add(F4::splat(margin))
+}
+
+/// Conservative slab test of the eight children of `node` against [tmin, tmax], their boxes
+/// widened by `margin`. Four children at a time, on any processor.
+#[inline(always)]
+pub(super) fn intersect_node(node: &WideNode, ray: &NodeRay, tmin: f32, tmax: f32, margin: f32) -> NodeHits {
+    let mut hits = NodeHits { mask: 0, enter: [0.0; 8] };
+    for half in 0..2 {
+        let mut span = Span4::new(tmin, tmax);
+        for axis in 0..3 {
+            let (near, far) = ray.planes(node, axis);
+            let (mut near, mut far) = (F4::load(near, half * 4), F4::load(far, half * 4));
+            if margin > 0.0 {
+                let sign = if ray.negative[axis] { -1.0 } else { 1.0 };
+                near = near.add(widening(near, margin).mul(F4::splat(-sign)));
+                far = far.add(widening(far, margin).mul(F4::splat(sign)));
+            }
+            if ray.moves[axis] {
+                let o = F4::splat(ray.origin[axis]);
+                span.clip(
+                    near.sub(o).mul(F4::splat(ray.inv_near[axis])),
+                    far.sub(o).mul(F4::splat(ray.inv_far[axis])),
+                );
+            } else {
+                let (lo, hi) = if ray.negative[axis] { (far, near) } else { (near, far) };
+                span.keep_if_between(lo, hi, ray.origin[axis]);
+            }
+        }
+        hits.mask |= span.hit_bits() << (half * 4);
+        span.store_enter(&mut hits.enter, half * 4);
+    }
+    hits
 }
 
 /// The node test the walks use on this machine, in words (`reference --timing` prints it).
 pub fn node_test_name() -> &'static str {
     #[cfg(target_arch = "x86_64")]
     if wide_available() {
-        return "8 children at a time (AVX2, FMA)";
+        return "8 children at a time (AVX2)";
     }
     "4 children at a time (portable)"
 }
 
-/// Whether the 8-lane test may run: the processor has AVX2 and FMA, and
-/// `SHADOWTRUTH_NODE_TEST` is not `portable` (which keeps the portable form, for comparing the
-/// two). Decided once per process.
+/// Whether the 8-lane test may run: the processor has AVX2, and `SHADOWTRUTH_NODE_TEST` is not
+/// `portable` (which keeps the portable form, for comparing the two). Decided once per process.
 #[cfg(target_arch = "x86_64")]
 pub(super) fn wide_available() -> bool {
     static WIDE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
     *WIDE.get_or_init(|| {
         let forced_portable = std::env::var("SHADOWTRUTH_NODE_TEST").is_ok_and(|v| v == "portable");
-        !forced_portable && is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma")
+        !forced_portable && is_x86_feature_detected!("avx2")
     })
 }
 
 /// `intersect_node` for a ray that moves along every axis, eight children at a time. Callable
-/// only where AVX2 and FMA are enabled (`wide_available`).
+/// only where AVX2 is enabled (`wide_available`).
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2")]
 #[inline]
-pub(super) fn intersect_node_wide(node: &CwBvhNode, ray: &NodeRay, tmin: f32, tmax: f32, margin: f32) -> u32 {
+pub(super) fn intersect_node_wide(
+    node: &WideNode,
+    ray: &NodeRay,
+    tmin: f32,
+    tmax: f32,
+    margin: f32,
+) -> NodeHits {
     use std::arch::x86_64::*;
-    let NodeFrame { lo_base, hi_base, extent } = NodeFrame::new(node, margin);
-    let bytes = node as *const CwBvhNode as *const u8;
-    // The eight quantized planes at `offset`, as f32.
-    let planes = |offset: usize| {
-        // SAFETY: `offset` is that of one of the node's six 8-byte plane arrays.
-        let eight = unsafe { _mm_loadl_epi64(bytes.add(offset) as *const __m128i) };
-        _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(eight))
+    let load = |planes: &[f32; 8]| {
+        // SAFETY: eight f32, and `WideNode`'s alignment (64) aligns every plane array to 32.
+        unsafe { _mm256_load_ps(planes.as_ptr()) }
     };
-    let grow = |x: __m256, k: f32| {
-        let abs = _mm256_andnot_ps(_mm256_set1_ps(-0.0), x);
-        _mm256_add_ps(x, _mm256_mul_ps(abs, _mm256_set1_ps(k)))
+    let widened = |plane: __m256, outwards: f32| {
+        let abs = _mm256_andnot_ps(_mm256_set1_ps(-0.0), plane);
+        let m = _mm256_set1_ps(margin);
+        let w = _mm256_add_ps(
+            _mm256_mul_ps(
+                _mm256_add_ps(_mm256_min_ps(abs, _mm256_set1_ps(f32::MAX)), m),
+                _mm256_set1_ps(SLACK),
+            ),
+            m,
+        );
+        _mm256_add_ps(plane, _mm256_mul_ps(w, _mm256_set1_ps(outwards)))
     };
-    let slack = 4.0 * f32::EPSILON;
     let (mut enter, mut exit) = (_mm256_set1_ps(tmin), _mm256_set1_ps(tmax));
     for axis in 0..3 {
-        let negative = ray.inv_dir[axis] < 0.0;
-        let (near_base, far_base) =
-            if negative { (hi_base[axis], lo_base[axis]) } else { (lo_base[axis], hi_base[axis]) };
-        let e = _mm256_set1_ps(extent[axis]);
-        let (o, inv) = (_mm256_set1_ps(ray.origin[axis]), _mm256_set1_ps(ray.inv_dir[axis]));
-        let near_plane = _mm256_fmadd_ps(planes(ray.near_offset[axis]), e, _mm256_set1_ps(near_base));
-        let far_plane = _mm256_fmadd_ps(planes(ray.far_offset[axis]), e, _mm256_set1_ps(far_base));
-        let near = _mm256_mul_ps(_mm256_sub_ps(near_plane, o), inv);
-        let far = _mm256_mul_ps(_mm256_sub_ps(far_plane, o), inv);
-        enter = _mm256_max_ps(enter, grow(near, -slack));
-        exit = _mm256_min_ps(exit, grow(far, slack));
+        let (near, far) = ray.planes(node, axis);
+        let (mut near, mut far) = (load(near), load(far));
+        if margin > 0.0 {
+            let sign = if ray.negative[axis] { -1.0 } else { 1.0 };
+            near = widened(near, -sign);
+            far = widened(far, sign);
+        }
+        let o = _mm256_set1_ps(ray.origin[axis]);
+        let t_near = _mm256_mul_ps(_mm256_sub_ps(near, o), _mm256_set1_ps(ray.inv_near[axis]));
+        let t_far = _mm256_mul_ps(_mm256_sub_ps(far, o), _mm256_set1_ps(ray.inv_far[axis]));
+        enter = _mm256_max_ps(enter, t_near);
+        exit = _mm256_min_ps(exit, t_far);
     }
-    let hits = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit)) as u32;
-    // SAFETY: `child_meta` is 8 bytes.
-    let meta = unsafe { _mm_loadl_epi64(node.child_meta.as_ptr() as *const __m128i) };
-    let empty = _mm_movemask_epi8(_mm_cmpeq_epi8(meta, _mm_setzero_si128())) as u32 & 0xff;
-    let (child_bits8, bit_index8) = node.get_child_and_index_bits(ray.oct_inv4);
-    let mut live = hits & !empty;
-    let mut hit_mask = 0;
-    while live != 0 {
-        let c = live.trailing_zeros() as usize;
-        live &= live - 1;
-        hit_mask |= extract_byte64(child_bits8, c) << extract_byte64(bit_index8, c);
+    let mask = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit)) as u32;
+    let mut hits = NodeHits { mask, enter: [0.0; 8] };
+    // SAFETY: eight f32.
+    unsafe { _mm256_storeu_ps(hits.enter.as_mut_ptr(), enter) };
+    hits
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::trace::splitmix::SplitMix64;
+    use crate::trace::wide_bvh::ChildRef;
+
+    /// A coordinate on a grid of 1/64 within ±64: sums and differences of two are exact in f32.
+    fn grid(rng: &mut SplitMix64) -> f32 {
+        (rng.range([-4096.0, 4096.0]).round() / 64.0) as f32
     }
-    hit_mask
+
+    fn grid_point(rng: &mut SplitMix64) -> Vec3A {
+        Vec3A::new(grid(rng), grid(rng), grid(rng))
+    }
+
+    /// A node whose children are the given boxes, the other slots empty.
+    fn node(boxes: &[(Vec3A, Vec3A)]) -> WideNode {
+        let mut node = WideNode {
+            lo: [[f32::INFINITY; 8]; 3],
+            hi: [[f32::NEG_INFINITY; 8]; 3],
+            child: [ChildRef::ROOT; 8],
+        };
+        for (c, (lo, hi)) in boxes.iter().enumerate() {
+            for axis in 0..3 {
+                node.lo[axis][c] = lo[axis];
+                node.hi[axis][c] = hi[axis];
+            }
+        }
+        node
+    }
+
+    /// Rays from a grid point through another grid point q (so that the exact ray passes through
+    /// q at t = 1), against boxes that only touch q: a point box, and boxes with q on a face, an
+    /// edge or a corner. Every one must be reported, entered no later than t = 1.
+    #[test]
+    fn boxes_that_touch_the_ray_at_one_point_are_hit() {
+        let mut rng = SplitMix64::new(7);
+        for _ in 0..20_000 {
+            let (o, q) = (grid_point(&mut rng), grid_point(&mut rng));
+            let d = q - o;
+            if d.cmpeq(Vec3A::ZERO).any() {
+                continue;
+            }
+            let ray = NodeRay::new(o, d);
+            let up = |v: Vec3A| v + Vec3A::splat(1.0);
+            let touching = [
+                (q, q),
+                (q, up(q)),
+                (q - Vec3A::ONE, q),
+                (Vec3A::new(q.x, q.y - 1.0, q.z - 1.0), Vec3A::new(q.x + 1.0, q.y, q.z)),
+            ];
+            let node = node(&touching);
+            let hits = intersect_node(&node, &ray, 0.0, 1.0, 0.0);
+            assert_eq!(hits.mask, 0b1111, "ray {o} → {q}: a box touching the ray at t = 1 was culled");
+            assert!(hits.enter[..4].iter().all(|&t| t <= 1.0), "{:?}", hits.enter);
+            // The same boxes but one unit behind the origin along the ray are never met.
+            let behind = node_behind(&touching, o, d);
+            assert_eq!(intersect_node(&behind, &ray, 0.0, f32::INFINITY, 0.0).mask, 0, "ray {o} → {q}");
+        }
+    }
+
+    /// The boxes moved to the far side of the origin: their points satisfy t ≤ −1 + 1/64 or so.
+    fn node_behind(boxes: &[(Vec3A, Vec3A)], o: Vec3A, d: Vec3A) -> WideNode {
+        let moved: Vec<_> = boxes
+            .iter()
+            .map(|&(lo, hi)| (lo - 2.0 * (lo - o) - 2.0 * d, hi - 2.0 * (lo - o) - 2.0 * d))
+            .collect();
+        let fixed: Vec<_> = moved.iter().map(|&(a, b)| (a.min(b), a.max(b))).collect();
+        node(&fixed)
+    }
+
+    /// The 8-lane form gives the portable form's answers, mask and entry distances, bit for bit.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn both_forms_agree_bit_for_bit() {
+        if !is_x86_feature_detected!("avx2") {
+            eprintln!("SKIPPED: no AVX2");
+            return;
+        }
+        let mut rng = SplitMix64::new(11);
+        for round in 0..20_000 {
+            let boxes: Vec<_> = (0..8)
+                .map(|_| {
+                    let (a, b) = (grid_point(&mut rng), grid_point(&mut rng));
+                    (a.min(b), a.max(b))
+                })
+                .collect();
+            let node = node(&boxes[..1 + round % 8]);
+            let (o, q) = (grid_point(&mut rng), grid_point(&mut rng));
+            let d = (q - o).normalize();
+            if !d.is_finite() || d.cmpeq(Vec3A::ZERO).any() {
+                continue;
+            }
+            let ray = NodeRay::new(o, d);
+            let margin = if round % 3 == 0 { 0.01 } else { 0.0 };
+            let portable = intersect_node(&node, &ray, 0.0, 50.0, margin);
+            // SAFETY: AVX2 checked above.
+            let wide = unsafe { intersect_node_wide(&node, &ray, 0.0, 50.0, margin) };
+            assert_eq!(portable.mask, wide.mask);
+            for c in 0..8 {
+                if portable.mask & (1 << c) != 0 {
+                    assert_eq!(portable.enter[c].to_bits(), wide.enter[c].to_bits());
+                }
+            }
+        }
+    }
 }

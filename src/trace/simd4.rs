@@ -1,4 +1,5 @@
-//! Four-lane f32 arithmetic for the BVH node test: SSE2 on x86_64, plain arrays elsewhere.
+//! Four-lane f32 arithmetic for the BVH node test: SSE2 on x86_64, plain arrays elsewhere. Each
+//! operation rounds once, as its AVX2 counterpart in node_test.rs does.
 
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::*;
@@ -13,50 +14,48 @@ pub struct Span4 {
     exit: F4,
 }
 
-/// Relative slack on slab distances: covers the two roundings of `(plane − origin) · (1/d)`.
-const SLACK: f32 = 4.0 * f32::EPSILON;
-
 #[cfg(target_arch = "x86_64")]
 impl F4 {
     #[inline(always)]
     pub fn splat(x: f32) -> Self {
         unsafe { F4(_mm_set1_ps(x)) }
     }
-    /// Lanes `v[first..first + 4]` converted to f32.
+    /// Lanes `v[first..first + 4]`.
     #[inline(always)]
-    pub fn from_u8(v: &[u8; 8], first: usize) -> Self {
-        unsafe {
-            F4(_mm_set_ps(v[first + 3] as f32, v[first + 2] as f32, v[first + 1] as f32, v[first] as f32))
-        }
-    }
-    /// self · a + b, with two roundings (no fused multiply-add).
-    #[inline(always)]
-    pub fn mul_add(self, a: f32, b: f32) -> Self {
-        unsafe { F4(_mm_add_ps(_mm_mul_ps(self.0, _mm_set1_ps(a)), _mm_set1_ps(b))) }
+    pub fn load(v: &[f32; 8], first: usize) -> Self {
+        let four: &[f32; 4] = v[first..first + 4].try_into().unwrap();
+        unsafe { F4(_mm_loadu_ps(four.as_ptr())) }
     }
     #[inline(always)]
-    pub fn sub_scalar(self, a: f32) -> Self {
-        unsafe { F4(_mm_sub_ps(self.0, _mm_set1_ps(a))) }
+    pub fn add(self, o: Self) -> Self {
+        unsafe { F4(_mm_add_ps(self.0, o.0)) }
     }
     #[inline(always)]
-    pub fn mul_scalar(self, a: f32) -> Self {
-        unsafe { F4(_mm_mul_ps(self.0, _mm_set1_ps(a))) }
+    pub fn sub(self, o: Self) -> Self {
+        unsafe { F4(_mm_sub_ps(self.0, o.0)) }
     }
+    #[inline(always)]
+    pub fn mul(self, o: Self) -> Self {
+        unsafe { F4(_mm_mul_ps(self.0, o.0)) }
+    }
+    /// Lane by lane, `o` where either is NaN (as `_mm_min_ps`).
     #[inline(always)]
     pub fn min(self, o: Self) -> Self {
         unsafe { F4(_mm_min_ps(self.0, o.0)) }
     }
+    /// Lane by lane, `o` where either is NaN (as `_mm_max_ps`).
     #[inline(always)]
     pub fn max(self, o: Self) -> Self {
         unsafe { F4(_mm_max_ps(self.0, o.0)) }
     }
-    /// self moved away from zero by `|self| · k`.
     #[inline(always)]
-    fn grow(self, k: f32) -> Self {
-        unsafe {
-            let abs = _mm_andnot_ps(_mm_set1_ps(-0.0), self.0);
-            F4(_mm_add_ps(self.0, _mm_mul_ps(abs, _mm_set1_ps(k))))
-        }
+    pub fn abs(self) -> Self {
+        unsafe { F4(_mm_andnot_ps(_mm_set1_ps(-0.0), self.0)) }
+    }
+    #[inline(always)]
+    fn store(self, out: &mut [f32; 8], first: usize) {
+        let four: &mut [f32; 4] = (&mut out[first..first + 4]).try_into().unwrap();
+        unsafe { _mm_storeu_ps(four.as_mut_ptr(), self.0) }
     }
     /// Bit k set where lane k of self ≤ lane k of o.
     #[inline(always)]
@@ -81,32 +80,36 @@ impl F4 {
         F4([x; 4])
     }
     #[inline(always)]
-    pub fn from_u8(v: &[u8; 8], first: usize) -> Self {
-        F4(std::array::from_fn(|k| v[first + k] as f32))
+    pub fn load(v: &[f32; 8], first: usize) -> Self {
+        F4(std::array::from_fn(|k| v[first + k]))
     }
     #[inline(always)]
-    pub fn mul_add(self, a: f32, b: f32) -> Self {
-        F4(self.0.map(|x| x * a + b))
+    pub fn add(self, o: Self) -> Self {
+        F4(std::array::from_fn(|k| self.0[k] + o.0[k]))
     }
     #[inline(always)]
-    pub fn sub_scalar(self, a: f32) -> Self {
-        F4(self.0.map(|x| x - a))
+    pub fn sub(self, o: Self) -> Self {
+        F4(std::array::from_fn(|k| self.0[k] - o.0[k]))
     }
     #[inline(always)]
-    pub fn mul_scalar(self, a: f32) -> Self {
-        F4(self.0.map(|x| x * a))
+    pub fn mul(self, o: Self) -> Self {
+        F4(std::array::from_fn(|k| self.0[k] * o.0[k]))
     }
     #[inline(always)]
     pub fn min(self, o: Self) -> Self {
-        F4(std::array::from_fn(|k| self.0[k].min(o.0[k])))
+        F4(std::array::from_fn(|k| if self.0[k] < o.0[k] { self.0[k] } else { o.0[k] }))
     }
     #[inline(always)]
     pub fn max(self, o: Self) -> Self {
-        F4(std::array::from_fn(|k| self.0[k].max(o.0[k])))
+        F4(std::array::from_fn(|k| if self.0[k] > o.0[k] { self.0[k] } else { o.0[k] }))
     }
     #[inline(always)]
-    fn grow(self, k: f32) -> Self {
-        F4(self.0.map(|x| x + x.abs() * k))
+    pub fn abs(self) -> Self {
+        F4(self.0.map(f32::abs))
+    }
+    #[inline(always)]
+    fn store(self, out: &mut [f32; 8], first: usize) {
+        out[first..first + 4].copy_from_slice(&self.0);
     }
     #[inline(always)]
     fn le_bits(self, o: Self) -> u32 {
@@ -124,11 +127,11 @@ impl Span4 {
         Span4 { enter: F4::splat(tmin), exit: F4::splat(tmax) }
     }
 
-    /// Intersects with the slab distances [near, far], widened by the rounding slack.
+    /// Intersects with the slab distances [near, far].
     #[inline(always)]
     pub fn clip(&mut self, near: F4, far: F4) {
-        self.enter = self.enter.max(near.grow(-SLACK));
-        self.exit = self.exit.min(far.grow(SLACK));
+        self.enter = self.enter.max(near);
+        self.exit = self.exit.min(far);
     }
 
     /// Along an axis the ray does not move: keep the lanes whose slab [lo, hi] holds `origin`.
@@ -141,5 +144,11 @@ impl Span4 {
     #[inline(always)]
     pub fn hit_bits(&self) -> u32 {
         self.enter.le_bits(self.exit)
+    }
+
+    /// The entry distances into `out[first..first + 4]`.
+    #[inline(always)]
+    pub fn store_enter(&self, out: &mut [f32; 8], first: usize) {
+        self.enter.store(out, first);
     }
 }
