@@ -15,11 +15,11 @@
 use super::cwbvh_convert::bvh2_to_cwbvh;
 use super::instances::InstanceLevel;
 pub(super) use super::node_test::NodeRay;
-use super::node_test::{self, NodeHits};
 use super::shadow_ray::ShadowRay;
+pub(super) use super::walk::{ANY_ORDER, NEAREST_FIRST, WalkState, walk};
 use super::watertight::WatertightRay;
+use super::wide_bvh::WideBvh;
 pub(super) use super::wide_bvh::tree_depth;
-use super::wide_bvh::{ChildRef, WideBvh, WideNode};
 use crate::scene::Scene;
 use bytemuck::TransparentWrapper;
 use glam::{Vec3, Vec3A};
@@ -67,20 +67,6 @@ impl Hit {
 pub struct TraversalScratch {
     pub(super) outer: WalkState,
     pub(super) inner: WalkState,
-}
-
-/// The state of one walk down one tree: its stack of children still to visit, with the
-/// distance at which the ray may enter each.
-pub(super) struct WalkState {
-    stack: Vec<(ChildRef, f32)>,
-}
-
-impl WalkState {
-    /// A stack that a walk of a tree `depth` nodes deep never outgrows: each level leaves at
-    /// most seven children behind.
-    pub(super) fn new(depth: usize) -> Self {
-        WalkState { stack: Vec::with_capacity(7 * depth + 1) }
-    }
 }
 
 impl SceneBvh {
@@ -147,17 +133,25 @@ impl SceneBvh {
         let node_ray = NodeRay::new(ray.origin, ray.direction);
         let mut best: Option<Hit> = None;
         let mut best_t = tmax;
-        walk(&self.tree, &mut scratch.outer, &node_ray, tmin, &mut best_t, 0.0, |i, best_t| {
-            let [v0, v1, v2] = self.triangles[i];
-            if let Some(h) = ray.intersect(v0, v1, v2, tmin, *best_t) {
-                let hit = Hit { triangle: self.scene_ids[i], t: h.t, barycentric: h.barycentric };
-                if hit.beats(&best) {
-                    best = Some(hit);
-                    *best_t = h.t;
+        walk::<NEAREST_FIRST>(
+            &self.tree,
+            &mut scratch.outer,
+            &node_ray,
+            tmin,
+            &mut best_t,
+            0.0,
+            |i, best_t| {
+                let [v0, v1, v2] = self.triangles[i];
+                if let Some(h) = ray.intersect(v0, v1, v2, tmin, *best_t) {
+                    let hit = Hit { triangle: self.scene_ids[i], t: h.t, barycentric: h.barycentric };
+                    if hit.beats(&best) {
+                        best = Some(hit);
+                        *best_t = h.t;
+                    }
                 }
-            }
-            false
-        });
+                false
+            },
+        );
         if let Some(instances) = &self.instances {
             instances.closest_hit(scratch, &ray, tmin, best_t, &mut best);
         }
@@ -176,7 +170,7 @@ impl SceneBvh {
         let ray = WatertightRay::new(origin.into(), direction.into());
         let node_ray = NodeRay::new(ray.origin, ray.direction);
         let mut hit = false;
-        walk(&self.tree, &mut scratch.outer, &node_ray, tmin, &mut tmax.clone(), 0.0, |i, _| {
+        walk::<ANY_ORDER>(&self.tree, &mut scratch.outer, &node_ray, tmin, &mut tmax.clone(), 0.0, |i, _| {
             let [v0, v1, v2] = self.triangles[i];
             hit = ray.intersect(v0, v1, v2, tmin, tmax).is_some();
             hit
@@ -198,14 +192,23 @@ impl SceneBvh {
         let ray = WatertightRay::new(shadow.origin.into(), shadow.direction.into());
         let node_ray = NodeRay::new(ray.origin, ray.direction);
         let mut occluder = None;
-        walk(&self.tree, &mut scratch.outer, &node_ray, 0.0, &mut shadow.tmax.clone(), 0.0, |i, _| {
-            let id = self.scene_ids[i];
-            let [v0, v1, v2] = self.triangles[i];
-            if id != shadow.skip_triangle && ray.intersect_beyond_error(v0, v1, v2, shadow.tmax).is_some() {
-                occluder = Some(id);
-            }
-            occluder.is_some()
-        });
+        walk::<ANY_ORDER>(
+            &self.tree,
+            &mut scratch.outer,
+            &node_ray,
+            0.0,
+            &mut shadow.tmax.clone(),
+            0.0,
+            |i, _| {
+                let id = self.scene_ids[i];
+                let [v0, v1, v2] = self.triangles[i];
+                if id != shadow.skip_triangle && ray.intersect_beyond_error(v0, v1, v2, shadow.tmax).is_some()
+                {
+                    occluder = Some(id);
+                }
+                occluder.is_some()
+            },
+        );
         match &self.instances {
             Some(instances) if occluder.is_none() => {
                 instances.any_hit(scratch, &ray, 0.0, shadow.tmax, shadow.skip_triangle, true)
@@ -213,121 +216,6 @@ impl SceneBvh {
             _ => occluder,
         }
     }
-}
-
-/// Walks the nodes of `tree` that the ray may meet within [tmin, *tmax], their boxes widened by
-/// `margin` more, and calls `leaf(i, tmax)` for each primitive `i` (in tree order) of the
-/// leaves it reaches, nearer children first. `leaf` may shrink `*tmax` (closest hits), and ends
-/// the walk by returning true. Where the processor has AVX2 and the ray moves along every axis,
-/// the node test takes eight children at once (`node_test.rs`); its answers are the same.
-#[inline(always)]
-pub(super) fn walk(
-    tree: &WideBvh,
-    state: &mut WalkState,
-    ray: &NodeRay,
-    tmin: f32,
-    tmax: &mut f32,
-    margin: f32,
-    leaf: impl FnMut(usize, &mut f32) -> bool,
-) {
-    debug_assert!(tmin >= 0.0, "the node test needs tmin ≥ 0");
-    if tree.nodes.is_empty() {
-        return;
-    }
-    #[cfg(target_arch = "x86_64")]
-    if ray.all_axes_move() && node_test::wide_available() {
-        // SAFETY: the processor has AVX2 (checked at run time).
-        unsafe { walk_wide(tree, state, ray, tmin, tmax, margin, leaf) };
-        return;
-    }
-    walk_loop(tree, state, ray, tmin, tmax, margin, leaf, node_test::intersect_node);
-}
-
-/// `walk` with the 8-lane node test, compiled for AVX2 as a whole so that the test is inlined
-/// into the loop.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn walk_wide(
-    tree: &WideBvh,
-    state: &mut WalkState,
-    ray: &NodeRay,
-    tmin: f32,
-    tmax: &mut f32,
-    margin: f32,
-    leaf: impl FnMut(usize, &mut f32) -> bool,
-) {
-    // A closure inside `walk_wide` is compiled with AVX2 too, so it may call the wide test.
-    let test = |node: &WideNode, ray: &NodeRay, tmin, tmax, margin| {
-        node_test::intersect_node_wide(node, ray, tmin, tmax, margin)
-    };
-    walk_loop(tree, state, ray, tmin, tmax, margin, leaf, test);
-}
-
-/// The walk itself, over any form of the node test: a node's children that the ray may meet go
-/// on the stack farthest first, and the nearest is visited next; a stacked child entered beyond
-/// the current `*tmax` is dropped when popped.
-#[inline(always)]
-#[allow(clippy::too_many_arguments)]
-fn walk_loop(
-    tree: &WideBvh,
-    state: &mut WalkState,
-    ray: &NodeRay,
-    tmin: f32,
-    tmax: &mut f32,
-    margin: f32,
-    mut leaf: impl FnMut(usize, &mut f32) -> bool,
-    test: impl Fn(&WideNode, &NodeRay, f32, f32, f32) -> NodeHits,
-) {
-    let stack = &mut state.stack;
-    stack.clear();
-    let mut current = ChildRef::ROOT;
-    loop {
-        if current.is_leaf() {
-            for i in current.primitives() {
-                if leaf(i, tmax) {
-                    return;
-                }
-            }
-        } else {
-            let hits = test(&tree.nodes[current.index()], ray, tmin, *tmax, margin);
-            if hits.mask != 0 {
-                current = push_children(&tree.nodes[current.index()], &hits, stack);
-                continue;
-            }
-        }
-        current = loop {
-            match stack.pop() {
-                None => return,
-                Some((child, enter)) if enter <= *tmax => break child,
-                Some(_) => {}
-            }
-        };
-    }
-}
-
-/// Pushes the children in `hits` but the nearest, farthest first, and returns the nearest.
-#[inline(always)]
-fn push_children(node: &WideNode, hits: &NodeHits, stack: &mut Vec<(ChildRef, f32)>) -> ChildRef {
-    let mut mask = hits.mask;
-    if mask & (mask - 1) == 0 {
-        return node.child[mask.trailing_zeros() as usize];
-    }
-    let mut sorted = [(ChildRef::ROOT, 0.0f32); 8];
-    let mut count = 0;
-    while mask != 0 {
-        let c = mask.trailing_zeros() as usize;
-        mask &= mask - 1;
-        let entry = (node.child[c], hits.enter[c]);
-        let mut k = count;
-        while k > 0 && sorted[k - 1].1 < entry.1 {
-            sorted[k] = sorted[k - 1];
-            k -= 1;
-        }
-        sorted[k] = entry;
-        count += 1;
-    }
-    stack.extend_from_slice(&sorted[..count - 1]);
-    sorted[count - 1].0
 }
 
 /// A scene triangle as obvhs bounds it: the builder reads the scene's own triangles, with no

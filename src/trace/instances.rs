@@ -9,7 +9,10 @@
 //! every triangle that the flat tree would have reached, and the answers are those of the
 //! flattened scene (tests/instancing.rs).
 
-use super::bvh::{Hit, NodeRay, SceneBvh, TraversalScratch, WalkState, build_cwbvh, tree_depth, walk};
+use super::bvh::{
+    ANY_ORDER, Hit, NEAREST_FIRST, NodeRay, SceneBvh, TraversalScratch, WalkState, build_cwbvh, tree_depth,
+    walk,
+};
 use super::watertight::WatertightRay;
 use super::wide_bvh::WideBvh;
 use crate::scene::{Scene, SharedMesh, box_corners, is_degenerate, world_vertex};
@@ -91,10 +94,10 @@ impl InstanceLevel {
         let TraversalScratch { outer, inner } = scratch;
         let mut best_t = best.map_or(tmax, |b| b.t.min(tmax));
         let top_ray = NodeRay::new(ray.origin, ray.direction);
-        walk(&self.top, outer, &top_ray, tmin, &mut best_t, 0.0, |i, best_t| {
+        walk::<NEAREST_FIRST>(&self.top, outer, &top_ray, tmin, &mut best_t, 0.0, |i, best_t| {
             let placement = &self.placements[i];
             let mesh = &self.meshes[placement.mesh as usize];
-            placement.walk(mesh, inner, ray, tmin, best_t, |local, best_t| {
+            placement.walk::<NEAREST_FIRST>(mesh, inner, ray, tmin, best_t, |local, best_t| {
                 let Some(h) = ray.intersect(local.world[0], local.world[1], local.world[2], tmin, *best_t)
                 else {
                     return false;
@@ -124,10 +127,10 @@ impl InstanceLevel {
         let TraversalScratch { outer, inner } = scratch;
         let top_ray = NodeRay::new(ray.origin, ray.direction);
         let mut found = None;
-        walk(&self.top, outer, &top_ray, tmin, &mut tmax.clone(), 0.0, |i, _| {
+        walk::<ANY_ORDER>(&self.top, outer, &top_ray, tmin, &mut tmax.clone(), 0.0, |i, _| {
             let placement = &self.placements[i];
             let mesh = &self.meshes[placement.mesh as usize];
-            placement.walk(mesh, inner, ray, tmin, &mut tmax.clone(), |local, _| {
+            placement.walk::<ANY_ORDER>(mesh, inner, ray, tmin, &mut tmax.clone(), |local, _| {
                 let [v0, v1, v2] = local.world;
                 let hit = match beyond_error {
                     true => ray.intersect_beyond_error(v0, v1, v2, tmax).is_some(),
@@ -197,7 +200,7 @@ impl Placement {
     /// `leaf(triangle, tmax)` with the world triangles it reaches; `leaf` may shrink `*tmax`,
     /// and ends the walk by returning true.
     #[inline]
-    fn walk(
+    fn walk<const NEAREST: bool>(
         &self,
         mesh: &MeshTree,
         state: &mut WalkState,
@@ -216,15 +219,23 @@ impl Placement {
         let local_ray = NodeRay::new(origin.as_vec3a(), direction.as_vec3a());
         let mut local_tmax = tmax.min(t_exit as f32);
         let mut stopped = false;
-        walk(&mesh.tree.tree, state, &local_ray, tmin, &mut local_tmax, margin, |i, local_tmax| {
-            let [a, b, c] =
-                mesh.local_triangles[i].map(|p| Vec3A::from(world_vertex(&self.world_from_local, p)));
-            let world = if self.mirrored { [a, c, b] } else { [a, b, c] };
-            let triangle = LocalTriangle { id: self.first_triangle + mesh.local_ids[i], world };
-            stopped = leaf(&triangle, tmax);
-            *local_tmax = local_tmax.min(*tmax);
-            stopped
-        });
+        walk::<NEAREST>(
+            &mesh.tree.tree,
+            state,
+            &local_ray,
+            tmin,
+            &mut local_tmax,
+            margin,
+            |i, local_tmax| {
+                let [a, b, c] =
+                    mesh.local_triangles[i].map(|p| Vec3A::from(world_vertex(&self.world_from_local, p)));
+                let world = if self.mirrored { [a, c, b] } else { [a, b, c] };
+                let triangle = LocalTriangle { id: self.first_triangle + mesh.local_ids[i], world };
+                stopped = leaf(&triangle, tmax);
+                *local_tmax = local_tmax.min(*tmax);
+                stopped
+            },
+        );
         stopped
     }
 

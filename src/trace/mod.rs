@@ -19,6 +19,7 @@ mod shadow_ray;
 mod simd4;
 mod soft_reference;
 pub(crate) mod splitmix;
+mod walk;
 mod watertight;
 mod wide_bvh;
 

@@ -84,14 +84,20 @@ fn widening(plane: F4, margin: f32) -> F4 {
 /// Conservative slab test of the eight children of `node` against [tmin, tmax], their boxes
 /// widened by `margin`. Four children at a time, on any processor.
 #[inline(always)]
-pub(super) fn intersect_node(node: &WideNode, ray: &NodeRay, tmin: f32, tmax: f32, margin: f32) -> NodeHits {
+pub(super) fn intersect_node<const WIDEN: bool>(
+    node: &WideNode,
+    ray: &NodeRay,
+    tmin: f32,
+    tmax: f32,
+    margin: f32,
+) -> NodeHits {
     let mut hits = NodeHits { mask: 0, enter: [0.0; 8] };
     for half in 0..2 {
         let mut span = Span4::new(tmin, tmax);
         for axis in 0..3 {
             let (near, far) = ray.planes(node, axis);
             let (mut near, mut far) = (F4::load(near, half * 4), F4::load(far, half * 4));
-            if margin > 0.0 {
+            if WIDEN {
                 let sign = if ray.negative[axis] { -1.0 } else { 1.0 };
                 near = near.add(widening(near, margin).mul(F4::splat(-sign)));
                 far = far.add(widening(far, margin).mul(F4::splat(sign)));
@@ -133,47 +139,72 @@ pub(super) fn wide_available() -> bool {
     })
 }
 
-/// `intersect_node` for a ray that moves along every axis, eight children at a time. Callable
-/// only where AVX2 is enabled (`wide_available`).
+/// A ray as the 8-lane test takes it: each operand broadcast once per walk, not once per node,
+/// and the byte offsets in a node of the planes it enters and leaves by along each axis.
+#[cfg(target_arch = "x86_64")]
+pub(super) struct WideRay {
+    origin: [std::arch::x86_64::__m256; 3],
+    inv_near: [std::arch::x86_64::__m256; 3],
+    inv_far: [std::arch::x86_64::__m256; 3],
+    near_offset: [usize; 3],
+    far_offset: [usize; 3],
+    negative: [bool; 3],
+}
+
+#[cfg(target_arch = "x86_64")]
+impl WideRay {
+    #[target_feature(enable = "avx2")]
+    pub(super) fn new(ray: &NodeRay) -> Self {
+        use std::arch::x86_64::_mm256_set1_ps;
+        let lo = std::mem::offset_of!(WideNode, lo);
+        let hi = std::mem::offset_of!(WideNode, hi);
+        let plane = |axis: usize, max: bool| if max { hi } else { lo } + 32 * axis;
+        WideRay {
+            origin: std::array::from_fn(|axis| _mm256_set1_ps(ray.origin[axis])),
+            inv_near: std::array::from_fn(|axis| _mm256_set1_ps(ray.inv_near[axis])),
+            inv_far: std::array::from_fn(|axis| _mm256_set1_ps(ray.inv_far[axis])),
+            near_offset: std::array::from_fn(|axis| plane(axis, ray.negative[axis])),
+            far_offset: std::array::from_fn(|axis| plane(axis, !ray.negative[axis])),
+            negative: ray.negative,
+        }
+    }
+}
+
+/// `intersect_node` for a ray that moves along every axis, eight children at a time; `WIDEN`
+/// says whether `margin` is to be applied at all. Callable only where AVX2 is enabled
+/// (`wide_available`).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[inline]
-pub(super) fn intersect_node_wide(
+pub(super) fn intersect_node_wide<const WIDEN: bool>(
     node: &WideNode,
-    ray: &NodeRay,
+    ray: &WideRay,
     tmin: f32,
     tmax: f32,
     margin: f32,
 ) -> NodeHits {
     use std::arch::x86_64::*;
-    let load = |planes: &[f32; 8]| {
-        // SAFETY: eight f32, and `WideNode`'s alignment (64) aligns every plane array to 32.
-        unsafe { _mm256_load_ps(planes.as_ptr()) }
-    };
+    let bytes = node as *const WideNode as *const u8;
+    // SAFETY: `offset` is that of one of the node's six plane arrays (`WideRay::new`), each
+    // eight f32 aligned to 32 by `WideNode`'s alignment.
+    let load = |offset: usize| unsafe { _mm256_load_ps(bytes.add(offset) as *const f32) };
     let widened = |plane: __m256, outwards: f32| {
         let abs = _mm256_andnot_ps(_mm256_set1_ps(-0.0), plane);
         let m = _mm256_set1_ps(margin);
-        let w = _mm256_add_ps(
-            _mm256_mul_ps(
-                _mm256_add_ps(_mm256_min_ps(abs, _mm256_set1_ps(f32::MAX)), m),
-                _mm256_set1_ps(SLACK),
-            ),
-            m,
-        );
+        let finite = _mm256_min_ps(abs, _mm256_set1_ps(f32::MAX));
+        let w = _mm256_add_ps(_mm256_mul_ps(_mm256_add_ps(finite, m), _mm256_set1_ps(SLACK)), m);
         _mm256_add_ps(plane, _mm256_mul_ps(w, _mm256_set1_ps(outwards)))
     };
     let (mut enter, mut exit) = (_mm256_set1_ps(tmin), _mm256_set1_ps(tmax));
     for axis in 0..3 {
-        let (near, far) = ray.planes(node, axis);
-        let (mut near, mut far) = (load(near), load(far));
-        if margin > 0.0 {
+        let (mut near, mut far) = (load(ray.near_offset[axis]), load(ray.far_offset[axis]));
+        if WIDEN {
             let sign = if ray.negative[axis] { -1.0 } else { 1.0 };
             near = widened(near, -sign);
             far = widened(far, sign);
         }
-        let o = _mm256_set1_ps(ray.origin[axis]);
-        let t_near = _mm256_mul_ps(_mm256_sub_ps(near, o), _mm256_set1_ps(ray.inv_near[axis]));
-        let t_far = _mm256_mul_ps(_mm256_sub_ps(far, o), _mm256_set1_ps(ray.inv_far[axis]));
+        let t_near = _mm256_mul_ps(_mm256_sub_ps(near, ray.origin[axis]), ray.inv_near[axis]);
+        let t_far = _mm256_mul_ps(_mm256_sub_ps(far, ray.origin[axis]), ray.inv_far[axis]);
         enter = _mm256_max_ps(enter, t_near);
         exit = _mm256_min_ps(exit, t_far);
     }
@@ -236,12 +267,16 @@ mod tests {
                 (Vec3A::new(q.x, q.y - 1.0, q.z - 1.0), Vec3A::new(q.x + 1.0, q.y, q.z)),
             ];
             let node = node(&touching);
-            let hits = intersect_node(&node, &ray, 0.0, 1.0, 0.0);
+            let hits = intersect_node::<false>(&node, &ray, 0.0, 1.0, 0.0);
             assert_eq!(hits.mask, 0b1111, "ray {o} → {q}: a box touching the ray at t = 1 was culled");
             assert!(hits.enter[..4].iter().all(|&t| t <= 1.0), "{:?}", hits.enter);
             // The same boxes but one unit behind the origin along the ray are never met.
             let behind = node_behind(&touching, o, d);
-            assert_eq!(intersect_node(&behind, &ray, 0.0, f32::INFINITY, 0.0).mask, 0, "ray {o} → {q}");
+            assert_eq!(
+                intersect_node::<false>(&behind, &ray, 0.0, f32::INFINITY, 0.0).mask,
+                0,
+                "ray {o} → {q}"
+            );
         }
     }
 
@@ -279,9 +314,20 @@ mod tests {
             }
             let ray = NodeRay::new(o, d);
             let margin = if round % 3 == 0 { 0.01 } else { 0.0 };
-            let portable = intersect_node(&node, &ray, 0.0, 50.0, margin);
             // SAFETY: AVX2 checked above.
-            let wide = unsafe { intersect_node_wide(&node, &ray, 0.0, 50.0, margin) };
+            let (portable, wide) = unsafe {
+                let wide_ray = WideRay::new(&ray);
+                match margin > 0.0 {
+                    true => (
+                        intersect_node::<true>(&node, &ray, 0.0, 50.0, margin),
+                        intersect_node_wide::<true>(&node, &wide_ray, 0.0, 50.0, margin),
+                    ),
+                    false => (
+                        intersect_node::<false>(&node, &ray, 0.0, 50.0, margin),
+                        intersect_node_wide::<false>(&node, &wide_ray, 0.0, 50.0, margin),
+                    ),
+                }
+            };
             assert_eq!(portable.mask, wide.mask);
             for c in 0..8 {
                 if portable.mask & (1 << c) != 0 {
