@@ -76,10 +76,51 @@ impl Film {
     /// corner (pixel (x, y) covers [x, x + 1) × [y, y + 1)). `pixel_direction` is this at the
     /// pixel centre, so sub-pixel rays and centre rays share one formula.
     pub fn direction(&self, px: f64, py: f64) -> Vec3 {
-        let (r, u, f) = self.basis;
+        self.row_at(py).direction_at(self.sx(px))
+    }
+
+    /// The horizontal image-plane coordinate of every pixel centre's column, for `FilmRow`.
+    pub fn columns(&self) -> Vec<f64> {
+        (0..self.width as u32).map(|x| self.sx(x as f64 + 0.5)).collect()
+    }
+
+    /// The pixel centres of row `y`: `FilmRow::direction` is `pixel_direction` with the parts
+    /// that are constant along a row or down a column computed once.
+    pub fn row(&self, y: u32) -> FilmRow {
+        self.row_at(y as f64 + 0.5)
+    }
+
+    fn sx(&self, px: f64) -> f64 {
         let (w, h, t) = (self.width, self.height, self.tan_half_fov);
-        let sx = (2.0 * px / w - 1.0) * t * w / h;
-        let sy = (1.0 - 2.0 * py / h) * t;
-        (f + sx * r + sy * u).normalize().as_vec3()
+        (2.0 * px / w - 1.0) * t * w / h
+    }
+
+    fn row_at(&self, py: f64) -> FilmRow {
+        let (r, u, f) = self.basis;
+        let sy = (1.0 - 2.0 * py / self.height) * self.tan_half_fov;
+        FilmRow { forward: f, right: r, up_offset: sy * u }
+    }
+}
+
+/// The image plane along one row (`Film::row`).
+#[derive(Clone, Copy, Debug)]
+pub struct FilmRow {
+    forward: DVec3,
+    right: DVec3,
+    /// The row's offset along the camera's up vector.
+    up_offset: DVec3,
+}
+
+impl FilmRow {
+    /// The unit direction through the pixel centre of column `x`, given `Film::columns`.
+    #[inline]
+    pub fn direction(&self, columns: &[f64], x: u32) -> Vec3 {
+        self.direction_at(columns[x as usize])
+    }
+
+    /// f + sx·r + sy·u, in that order, normalized in f64 and rounded once.
+    #[inline]
+    fn direction_at(&self, sx: f64) -> Vec3 {
+        (self.forward + sx * self.right + self.up_offset).normalize().as_vec3()
     }
 }

@@ -20,7 +20,7 @@ mod transform;
 mod triangles;
 mod view_key;
 
-pub use camera::{Camera, Film};
+pub use camera::{Camera, Film, FilmRow};
 pub use cascade_settings::{CascadeFit, CascadeSettings, MAX_CASCADES, SplitScheme};
 pub use error::{Problem, SceneError};
 pub use instance::{Instance, SharedMesh, box_corners, is_degenerate, world_vertex};

@@ -10,7 +10,7 @@
 //! light's cone count as shadowed.
 
 use super::bvh::SceneBvh;
-use super::gbuffer::{GBuffer, PixelClass, primary_sample};
+use super::gbuffer::{GBuffer, LightSight, PixelClass, primary_sample};
 use super::reference::hard_visible;
 use super::sampling::stratum_centre;
 use super::soft_reference::{SoftReference, mean_and_std_error, trace_evaluated};
@@ -30,16 +30,17 @@ pub fn trace_coverage_reference(
 ) -> SoftReference {
     assert!(grid >= 1, "the coverage grid must be at least 1×1");
     let film = camera.film();
+    let sight = LightSight::of(light);
     trace_evaluated(bvh, gbuffer, grid * grid, |scratch, x, y, i| {
         let (mut hits, mut surfaces) = (0u32, 0u32);
         for k in 0..grid * grid {
             let (sx, sy) = stratum_centre(k, grid);
             let dir = film.direction(x as f64 + sx, y as f64 + sy);
-            let Some(s) = primary_sample(scene, bvh, scratch, camera.position, dir, light) else {
+            let Some(s) = primary_sample(scene, bvh, scratch, camera.position, dir, &sight) else {
                 continue;
             };
             surfaces += 1;
-            if s.class == PixelClass::Evaluated && hard_visible(bvh, scratch, &s.point, light) {
+            if s.class == PixelClass::Evaluated && hard_visible(bvh, scratch, &s.point, &sight) {
                 hits += 1;
             }
         }
@@ -48,7 +49,7 @@ pub fn trace_coverage_reference(
         } else {
             // Only possible if no sub-ray reproduces the centre hit: fall back to the centre's
             // hard visibility.
-            let lit = hard_visible(bvh, scratch, &gbuffer.surface_point(scene, i), light);
+            let lit = hard_visible(bvh, scratch, &gbuffer.surface_point(scene, i), &sight);
             (lit as u32 as f32, 0.0)
         }
     })

@@ -63,24 +63,50 @@ impl GBuffer {
     }
 }
 
-/// Unit vector from `p` towards the light, in f64.
-pub fn to_light(light: &Light, p: DVec3) -> DVec3 {
-    match &light.kind {
-        LightKind::Directional { direction, .. } => -direction.as_dvec3().normalize(),
-        LightKind::Spot { position, .. } => (position.as_dvec3() - p).normalize(),
-    }
+/// A light as per-point questions need it, its constants (a normalized direction, a cone's
+/// cosine) computed once rather than at every pixel.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum LightSight {
+    Directional { towards: DVec3 },
+    Spot { position: DVec3, axis: DVec3, cos_half: f64, near: f64, far: f64 },
 }
 
-/// Whether a spot light reaches `p` (strictly inside the cone, within [near, far] along the axis).
-pub fn inside_light(light: &Light, p: DVec3) -> bool {
-    match &light.kind {
-        LightKind::Directional { .. } => true,
-        LightKind::Spot { position, direction, cone_deg, near, far, .. } => {
-            let axis = direction.as_dvec3().normalize();
-            let offset = p - position.as_dvec3();
-            let along = offset.dot(axis);
-            let cos_half = (0.5 * (*cone_deg as f64).to_radians()).cos();
-            offset.normalize().dot(axis) > cos_half && along >= *near as f64 && along <= *far as f64
+impl LightSight {
+    pub(super) fn of(light: &Light) -> Self {
+        match &light.kind {
+            LightKind::Directional { direction, .. } => {
+                LightSight::Directional { towards: -direction.as_dvec3().normalize() }
+            }
+            LightKind::Spot { position, direction, cone_deg, near, far, .. } => LightSight::Spot {
+                position: position.as_dvec3(),
+                axis: direction.as_dvec3().normalize(),
+                cos_half: (0.5 * (*cone_deg as f64).to_radians()).cos(),
+                near: *near as f64,
+                far: *far as f64,
+            },
+        }
+    }
+
+    /// Unit vector from `p` towards the light, in f64.
+    #[inline]
+    pub(super) fn towards(&self, p: DVec3) -> DVec3 {
+        match *self {
+            LightSight::Directional { towards } => towards,
+            LightSight::Spot { position, .. } => (position - p).normalize(),
+        }
+    }
+
+    /// Whether the light reaches `p`: a spot light strictly inside its cone, within [near, far]
+    /// along its axis.
+    #[inline]
+    pub(super) fn reaches(&self, p: DVec3) -> bool {
+        match *self {
+            LightSight::Directional { .. } => true,
+            LightSight::Spot { position, axis, cos_half, near, far } => {
+                let offset = p - position;
+                let along = offset.dot(axis);
+                offset.normalize().dot(axis) > cos_half && along >= near && along <= far
+            }
         }
     }
 }
@@ -101,7 +127,7 @@ pub(super) fn primary_sample(
     scratch: &mut TraversalScratch,
     origin: Vec3,
     dir: Vec3,
-    light: &Light,
+    light: &LightSight,
 ) -> Option<SurfaceSample> {
     let hit = bvh.closest_hit(scratch, origin, dir, 0.0, f32::INFINITY)?;
     let verts = &scene.triangle(hit.triangle);
@@ -112,10 +138,10 @@ pub(super) fn primary_sample(
         ng = -ng;
     }
     let p32 = p.as_vec3();
-    let l = to_light(light, p32.as_dvec3());
+    let l = light.towards(p32.as_dvec3());
     let class = if ng.dot(l) <= 0.0 {
         PixelClass::FacingAway
-    } else if !inside_light(light, p32.as_dvec3()) {
+    } else if !light.reaches(p32.as_dvec3()) {
         PixelClass::OutsideLight
     } else {
         PixelClass::Evaluated
@@ -135,6 +161,8 @@ impl GBuffer {
         let (w, h) = (camera.width, camera.height);
         let n = camera.pixel_count();
         let film = camera.film();
+        let columns = film.columns();
+        let sight = LightSight::of(light);
         let mut class = filled(PixelClass::Background, n);
         let mut position = filled(Vec3::ZERO, n);
         let mut normal = filled(Vec3::ZERO, n);
@@ -150,9 +178,10 @@ impl GBuffer {
             .for_each_init(
                 || bvh.scratch(),
                 |scratch, (y, ((((cls, pos), nrm), tri), obj))| {
+                    let row = film.row(y as u32);
                     for x in 0..w as usize {
-                        let dir = film.pixel_direction(x as u32, y as u32);
-                        let Some(sample) = primary_sample(scene, bvh, scratch, camera.position, dir, light)
+                        let dir = row.direction(&columns, x as u32);
+                        let Some(sample) = primary_sample(scene, bvh, scratch, camera.position, dir, &sight)
                         else {
                             continue;
                         };

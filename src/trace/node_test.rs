@@ -154,6 +154,7 @@ pub(super) struct WideRay {
 #[cfg(target_arch = "x86_64")]
 impl WideRay {
     #[target_feature(enable = "avx2")]
+    #[inline]
     pub(super) fn new(ray: &NodeRay) -> Self {
         use std::arch::x86_64::_mm256_set1_ps;
         let lo = std::mem::offset_of!(WideNode, lo);

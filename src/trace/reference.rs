@@ -3,9 +3,9 @@
 //! ray cannot hit its own surface (shadow_ray.rs); no scene-dependent epsilon enters.
 
 use super::bvh::{SceneBvh, TraversalScratch};
-use super::gbuffer::{GBuffer, PixelClass, to_light};
+use super::gbuffer::{GBuffer, LightSight, PixelClass};
 use super::shadow_ray::{ShadowRay, SurfacePoint};
-use crate::scene::{Light, LightKind, Scene};
+use crate::scene::{Light, Scene};
 use rayon::prelude::*;
 
 /// The grey levels of a reference mask PNG (docs/conventions.md, "Reference mask PNG").
@@ -57,9 +57,13 @@ impl HardReference {
 
 /// The shadow ray from a surface point to the light's centre.
 pub fn hard_shadow_ray(point: &SurfacePoint, light: &Light) -> ShadowRay {
-    match &light.kind {
-        LightKind::Directional { .. } => ShadowRay::along(point, to_light(light, point.position.as_dvec3())),
-        LightKind::Spot { position, .. } => ShadowRay::to_point(point, position.as_dvec3()),
+    shadow_ray_to_centre(point, &LightSight::of(light))
+}
+
+fn shadow_ray_to_centre(point: &SurfacePoint, light: &LightSight) -> ShadowRay {
+    match *light {
+        LightSight::Directional { towards } => ShadowRay::along(point, towards),
+        LightSight::Spot { position, .. } => ShadowRay::to_point(point, position),
     }
 }
 
@@ -69,9 +73,9 @@ pub(super) fn hard_visible(
     bvh: &SceneBvh,
     scratch: &mut TraversalScratch,
     point: &SurfacePoint,
-    light: &Light,
+    light: &LightSight,
 ) -> bool {
-    bvh.shadow_occluder(scratch, &hard_shadow_ray(point, light)).is_none()
+    bvh.shadow_occluder(scratch, &shadow_ray_to_centre(point, light)).is_none()
 }
 
 /// Traces one shadow ray per evaluated pixel.
@@ -83,6 +87,7 @@ pub fn trace_hard_reference(
 ) -> HardReference {
     let mut lit = vec![0u8; gbuffer.pixel_count()];
     let w = gbuffer.width as usize;
+    let sight = LightSight::of(light);
     lit.par_chunks_mut(w).enumerate().for_each_init(
         || bvh.scratch(),
         |scratch, (y, row)| {
@@ -91,7 +96,7 @@ pub fn trace_hard_reference(
                 if gbuffer.class[i] != PixelClass::Evaluated {
                     continue;
                 }
-                *out = hard_visible(bvh, scratch, &gbuffer.surface_point(scene, i), light) as u8;
+                *out = hard_visible(bvh, scratch, &gbuffer.surface_point(scene, i), &sight) as u8;
             }
         },
     );

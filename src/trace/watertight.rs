@@ -70,10 +70,11 @@ impl WatertightRay {
 
     #[inline(always)]
     fn shear(&self, v0: Vec3A, v1: Vec3A, v2: Vec3A) -> Sheared {
+        // Indexing arrays, not `Vec3A`s (whose indexing by a run-time axis branches).
         let (kx, ky, kz) = (self.kx, self.ky, self.kz);
-        let a = v0 - self.origin;
-        let b = v1 - self.origin;
-        let c = v2 - self.origin;
+        let a = (v0 - self.origin).to_array();
+        let b = (v1 - self.origin).to_array();
+        let c = (v2 - self.origin).to_array();
         let x = [a[kx] - self.sx * a[kz], b[kx] - self.sx * b[kz], c[kx] - self.sx * c[kz]];
         let y = [a[ky] - self.sy * a[kz], b[ky] - self.sy * b[kz], c[ky] - self.sy * c[kz]];
         let e = [x[2] * y[1] - y[2] * x[1], x[0] * y[2] - y[0] * x[2], x[1] * y[0] - y[1] * x[0]];
