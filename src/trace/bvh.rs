@@ -14,12 +14,15 @@
 
 use super::cwbvh_convert::bvh2_to_cwbvh;
 use super::instances::InstanceLevel;
+use super::node_test;
 pub(super) use super::node_test::NodeRay;
+#[cfg(target_arch = "x86_64")]
+use super::packet::{LANES, Packet, walk_packet};
 use super::shadow_ray::ShadowRay;
 pub(super) use super::walk::{ANY_ORDER, NEAREST_FIRST, WalkState, walk};
 use super::watertight::WatertightRay;
-use super::wide_bvh::WideBvh;
 pub(super) use super::wide_bvh::tree_depth;
+use super::wide_bvh::{ChildRef, WideBvh};
 use crate::scene::Scene;
 use bytemuck::TransparentWrapper;
 use glam::{Vec3, Vec3A};
@@ -67,6 +70,8 @@ impl Hit {
 pub struct TraversalScratch {
     pub(super) outer: WalkState,
     pub(super) inner: WalkState,
+    /// The stack of packet walks of the flat tree (packet.rs).
+    packet: Box<[(ChildRef, u32, f32)]>,
 }
 
 impl SceneBvh {
@@ -116,7 +121,11 @@ impl SceneBvh {
 
     pub fn scratch(&self) -> TraversalScratch {
         let (top, mesh) = self.instances.as_ref().map_or((0, 0), InstanceLevel::depths);
-        TraversalScratch { outer: WalkState::new(self.depth.max(top)), inner: WalkState::new(mesh) }
+        TraversalScratch {
+            outer: WalkState::new(self.depth.max(top)),
+            inner: WalkState::new(mesh),
+            packet: vec![(ChildRef::ROOT, 0, 0.0); 7 * self.depth + 1].into_boxed_slice(),
+        }
     }
 
     /// The nearest hit with t ∈ [tmin, tmax]; among hits at the same t the lowest scene triangle
@@ -215,6 +224,141 @@ impl SceneBvh {
             }
             _ => occluder,
         }
+    }
+}
+
+/// The most rays `shadow_occluded` and `closest_hits` take at once.
+pub const RAYS_PER_BATCH: usize = 8;
+
+/// Queries for up to eight rays at once: the single-ray answers, walked together where the
+/// processor and the rays allow (packet.rs).
+impl SceneBvh {
+    /// Bit k set where shadow ray k is occluded: `shadow_occluder(rays[k]).is_some()`.
+    pub fn shadow_occluded(&self, scratch: &mut TraversalScratch, rays: &[ShadowRay]) -> u32 {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(bits) = self.shadow_occluded_packet(scratch, rays) {
+            return bits;
+        }
+        (0..rays.len()).map(|k| (self.shadow_occluder(scratch, &rays[k]).is_some() as u32) << k).sum()
+    }
+
+    /// `closest_hit(origin, directions[k], 0, ∞)` into `hits[k]` for each k.
+    pub fn closest_hits(
+        &self,
+        scratch: &mut TraversalScratch,
+        origin: Vec3,
+        directions: &[Vec3],
+        hits: &mut [Option<Hit>],
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        if self.closest_hits_packet(scratch, origin, directions, hits) {
+            return;
+        }
+        for (hit, &direction) in hits.iter_mut().zip(directions) {
+            *hit = self.closest_hit(scratch, origin, direction, 0.0, f32::INFINITY);
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    fn shadow_occluded_packet(&self, scratch: &mut TraversalScratch, rays: &[ShadowRay]) -> Option<u32> {
+        if rays.len() < 2 || rays.len() > LANES || !node_test::wide_available() {
+            return None;
+        }
+        let lane = |k: usize| k.min(rays.len() - 1);
+        let watertight: [WatertightRay; LANES] = std::array::from_fn(|k| {
+            WatertightRay::new(rays[lane(k)].origin.into(), rays[lane(k)].direction.into())
+        });
+        // SAFETY: the processor has AVX2 (`wide_available`).
+        let packet = unsafe { Packet::new(&watertight[..rays.len()]) }?;
+        let mut active = packet.lanes;
+        let mut tmax: [f32; LANES] = std::array::from_fn(|k| rays[lane(k)].tmax);
+        let (tree, triangles) = (&self.tree.nodes, &self.triangles);
+        // SAFETY: as above.
+        unsafe {
+            walk_packet::<ANY_ORDER>(
+                tree,
+                triangles,
+                &mut scratch.packet,
+                &packet,
+                &mut active,
+                &mut tmax,
+                |i, k, _| {
+                    let [v0, v1, v2] = triangles[i];
+                    self.scene_ids[i] != rays[k].skip_triangle
+                        && watertight[k].intersect_beyond_error(v0, v1, v2, rays[k].tmax).is_some()
+                },
+            )
+        };
+        let mut occluded = packet.lanes & !active;
+        if let Some(instances) = &self.instances {
+            for k in 0..rays.len() {
+                if occluded & (1 << k) == 0 {
+                    let hit = instances.any_hit(
+                        scratch,
+                        &watertight[k],
+                        0.0,
+                        rays[k].tmax,
+                        rays[k].skip_triangle,
+                        true,
+                    );
+                    occluded |= (hit.is_some() as u32) << k;
+                }
+            }
+        }
+        Some(occluded)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    fn closest_hits_packet(
+        &self,
+        scratch: &mut TraversalScratch,
+        origin: Vec3,
+        directions: &[Vec3],
+        hits: &mut [Option<Hit>],
+    ) -> bool {
+        if directions.len() < 2 || directions.len() > LANES || !node_test::wide_available() {
+            return false;
+        }
+        let lane = |k: usize| k.min(directions.len() - 1);
+        let watertight: [WatertightRay; LANES] =
+            std::array::from_fn(|k| WatertightRay::new(origin.into(), directions[lane(k)].into()));
+        // SAFETY: the processor has AVX2 (`wide_available`).
+        let Some(packet) = (unsafe { Packet::new(&watertight[..directions.len()]) }) else {
+            return false;
+        };
+        let mut best = [None; LANES];
+        let mut tmax = [f32::INFINITY; LANES];
+        let (tree, triangles) = (&self.tree.nodes, &self.triangles);
+        let mut active = packet.lanes;
+        // SAFETY: as above.
+        unsafe {
+            walk_packet::<NEAREST_FIRST>(
+                tree,
+                triangles,
+                &mut scratch.packet,
+                &packet,
+                &mut active,
+                &mut tmax,
+                |i, k, tmax| {
+                    let [v0, v1, v2] = triangles[i];
+                    if let Some(h) = watertight[k].intersect(v0, v1, v2, 0.0, tmax[k]) {
+                        let hit = Hit { triangle: self.scene_ids[i], t: h.t, barycentric: h.barycentric };
+                        if hit.beats(&best[k]) {
+                            best[k] = Some(hit);
+                            tmax[k] = h.t;
+                        }
+                    }
+                    false
+                },
+            )
+        };
+        for (k, hit) in hits.iter_mut().enumerate().take(directions.len()) {
+            if let Some(instances) = &self.instances {
+                instances.closest_hit(scratch, &watertight[k], 0.0, tmax[k], &mut best[k]);
+            }
+            *hit = best[k];
+        }
+        true
     }
 }
 

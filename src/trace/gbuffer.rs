@@ -1,7 +1,7 @@
 //! The G-buffer of one (camera, light): per pixel the primary hit of the pixel-centre ray and its
 //! class. The reference and every technique evaluate exactly these surface points.
 
-use super::bvh::{SceneBvh, TraversalScratch};
+use super::bvh::{Hit, RAYS_PER_BATCH, SceneBvh, TraversalScratch};
 use super::shadow_ray::{SurfacePoint, position_error};
 use super::watertight::barycentric_point;
 use crate::scene::{Camera, Light, LightKind, Scene};
@@ -130,6 +130,11 @@ pub(super) fn primary_sample(
     light: &LightSight,
 ) -> Option<SurfaceSample> {
     let hit = bvh.closest_hit(scratch, origin, dir, 0.0, f32::INFINITY)?;
+    Some(surface_sample(scene, &hit, dir, light))
+}
+
+/// The surface point of a primary ray's closest hit, and its class.
+fn surface_sample(scene: &Scene, hit: &Hit, dir: Vec3, light: &LightSight) -> SurfaceSample {
     let verts = &scene.triangle(hit.triangle);
     let p = barycentric_point(verts, hit.barycentric);
     let (v0, v1, v2) = (verts[0].as_dvec3(), verts[1].as_dvec3(), verts[2].as_dvec3());
@@ -152,7 +157,7 @@ pub(super) fn primary_sample(
         normal: ng.as_vec3(),
         triangle: hit.triangle,
     };
-    Some(SurfaceSample { class, point })
+    SurfaceSample { class, point }
 }
 
 impl GBuffer {
@@ -179,18 +184,23 @@ impl GBuffer {
                 || bvh.scratch(),
                 |scratch, (y, ((((cls, pos), nrm), tri), obj))| {
                     let row = film.row(y as u32);
-                    for x in 0..w as usize {
-                        let dir = row.direction(&columns, x as u32);
-                        let Some(sample) = primary_sample(scene, bvh, scratch, camera.position, dir, &sight)
-                        else {
-                            continue;
-                        };
-                        let p = sample.point;
-                        cls[x] = sample.class;
-                        pos[x] = p.position;
-                        nrm[x] = p.normal;
-                        tri[x] = p.triangle;
-                        obj[x] = scene.object_of(p.triangle);
+                    // Neighbouring pixels' rays are traced together (`SceneBvh::closest_hits`).
+                    for first in (0..w as usize).step_by(RAYS_PER_BATCH) {
+                        let n = RAYS_PER_BATCH.min(w as usize - first);
+                        let dirs: [Vec3; RAYS_PER_BATCH] =
+                            std::array::from_fn(|k| row.direction(&columns, (first + k.min(n - 1)) as u32));
+                        let mut hits = [None; RAYS_PER_BATCH];
+                        bvh.closest_hits(scratch, camera.position, &dirs[..n], &mut hits[..n]);
+                        for (k, hit) in hits[..n].iter().enumerate() {
+                            let Some(hit) = hit else { continue };
+                            let (x, sample) = (first + k, surface_sample(scene, hit, dirs[k], &sight));
+                            let p = sample.point;
+                            cls[x] = sample.class;
+                            pos[x] = p.position;
+                            nrm[x] = p.normal;
+                            tri[x] = p.triangle;
+                            obj[x] = scene.object_of(p.triangle);
+                        }
                     }
                 },
             );

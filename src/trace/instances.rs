@@ -91,7 +91,7 @@ impl InstanceLevel {
         tmax: f32,
         best: &mut Option<Hit>,
     ) {
-        let TraversalScratch { outer, inner } = scratch;
+        let TraversalScratch { outer, inner, .. } = scratch;
         let mut best_t = best.map_or(tmax, |b| b.t.min(tmax));
         let top_ray = NodeRay::new(ray.origin, ray.direction);
         walk::<NEAREST_FIRST>(&self.top, outer, &top_ray, tmin, &mut best_t, 0.0, |i, best_t| {
@@ -124,7 +124,7 @@ impl InstanceLevel {
         skip: u32,
         beyond_error: bool,
     ) -> Option<u32> {
-        let TraversalScratch { outer, inner } = scratch;
+        let TraversalScratch { outer, inner, .. } = scratch;
         let top_ray = NodeRay::new(ray.origin, ray.direction);
         let mut found = None;
         walk::<ANY_ORDER>(&self.top, outer, &top_ray, tmin, &mut tmax.clone(), 0.0, |i, _| {

@@ -13,6 +13,7 @@ mod cwbvh_convert;
 mod gbuffer;
 mod instances;
 mod node_test;
+mod packet;
 mod reference;
 mod sampling;
 mod shadow_ray;

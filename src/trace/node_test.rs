@@ -28,17 +28,17 @@ const SLACK: f32 = 4.0 * f32::EPSILON;
 
 /// What the node test needs of a ray.
 pub(crate) struct NodeRay {
-    origin: Vec3A,
+    pub(super) origin: Vec3A,
     /// 1/d shrunk by `SLACK`: entry distances are never late.
-    inv_near: Vec3A,
+    pub(super) inv_near: Vec3A,
     /// 1/d grown by `SLACK`: exit distances are never early.
-    inv_far: Vec3A,
+    pub(super) inv_far: Vec3A,
     /// Whether the ray moves along each axis: a component so small that its (grown) reciprocal
     /// overflows counts as no motion, and keeps the children whose slab holds the origin.
     moves: [bool; 3],
     /// Whether the direction is negative along each axis: the ray then enters a slab at its
     /// maximum plane.
-    negative: [bool; 3],
+    pub(super) negative: [bool; 3],
 }
 
 impl NodeRay {
@@ -157,18 +157,28 @@ impl WideRay {
     #[inline]
     pub(super) fn new(ray: &NodeRay) -> Self {
         use std::arch::x86_64::_mm256_set1_ps;
-        let lo = std::mem::offset_of!(WideNode, lo);
-        let hi = std::mem::offset_of!(WideNode, hi);
-        let plane = |axis: usize, max: bool| if max { hi } else { lo } + 32 * axis;
+        let (near_offset, far_offset) = plane_offsets(ray.negative);
         WideRay {
             origin: std::array::from_fn(|axis| _mm256_set1_ps(ray.origin[axis])),
             inv_near: std::array::from_fn(|axis| _mm256_set1_ps(ray.inv_near[axis])),
             inv_far: std::array::from_fn(|axis| _mm256_set1_ps(ray.inv_far[axis])),
-            near_offset: std::array::from_fn(|axis| plane(axis, ray.negative[axis])),
-            far_offset: std::array::from_fn(|axis| plane(axis, !ray.negative[axis])),
+            near_offset,
+            far_offset,
             negative: ray.negative,
         }
     }
+}
+
+/// Per axis, the byte offsets in a `WideNode` of the plane arrays a ray with these direction
+/// signs enters a slab by and leaves it by.
+pub(super) fn plane_offsets(negative: [bool; 3]) -> ([usize; 3], [usize; 3]) {
+    let lo = std::mem::offset_of!(WideNode, lo);
+    let hi = std::mem::offset_of!(WideNode, hi);
+    let plane = |axis: usize, max: bool| if max { hi } else { lo } + 32 * axis;
+    (
+        std::array::from_fn(|axis| plane(axis, negative[axis])),
+        std::array::from_fn(|axis| plane(axis, !negative[axis])),
+    )
 }
 
 /// `intersect_node` for a ray that moves along every axis, eight children at a time; `WIDEN`

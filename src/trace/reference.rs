@@ -2,10 +2,11 @@
 //! meets no triangle other than the ones that contain the point (docs/reference.md). The shadow
 //! ray cannot hit its own surface (shadow_ray.rs); no scene-dependent epsilon enters.
 
-use super::bvh::{SceneBvh, TraversalScratch};
+use super::bvh::{RAYS_PER_BATCH, SceneBvh, TraversalScratch};
 use super::gbuffer::{GBuffer, LightSight, PixelClass};
 use super::shadow_ray::{ShadowRay, SurfacePoint};
 use crate::scene::{Light, Scene};
+use glam::Vec3;
 use rayon::prelude::*;
 
 /// The grey levels of a reference mask PNG (docs/conventions.md, "Reference mask PNG").
@@ -78,6 +79,39 @@ pub(super) fn hard_visible(
     bvh.shadow_occluder(scratch, &shadow_ray_to_centre(point, light)).is_none()
 }
 
+/// Shadow rays of one row's pixels, gathered to be traced together.
+struct ShadowBatch {
+    columns: [usize; RAYS_PER_BATCH],
+    rays: [ShadowRay; RAYS_PER_BATCH],
+    len: usize,
+}
+
+impl ShadowBatch {
+    fn new() -> Self {
+        let none = ShadowRay { origin: Vec3::ZERO, direction: Vec3::X, tmax: 0.0, skip_triangle: u32::MAX };
+        ShadowBatch { columns: [0; RAYS_PER_BATCH], rays: [none; RAYS_PER_BATCH], len: 0 }
+    }
+
+    fn push(&mut self, column: usize, ray: ShadowRay) {
+        self.columns[self.len] = column;
+        self.rays[self.len] = ray;
+        self.len += 1;
+    }
+
+    fn is_full(&self) -> bool {
+        self.len == RAYS_PER_BATCH
+    }
+
+    /// Writes each ray's visibility (1 lit) into its column of `row`, and empties the batch.
+    fn trace_into(&mut self, bvh: &SceneBvh, scratch: &mut TraversalScratch, row: &mut [u8]) {
+        let occluded = bvh.shadow_occluded(scratch, &self.rays[..self.len]);
+        for (k, &x) in self.columns[..self.len].iter().enumerate() {
+            row[x] = (occluded >> k & 1 == 0) as u8;
+        }
+        self.len = 0;
+    }
+}
+
 /// Traces one shadow ray per evaluated pixel.
 pub fn trace_hard_reference(
     scene: &Scene,
@@ -91,13 +125,19 @@ pub fn trace_hard_reference(
     lit.par_chunks_mut(w).enumerate().for_each_init(
         || bvh.scratch(),
         |scratch, (y, row)| {
-            for (x, out) in row.iter_mut().enumerate() {
+            // Up to `RAYS_PER_BATCH` evaluated pixels of the row, traced together.
+            let mut batch = ShadowBatch::new();
+            for x in 0..w {
                 let i = y * w + x;
                 if gbuffer.class[i] != PixelClass::Evaluated {
                     continue;
                 }
-                *out = hard_visible(bvh, scratch, &gbuffer.surface_point(scene, i), &sight) as u8;
+                batch.push(x, shadow_ray_to_centre(&gbuffer.surface_point(scene, i), &sight));
+                if batch.is_full() {
+                    batch.trace_into(bvh, scratch, row);
+                }
             }
+            batch.trace_into(bvh, scratch, row);
         },
     );
     HardReference { width: gbuffer.width, height: gbuffer.height, lit }

@@ -15,11 +15,11 @@ use glam::{DVec3, Vec3A};
 pub struct WatertightRay {
     pub origin: Vec3A,
     pub direction: Vec3A,
-    kx: usize,
-    ky: usize,
-    kz: usize,
-    sx: f32,
-    sy: f32,
+    pub(super) kx: usize,
+    pub(super) ky: usize,
+    pub(super) kz: usize,
+    pub(super) sx: f32,
+    pub(super) sy: f32,
     sz: f32,
 }
 

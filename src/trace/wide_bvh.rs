@@ -38,7 +38,7 @@ pub(super) const MAX_PRIMITIVES: usize = 1 << 29;
 impl ChildRef {
     pub(super) const ROOT: ChildRef = ChildRef(0);
     /// An empty slot: node 0 is the root, which is no node's child.
-    const EMPTY: ChildRef = ChildRef(0);
+    pub(super) const EMPTY: ChildRef = ChildRef(0);
 
     fn node(index: u32) -> Self {
         debug_assert!(index < LEAF);

@@ -1,0 +1,313 @@
+//! Eight rays walked down the tree together, with AVX2: neighbouring pixels' primary rays, or
+//! their shadow rays towards a directional light (parallel, so as coherent as rays get).
+//!
+//! A packet visits a node when any of its rays may meet it, so one walk's branches and node
+//! loads serve eight rays. The answers are those of eight single-ray walks (bvh.rs), bit for
+//! bit, by construction:
+//! - the node test runs per lane the very operations of the single-ray test (node_test.rs) on
+//!   that ray's own numbers, so each ray reaches every node its own walk would (and perhaps
+//!   more, where another ray of the packet leads there);
+//! - at a leaf, a vectorised copy of the watertight test's first steps (the shear and the edge
+//!   functions, operation for operation as `WatertightRay::shear`) rejects only the rays whose
+//!   edge functions are all non-zero and of mixed signs, which the scalar test rejects too;
+//!   every other ray gets the scalar test itself (`leaf`), which decides;
+//! - the closest hit is the least (distance, scene id) over every triangle reached, and the
+//!   any-hit answer whether one occludes, neither of which depends on the order of the visits.
+//!
+//! Rays join a packet only when they share their direction's signs and the watertight test's
+//! axis order, and move along every axis (`Packet::new`); otherwise they are walked one by one.
+//! tests/node_test_forms.rs compares every reference traced this way with the portable form,
+//! which walks single rays.
+
+#![cfg(target_arch = "x86_64")]
+
+use super::node_test::{NodeRay, plane_offsets};
+use super::watertight::WatertightRay;
+use super::wide_bvh::{ChildRef, WideNode};
+use glam::Vec3A;
+use std::arch::x86_64::*;
+
+/// Rays in a packet.
+pub(super) const LANES: usize = 8;
+
+/// Eight rays as the packet walk needs them, lane by lane.
+pub(super) struct Packet {
+    origin: [__m256; 3],
+    inv_near: [__m256; 3],
+    inv_far: [__m256; 3],
+    near_offset: [usize; 3],
+    far_offset: [usize; 3],
+    /// The watertight test's axis order, shared by every ray.
+    axes: [usize; 3],
+    /// Its shear factors, lane by lane.
+    shear: [__m256; 2],
+    /// Lanes that hold a ray (the others repeat the first).
+    pub(super) lanes: u32,
+}
+
+impl Packet {
+    /// The packet of `rays` (one to eight), or `None` if they cannot share a walk.
+    #[target_feature(enable = "avx2")]
+    pub(super) fn new(rays: &[WatertightRay]) -> Option<Packet> {
+        let first = rays.first()?;
+        if rays.len() > LANES {
+            return None;
+        }
+        let lane = |k: usize| k.min(rays.len() - 1);
+        let node_rays: [NodeRay; LANES] =
+            std::array::from_fn(|k| NodeRay::new(rays[lane(k)].origin, rays[lane(k)].direction));
+        let same_frame = rays.iter().all(|r| (r.kx, r.ky, r.kz) == (first.kx, first.ky, first.kz));
+        let same_signs = node_rays.iter().all(|n| n.negative == node_rays[0].negative);
+        if !same_frame || !same_signs || !node_rays.iter().all(NodeRay::all_axes_move) {
+            return None;
+        }
+        let gather = |value: &dyn Fn(usize) -> f32| {
+            let v: [f32; LANES] = std::array::from_fn(value);
+            // SAFETY: eight f32.
+            unsafe { _mm256_loadu_ps(v.as_ptr()) }
+        };
+        let (near_offset, far_offset) = plane_offsets(node_rays[0].negative);
+        Some(Packet {
+            origin: std::array::from_fn(|axis| gather(&|k| node_rays[k].origin[axis])),
+            inv_near: std::array::from_fn(|axis| gather(&|k| node_rays[k].inv_near[axis])),
+            inv_far: std::array::from_fn(|axis| gather(&|k| node_rays[k].inv_far[axis])),
+            near_offset,
+            far_offset,
+            axes: [first.kx, first.ky, first.kz],
+            shear: [gather(&|k| rays[lane(k)].sx), gather(&|k| rays[lane(k)].sy)],
+            lanes: (1u32 << rays.len()) - 1,
+        })
+    }
+
+    /// Per child of `node`, the lanes of `lanes` whose ray may meet it within [0, tmax[lane]],
+    /// and the distance at which the lowest of those lanes enters it.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn test_node(&self, node: &WideNode, tmax: &[f32; LANES], lanes: u32) -> ([u32; 8], [f32; 8]) {
+        let bytes = node as *const WideNode as *const u8;
+        // SAFETY: `offset` is that of one of the node's plane arrays (`plane_offsets`), and c < 8.
+        let plane =
+            |offset: usize, c: usize| unsafe { _mm256_set1_ps(*(bytes.add(offset) as *const f32).add(c)) };
+        // SAFETY: eight f32.
+        let tmax = unsafe { _mm256_loadu_ps(tmax.as_ptr()) };
+        let (mut hit_lanes, mut enter_first) = ([0u32; 8], [0f32; 8]);
+        let first = lanes.trailing_zeros() as usize;
+        for c in 0..8 {
+            if node.child[c] == ChildRef::EMPTY {
+                continue;
+            }
+            let (mut enter, mut exit) = (_mm256_setzero_ps(), tmax);
+            for axis in 0..3 {
+                let near = plane(self.near_offset[axis], c);
+                let far = plane(self.far_offset[axis], c);
+                let t_near = _mm256_mul_ps(_mm256_sub_ps(near, self.origin[axis]), self.inv_near[axis]);
+                let t_far = _mm256_mul_ps(_mm256_sub_ps(far, self.origin[axis]), self.inv_far[axis]);
+                enter = _mm256_max_ps(enter, t_near);
+                exit = _mm256_min_ps(exit, t_far);
+            }
+            hit_lanes[c] = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit)) as u32 & lanes;
+            let mut each = [0f32; LANES];
+            // SAFETY: eight f32.
+            unsafe { _mm256_storeu_ps(each.as_mut_ptr(), enter) };
+            enter_first[c] = each[first];
+        }
+        (hit_lanes, enter_first)
+    }
+
+    /// The lanes of `lanes` whose ray the watertight test might not reject for `triangle`: all
+    /// but those whose three edge functions are non-zero and of mixed signs.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn candidates(&self, triangle: &[Vec3A; 3], lanes: u32) -> u32 {
+        let [kx, ky, kz] = self.axes;
+        let [sx, sy] = self.shear;
+        // `WatertightRay::shear`, lane by lane: translate to the origin, then shear.
+        let sheared = |v: Vec3A| {
+            let v = v.to_array();
+            let d = |k: usize| _mm256_sub_ps(_mm256_set1_ps(v[k]), self.origin[k]);
+            let (dx, dy, dz) = (d(kx), d(ky), d(kz));
+            (_mm256_sub_ps(dx, _mm256_mul_ps(sx, dz)), _mm256_sub_ps(dy, _mm256_mul_ps(sy, dz)))
+        };
+        let ((ax, ay), (bx, by), (cx, cy)) =
+            (sheared(triangle[0]), sheared(triangle[1]), sheared(triangle[2]));
+        let edge = |px: __m256, py: __m256, qx: __m256, qy: __m256| {
+            _mm256_sub_ps(_mm256_mul_ps(px, qy), _mm256_mul_ps(py, qx))
+        };
+        let e = [edge(cx, cy, bx, by), edge(ax, ay, cx, cy), edge(bx, by, ax, ay)];
+        let zero = _mm256_setzero_ps();
+        let any = |cmp: &dyn Fn(__m256) -> __m256| {
+            _mm256_movemask_ps(_mm256_or_ps(_mm256_or_ps(cmp(e[0]), cmp(e[1])), cmp(e[2]))) as u32
+        };
+        let some_zero = any(&|x| _mm256_cmp_ps::<_CMP_EQ_OQ>(x, zero));
+        let some_negative = any(&|x| _mm256_cmp_ps::<_CMP_LT_OQ>(x, zero));
+        let some_positive = any(&|x| _mm256_cmp_ps::<_CMP_GT_OQ>(x, zero));
+        lanes & (some_zero | !(some_negative & some_positive))
+    }
+}
+
+/// Walks `nodes` with the packet, for the lanes in `*active`, and calls `leaf(i, lane, tmax)`
+/// for each primitive `i` (in tree order) of the leaves it reaches and each lane that may hit
+/// it (`triangles[i]` is its triangle). `leaf` may shrink `tmax[lane]` (closest hits), and
+/// returns true when the lane is finished (any hit), which drops it from `*active`. Nearest
+/// first, children go in the order the lowest lane enters them.
+#[target_feature(enable = "avx2")]
+#[allow(clippy::too_many_arguments)]
+pub(super) fn walk_packet<const NEAREST: bool>(
+    nodes: &[WideNode],
+    triangles: &[[Vec3A; 3]],
+    stack: &mut [(ChildRef, u32, f32)],
+    packet: &Packet,
+    active: &mut u32,
+    tmax: &mut [f32; LANES],
+    mut leaf: impl FnMut(usize, usize, &mut [f32; LANES]) -> bool,
+) {
+    if nodes.is_empty() {
+        return;
+    }
+    let mut depth = 0;
+    let mut current = (ChildRef::ROOT, *active);
+    loop {
+        let (child, lanes) = (current.0, current.1 & *active);
+        if lanes != 0 && child.is_leaf() {
+            for i in child.primitives() {
+                let mut candidates = packet.candidates(&triangles[i], lanes & *active);
+                while candidates != 0 {
+                    let lane = candidates.trailing_zeros() as usize;
+                    candidates &= candidates - 1;
+                    if leaf(i, lane, tmax) {
+                        *active &= !(1 << lane);
+                    }
+                }
+            }
+            if *active == 0 {
+                return;
+            }
+        } else if lanes != 0 {
+            let node = &nodes[child.index()];
+            let (hit_lanes, enter) = packet.test_node(node, tmax, lanes);
+            if let Some(next) = push_children::<NEAREST>(node, &hit_lanes, &enter, stack, &mut depth) {
+                current = next;
+                continue;
+            }
+        }
+        if depth == 0 {
+            return;
+        }
+        depth -= 1;
+        current = (stack[depth].0, stack[depth].1);
+    }
+}
+
+/// Pushes the children with lanes but one onto `stack[..*depth]`, and returns that one: nearest
+/// first, the one the lowest lane enters first, the others sorted farthest first beneath it.
+#[inline(always)]
+fn push_children<const NEAREST: bool>(
+    node: &WideNode,
+    hit_lanes: &[u32; 8],
+    enter: &[f32; 8],
+    stack: &mut [(ChildRef, u32, f32)],
+    depth: &mut usize,
+) -> Option<(ChildRef, u32)> {
+    let base = *depth;
+    for c in 0..8 {
+        if hit_lanes[c] == 0 {
+            continue;
+        }
+        let entry = (node.child[c], hit_lanes[c], enter[c]);
+        let mut k = *depth;
+        while NEAREST && k > base && stack[k - 1].2 < entry.2 {
+            stack[k] = stack[k - 1];
+            k -= 1;
+        }
+        stack[k] = entry;
+        *depth += 1;
+    }
+    if *depth == base {
+        return None;
+    }
+    *depth -= 1;
+    Some((stack[*depth].0, stack[*depth].1))
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::trace::splitmix::SplitMix64;
+    use crate::trace::{SceneBvh, ShadowRay};
+    use glam::{Vec3, vec3};
+
+    /// A soup of small triangles in a box, with a few large ones across it, so that rays meet
+    /// many leaves and share edges.
+    fn soup(rng: &mut SplitMix64) -> Vec<[Vec3; 3]> {
+        let mut point = |s: f64| Vec3::from_array(std::array::from_fn(|_| rng.range([-s, s]) as f32));
+        let mut tris: Vec<[Vec3; 3]> = (0..3000)
+            .map(|_| {
+                let c = point(4.0);
+                [c, c + point(0.4), c + point(0.4)]
+            })
+            .collect();
+        tris.push([vec3(-5.0, -1.0, -5.0), vec3(5.0, -1.0, -5.0), vec3(5.0, -1.0, 5.0)]);
+        tris.push([vec3(-5.0, -1.0, -5.0), vec3(5.0, -1.0, 5.0), vec3(-5.0, -1.0, 5.0)]);
+        tris
+    }
+
+    /// Packets give the single-ray answers bit for bit: closest hits (triangle, distance,
+    /// barycentrics) of rays fanned out from one origin, and occlusion of parallel shadow rays
+    /// (some of them skipping the triangle they start on).
+    #[test]
+    fn packets_answer_as_single_rays() {
+        if !is_x86_feature_detected!("avx2") {
+            eprintln!("SKIPPED: no AVX2, so no packets");
+            return;
+        }
+        let mut rng = SplitMix64::new(5);
+        let tris = soup(&mut rng);
+        let bvh = SceneBvh::build_from_triangles(&tris);
+        let mut scratch = bvh.scratch();
+        let (mut packed, mut hit_count) = (0, 0);
+        for round in 0..3000 {
+            let origin = Vec3::from_array(std::array::from_fn(|_| rng.range([-6.0, 6.0]) as f32));
+            let centre = Vec3::from_array(std::array::from_fn(|_| rng.range([-3.0, 3.0]) as f32));
+            let spread = if round % 2 == 0 { 0.02 } else { 1.0 };
+            let n = 2 + round % 7;
+            let dirs: Vec<Vec3> = (0..n)
+                .map(|_| {
+                    let jitter =
+                        Vec3::from_array(std::array::from_fn(|_| rng.range([-spread, spread]) as f32));
+                    (centre + jitter - origin).normalize()
+                })
+                .collect();
+            let mut hits = vec![None; n];
+            bvh.closest_hits(&mut scratch, origin, &dirs, &mut hits);
+            for (k, d) in dirs.iter().enumerate() {
+                let single = bvh.closest_hit(&mut scratch, origin, *d, 0.0, f32::INFINITY);
+                assert_eq!(
+                    hits[k].map(|h| (h.triangle, h.t.to_bits(), h.barycentric.map(f32::to_bits))),
+                    single.map(|h| (h.triangle, h.t.to_bits(), h.barycentric.map(f32::to_bits)))
+                );
+                hit_count += single.is_some() as usize;
+            }
+            let towards = dirs[0];
+            let rays: Vec<ShadowRay> = (0..n)
+                .map(|k| {
+                    let o = origin + Vec3::from_array(std::array::from_fn(|_| rng.range([-0.3, 0.3]) as f32));
+                    ShadowRay {
+                        origin: o,
+                        direction: towards,
+                        tmax: if k % 3 == 0 { 2.0 } else { f32::INFINITY },
+                        skip_triangle: (k * 7) as u32,
+                    }
+                })
+                .collect();
+            let bits = bvh.shadow_occluded(&mut scratch, &rays);
+            for (k, ray) in rays.iter().enumerate() {
+                assert_eq!(
+                    bits >> k & 1 == 1,
+                    bvh.shadow_occluder(&mut scratch, ray).is_some(),
+                    "round {round}, ray {k}"
+                );
+            }
+            packed += 1;
+        }
+        assert!(packed > 0 && hit_count > 1000, "the test needs rays that hit ({hit_count})");
+    }
+}
