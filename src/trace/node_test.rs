@@ -24,7 +24,7 @@ use glam::Vec3A;
 
 /// Relative shrink and growth of the reciprocal direction: covers the three roundings of a slab
 /// distance (2⁻²⁴ each) with room to spare.
-const SLACK: f32 = 4.0 * f32::EPSILON;
+pub(super) const SLACK: f32 = 4.0 * f32::EPSILON;
 
 /// What the node test needs of a ray.
 pub(crate) struct NodeRay {

@@ -15,13 +15,14 @@
 //!   any-hit answer whether one occludes, neither of which depends on the order of the visits.
 //!
 //! Rays join a packet only when they share their direction's signs and the watertight test's
-//! axis order, and move along every axis (`Packet::new`); otherwise they are walked one by one.
+//! axis order, and move along every axis, as the 8-lane single-ray test requires
+//! (`Packet::new`); otherwise they are walked one by one.
 //! tests/node_test_forms.rs compares every reference traced this way with the portable form,
 //! which walks single rays.
 
 #![cfg(target_arch = "x86_64")]
 
-use super::node_test::{NodeRay, plane_offsets};
+use super::node_test::{SLACK, plane_offsets};
 use super::watertight::WatertightRay;
 use super::wide_bvh::{ChildRef, WideNode};
 use glam::Vec3A;
@@ -46,44 +47,54 @@ pub(super) struct Packet {
 }
 
 impl Packet {
-    /// The packet of `rays` (one to eight), or `None` if they cannot share a walk.
+    /// The packet of `rays` (one to eight), or `None` if they cannot share a walk. Each lane's
+    /// numbers are those `NodeRay::new` computes for its ray (the same operations, eight at a
+    /// time); lanes past the last ray repeat it.
     #[target_feature(enable = "avx2")]
+    #[inline]
     pub(super) fn new(rays: &[WatertightRay]) -> Option<Packet> {
         let first = rays.first()?;
-        if rays.len() > LANES {
+        if rays.len() > LANES || rays.iter().any(|r| (r.kx, r.ky, r.kz) != (first.kx, first.ky, first.kz)) {
             return None;
         }
-        let lane = |k: usize| k.min(rays.len() - 1);
-        let node_rays: [NodeRay; LANES] =
-            std::array::from_fn(|k| NodeRay::new(rays[lane(k)].origin, rays[lane(k)].direction));
-        let same_frame = rays.iter().all(|r| (r.kx, r.ky, r.kz) == (first.kx, first.ky, first.kz));
-        let same_signs = node_rays.iter().all(|n| n.negative == node_rays[0].negative);
-        if !same_frame || !same_signs || !node_rays.iter().all(NodeRay::all_axes_move) {
-            return None;
-        }
-        let gather = |value: &dyn Fn(usize) -> f32| {
-            let v: [f32; LANES] = std::array::from_fn(value);
+        let ray = |k: usize| &rays[k.min(rays.len() - 1)];
+        let load = |v: [f32; LANES]| {
             // SAFETY: eight f32.
             unsafe { _mm256_loadu_ps(v.as_ptr()) }
         };
-        let (near_offset, far_offset) = plane_offsets(node_rays[0].negative);
+        let (mut inv_near, mut inv_far, mut negative) = ([_mm256_setzero_ps(); 3], [_mm256_setzero_ps(); 3], [false; 3]);
+        for axis in 0..3 {
+            let d = load(std::array::from_fn(|k| ray(k).direction[axis]));
+            let inv = _mm256_div_ps(_mm256_set1_ps(1.0), d);
+            inv_near[axis] = _mm256_mul_ps(inv, _mm256_set1_ps(1.0 - SLACK));
+            inv_far[axis] = _mm256_mul_ps(inv, _mm256_set1_ps(1.0 + SLACK));
+            let below = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LT_OQ>(d, _mm256_setzero_ps()));
+            let abs_far = _mm256_andnot_ps(_mm256_set1_ps(-0.0), inv_far[axis]);
+            let finite = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LT_OQ>(abs_far, _mm256_set1_ps(f32::INFINITY)));
+            // Every lane moves along the axis, and in the same direction.
+            if finite != 0xff || (below != 0 && below != 0xff) {
+                return None;
+            }
+            negative[axis] = below == 0xff;
+        }
+        let (near_offset, far_offset) = plane_offsets(negative);
         Some(Packet {
-            origin: std::array::from_fn(|axis| gather(&|k| node_rays[k].origin[axis])),
-            inv_near: std::array::from_fn(|axis| gather(&|k| node_rays[k].inv_near[axis])),
-            inv_far: std::array::from_fn(|axis| gather(&|k| node_rays[k].inv_far[axis])),
+            origin: std::array::from_fn(|axis| load(std::array::from_fn(|k| ray(k).origin[axis]))),
+            inv_near,
+            inv_far,
             near_offset,
             far_offset,
             axes: [first.kx, first.ky, first.kz],
-            shear: [gather(&|k| rays[lane(k)].sx), gather(&|k| rays[lane(k)].sy)],
+            shear: [load(std::array::from_fn(|k| ray(k).sx)), load(std::array::from_fn(|k| ray(k).sy))],
             lanes: (1u32 << rays.len()) - 1,
         })
     }
 
     /// Per child of `node`, the lanes of `lanes` whose ray may meet it within [0, tmax[lane]],
-    /// and the distance at which the lowest of those lanes enters it.
+    /// and (with `KEY`) the distance at which the lowest of those lanes enters it.
     #[target_feature(enable = "avx2")]
     #[inline]
-    fn test_node(&self, node: &WideNode, tmax: &[f32; LANES], lanes: u32) -> ([u32; 8], [f32; 8]) {
+    fn test_node<const KEY: bool>(&self, node: &WideNode, tmax: &[f32; LANES], lanes: u32) -> ([u32; 8], [f32; 8]) {
         let bytes = node as *const WideNode as *const u8;
         // SAFETY: `offset` is that of one of the node's plane arrays (`plane_offsets`), and c < 8.
         let plane =
@@ -106,10 +117,12 @@ impl Packet {
                 exit = _mm256_min_ps(exit, t_far);
             }
             hit_lanes[c] = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit)) as u32 & lanes;
-            let mut each = [0f32; LANES];
-            // SAFETY: eight f32.
-            unsafe { _mm256_storeu_ps(each.as_mut_ptr(), enter) };
-            enter_first[c] = each[first];
+            if KEY {
+                let mut each = [0f32; LANES];
+                // SAFETY: eight f32.
+                unsafe { _mm256_storeu_ps(each.as_mut_ptr(), enter) };
+                enter_first[c] = each[first];
+            }
         }
         (hit_lanes, enter_first)
     }
@@ -184,7 +197,7 @@ pub(super) fn walk_packet<const NEAREST: bool>(
             }
         } else if lanes != 0 {
             let node = &nodes[child.index()];
-            let (hit_lanes, enter) = packet.test_node(node, tmax, lanes);
+            let (hit_lanes, enter) = packet.test_node::<NEAREST>(node, tmax, lanes);
             if let Some(next) = push_children::<NEAREST>(node, &hit_lanes, &enter, stack, &mut depth) {
                 current = next;
                 continue;
