@@ -2,11 +2,14 @@
 //! G-buffer (primary rays), hard reference (shadow rays) and the area-light reference (4×4 shadow
 //! rays per pixel towards a sun of 2° angular diameter; throughput in shadow rays). And primary
 //! and shadow rays on an outdoor scene of 200K triangles (`generate forest`: terrain and trees
-//! with thin trunks, under the sun), the rays `reference --timing` times.
+//! with thin trunks, under the sun), the rays `reference --timing` times, with its coverage and
+//! area-light references per sample beside them.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use shadowtruth::scene::{LightKind, load_scene};
-use shadowtruth::trace::{GBuffer, SceneBvh, trace_area_light_reference, trace_hard_reference};
+use shadowtruth::trace::{
+    GBuffer, SceneBvh, trace_area_light_reference, trace_coverage_reference, trace_hard_reference,
+};
 use std::path::Path;
 use std::process::Command;
 
@@ -62,6 +65,16 @@ fn trace_outdoor(c: &mut Criterion) {
     g.bench_function("primary_rays", |b| b.iter(|| GBuffer::trace(&scene, &bvh, camera, sun)));
     g.throughput(Throughput::Elements(gbuffer.evaluated.len() as u64));
     g.bench_function("shadow_rays", |b| b.iter(|| trace_hard_reference(&scene, &bvh, &gbuffer, sun)));
+    // The soft references per sample, beside the hard rate: 2×2 sub-pixel samples (a primary
+    // ray and at most one shadow ray each) and 2×2 shadow rays towards the sun's disk.
+    let grid = 2;
+    g.throughput(Throughput::Elements(gbuffer.evaluated.len() as u64 * (grid * grid) as u64));
+    g.bench_function("coverage_2x2", |b| {
+        b.iter(|| trace_coverage_reference(&scene, &bvh, &gbuffer, camera, sun, grid))
+    });
+    g.bench_function("area_light_2x2", |b| {
+        b.iter(|| trace_area_light_reference(&scene, &bvh, &gbuffer, sun, grid).expect("the sun has a size"))
+    });
     g.finish();
 }
 

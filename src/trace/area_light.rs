@@ -16,8 +16,9 @@
 //! that of N independent samples; stratification makes the true error smaller, so it is an
 //! upper bound that falls as 1/√N on penumbra pixels.
 
-use super::bvh::SceneBvh;
+use super::bvh::{RAYS_PER_BATCH, SceneBvh};
 use super::gbuffer::GBuffer;
+use super::reference::UNUSED_RAY;
 use super::sampling::{concentric_disk, jittered_stratum, orthonormal_frame};
 use super::shadow_ray::ShadowRay;
 use super::soft_reference::{SoftReference, mean_and_std_error, trace_evaluated};
@@ -93,27 +94,35 @@ pub fn trace_area_light_reference(
     Ok(trace_evaluated(bvh, gbuffer, m, |scratch, _, _, i| {
         let point = gbuffer.surface_point(scene, i);
         let (p64, n64) = (point.position.as_dvec3(), point.normal.as_dvec3());
-        let mut hits = 0u32;
+        // The samples facing the point's side of the surface, traced `RAYS_PER_BATCH` at a time.
+        let mut rays = [UNUSED_RAY; RAYS_PER_BATCH];
+        let (mut hits, mut pending) = (0u32, 0usize);
         for k in 0..m {
             let (u, v) = jittered_stratum(i as u64, k, grid, LIGHT_SALT);
             let (dx, dy) = concentric_disk(u, v);
-            let unoccluded = match emitter {
+            let ray = match emitter {
                 Emitter::Cap { axis, tangent, bitangent, one_minus_cos } => {
                     // Uniform in solid angle: the disk's r² is the cap's area fraction,
                     // 1 − cos θ = r²(1 − cos θmax); sin θ / r = √(k(2 − r²k)).
                     let r2k = (dx * dx + dy * dy) * one_minus_cos;
                     let sin_over_r = (one_minus_cos * (2.0 - r2k)).sqrt();
                     let dir = ((1.0 - r2k) * axis + sin_over_r * (dx * tangent + dy * bitangent)).normalize();
-                    n64.dot(dir) > 0.0
-                        && bvh.shadow_occluder(scratch, &ShadowRay::along(&point, dir)).is_none()
+                    (n64.dot(dir) > 0.0).then(|| ShadowRay::along(&point, dir))
                 }
                 Emitter::Disk { centre, tangent, bitangent, radius } => {
                     let q = centre + radius * (dx * tangent + dy * bitangent);
-                    n64.dot(q - p64) > 0.0
-                        && bvh.shadow_occluder(scratch, &ShadowRay::to_point(&point, q)).is_none()
+                    (n64.dot(q - p64) > 0.0).then(|| ShadowRay::to_point(&point, q))
                 }
             };
-            hits += unoccluded as u32;
+            if let Some(ray) = ray {
+                rays[pending] = ray;
+                pending += 1;
+            }
+            if pending == RAYS_PER_BATCH || (k + 1 == m && pending > 0) {
+                let occluded = bvh.shadow_occluded(scratch, &rays[..pending]);
+                hits += pending as u32 - occluded.count_ones();
+                pending = 0;
+            }
         }
         mean_and_std_error(hits, m)
     }))

@@ -9,12 +9,13 @@
 //! of its surfaces); sub-samples on surfaces facing away from the light or outside a spot
 //! light's cone count as shadowed.
 
-use super::bvh::SceneBvh;
-use super::gbuffer::{GBuffer, LightSight, PixelClass, primary_sample};
-use super::reference::hard_visible;
+use super::bvh::{RAYS_PER_BATCH, SceneBvh};
+use super::gbuffer::{GBuffer, LightSight, PixelClass, surface_sample};
+use super::reference::{UNUSED_RAY, hard_visible, shadow_ray_to_centre};
 use super::sampling::stratum_centre;
 use super::soft_reference::{SoftReference, mean_and_std_error, trace_evaluated};
 use crate::scene::{Camera, Light, Scene};
+use glam::Vec3;
 
 /// Traces the coverage reference on an n×n sub-pixel grid (`grid` = n ≥ 1).
 ///
@@ -33,16 +34,27 @@ pub fn trace_coverage_reference(
     let sight = LightSight::of(light);
     trace_evaluated(bvh, gbuffer, grid * grid, |scratch, x, y, i| {
         let (mut hits, mut surfaces) = (0u32, 0u32);
-        for k in 0..grid * grid {
-            let (sx, sy) = stratum_centre(k, grid);
-            let dir = film.direction(x as f64 + sx, y as f64 + sy);
-            let Some(s) = primary_sample(scene, bvh, scratch, camera.position, dir, &sight) else {
-                continue;
-            };
-            surfaces += 1;
-            if s.class == PixelClass::Evaluated && hard_visible(bvh, scratch, &s.point, &sight) {
-                hits += 1;
+        // The sub-rays `RAYS_PER_BATCH` at a time, then their evaluated surfaces' shadow rays.
+        let samples = grid * grid;
+        for first in (0..samples).step_by(RAYS_PER_BATCH) {
+            let n = (samples - first).min(RAYS_PER_BATCH as u32) as usize;
+            let dirs: [Vec3; RAYS_PER_BATCH] = std::array::from_fn(|k| {
+                let (sx, sy) = stratum_centre(first + k.min(n - 1) as u32, grid);
+                film.direction(x as f64 + sx, y as f64 + sy)
+            });
+            let mut primary = [None; RAYS_PER_BATCH];
+            bvh.closest_hits(scratch, camera.position, &dirs[..n], &mut primary[..n]);
+            let (mut shadow, mut pending) = ([UNUSED_RAY; RAYS_PER_BATCH], 0);
+            for (k, hit) in primary[..n].iter().enumerate() {
+                let Some(hit) = hit else { continue };
+                surfaces += 1;
+                let s = surface_sample(scene, hit, dirs[k], &sight);
+                if s.class == PixelClass::Evaluated {
+                    shadow[pending] = shadow_ray_to_centre(&s.point, &sight);
+                    pending += 1;
+                }
             }
+            hits += pending as u32 - bvh.shadow_occluded(scratch, &shadow[..pending]).count_ones();
         }
         if surfaces > 0 {
             mean_and_std_error(hits, surfaces)

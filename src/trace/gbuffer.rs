@@ -1,7 +1,7 @@
 //! The G-buffer of one (camera, light): per pixel the primary hit of the pixel-centre ray and its
 //! class. The reference and every technique evaluate exactly these surface points.
 
-use super::bvh::{Hit, RAYS_PER_BATCH, SceneBvh, TraversalScratch};
+use super::bvh::{Hit, RAYS_PER_BATCH, SceneBvh};
 use super::shadow_ray::{SurfacePoint, position_error};
 use super::watertight::barycentric_point;
 use crate::scene::{Camera, Light, LightKind, Scene};
@@ -119,22 +119,9 @@ pub(super) struct SurfaceSample {
     pub point: SurfacePoint,
 }
 
-/// The closest hit of a primary ray and its class (`None`: background). Shared by the G-buffer
+/// The surface point of a primary ray's closest hit, and its class. Shared by the G-buffer
 /// (pixel-centre rays) and the pixel-coverage reference (sub-pixel rays).
-pub(super) fn primary_sample(
-    scene: &Scene,
-    bvh: &SceneBvh,
-    scratch: &mut TraversalScratch,
-    origin: Vec3,
-    dir: Vec3,
-    light: &LightSight,
-) -> Option<SurfaceSample> {
-    let hit = bvh.closest_hit(scratch, origin, dir, 0.0, f32::INFINITY)?;
-    Some(surface_sample(scene, &hit, dir, light))
-}
-
-/// The surface point of a primary ray's closest hit, and its class.
-fn surface_sample(scene: &Scene, hit: &Hit, dir: Vec3, light: &LightSight) -> SurfaceSample {
+pub(super) fn surface_sample(scene: &Scene, hit: &Hit, dir: Vec3, light: &LightSight) -> SurfaceSample {
     let verts = &scene.triangle(hit.triangle);
     let p = barycentric_point(verts, hit.barycentric);
     let (v0, v1, v2) = (verts[0].as_dvec3(), verts[1].as_dvec3(), verts[2].as_dvec3());

@@ -62,7 +62,8 @@ impl Packet {
             // SAFETY: eight f32.
             unsafe { _mm256_loadu_ps(v.as_ptr()) }
         };
-        let (mut inv_near, mut inv_far, mut negative) = ([_mm256_setzero_ps(); 3], [_mm256_setzero_ps(); 3], [false; 3]);
+        let (mut inv_near, mut inv_far, mut negative) =
+            ([_mm256_setzero_ps(); 3], [_mm256_setzero_ps(); 3], [false; 3]);
         for axis in 0..3 {
             let d = load(std::array::from_fn(|k| ray(k).direction[axis]));
             let inv = _mm256_div_ps(_mm256_set1_ps(1.0), d);
@@ -70,7 +71,8 @@ impl Packet {
             inv_far[axis] = _mm256_mul_ps(inv, _mm256_set1_ps(1.0 + SLACK));
             let below = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LT_OQ>(d, _mm256_setzero_ps()));
             let abs_far = _mm256_andnot_ps(_mm256_set1_ps(-0.0), inv_far[axis]);
-            let finite = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LT_OQ>(abs_far, _mm256_set1_ps(f32::INFINITY)));
+            let finite =
+                _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LT_OQ>(abs_far, _mm256_set1_ps(f32::INFINITY)));
             // Every lane moves along the axis, and in the same direction.
             if finite != 0xff || (below != 0 && below != 0xff) {
                 return None;
@@ -94,7 +96,12 @@ impl Packet {
     /// and (with `KEY`) the distance at which the lowest of those lanes enters it.
     #[target_feature(enable = "avx2")]
     #[inline]
-    fn test_node<const KEY: bool>(&self, node: &WideNode, tmax: &[f32; LANES], lanes: u32) -> ([u32; 8], [f32; 8]) {
+    fn test_node<const KEY: bool>(
+        &self,
+        node: &WideNode,
+        tmax: &[f32; LANES],
+        lanes: u32,
+    ) -> ([u32; 8], [f32; 8]) {
         let bytes = node as *const WideNode as *const u8;
         // SAFETY: `offset` is that of one of the node's plane arrays (`plane_offsets`), and c < 8.
         let plane =

@@ -61,7 +61,7 @@ pub fn hard_shadow_ray(point: &SurfacePoint, light: &Light) -> ShadowRay {
     shadow_ray_to_centre(point, &LightSight::of(light))
 }
 
-fn shadow_ray_to_centre(point: &SurfacePoint, light: &LightSight) -> ShadowRay {
+pub(super) fn shadow_ray_to_centre(point: &SurfacePoint, light: &LightSight) -> ShadowRay {
     match *light {
         LightSight::Directional { towards } => ShadowRay::along(point, towards),
         LightSight::Spot { position, .. } => ShadowRay::to_point(point, position),
@@ -79,6 +79,10 @@ pub(super) fn hard_visible(
     bvh.shadow_occluder(scratch, &shadow_ray_to_centre(point, light)).is_none()
 }
 
+/// What fills a batch's slots beyond its rays; never traced.
+pub(super) const UNUSED_RAY: ShadowRay =
+    ShadowRay { origin: Vec3::ZERO, direction: Vec3::X, tmax: 0.0, skip_triangle: u32::MAX };
+
 /// Shadow rays of one row's pixels, gathered to be traced together.
 struct ShadowBatch {
     columns: [usize; RAYS_PER_BATCH],
@@ -88,8 +92,7 @@ struct ShadowBatch {
 
 impl ShadowBatch {
     fn new() -> Self {
-        let none = ShadowRay { origin: Vec3::ZERO, direction: Vec3::X, tmax: 0.0, skip_triangle: u32::MAX };
-        ShadowBatch { columns: [0; RAYS_PER_BATCH], rays: [none; RAYS_PER_BATCH], len: 0 }
+        ShadowBatch { columns: [0; RAYS_PER_BATCH], rays: [UNUSED_RAY; RAYS_PER_BATCH], len: 0 }
     }
 
     fn push(&mut self, column: usize, ray: ShadowRay) {
