@@ -1,8 +1,10 @@
-//! One obvhs CWBVH per scene, traversed with our own node and triangle tests.
+//! One BVH per scene: obvhs builds its shape (a CWBVH), and the walks run over our own 8-wide
+//! tree with exact f32 child boxes (wide_bvh.rs, walk.rs, packet.rs) and our own node and
+//! triangle tests.
 //!
 //! obvhs 0.4 traps that this file steps around (each pinned by a test in tests/trace_traps.rs):
 //! - its node test clamps tmin to 1e-4 ray units, so occluders closer than that are missed:
-//!   our node test starts at t = 0 and widens boxes by their quantization error;
+//!   our node test (node_test.rs) starts at t = 0 and never enters a box late;
 //! - its closest-hit and any-hit loops compare `t < tmax`, so an occluder at exactly tmax is
 //!   lost: our ray interval is closed;
 //! - its triangle test is not watertight: we use `WatertightRay`;

@@ -1,6 +1,7 @@
 //! Exact visibility by ray tracing: the only module that imports obvhs.
 //!
-//! A BVH per scene with a watertight triangle test and a robust traversal of obvhs's CWBVH;
+//! A BVH per scene (obvhs builds its shape; our own 8-wide tree with exact f32 boxes is walked,
+//! one ray or eight at a time) with a watertight triangle test and a conservative node test;
 //! the G-buffer of a camera (the surface point of every pixel, shared by the reference and
 //! every technique); the hard reference; the soft references (pixel coverage, area light); the
 //! reference cache.
