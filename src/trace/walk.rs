@@ -105,128 +105,120 @@ fn visit<const NEAREST: bool>(
     test: impl Fn(&WideNode, f32) -> NodeHits,
 ) {
     if NEAREST {
-        nearest_first(nodes, &mut state.nearest, tmax, leaf, test);
+        walk_loop(nodes, NearestFirst { stack: &mut state.nearest, depth: 0 }, tmax, leaf, test);
     } else {
-        any_order(nodes, &mut state.any, tmax, leaf, test);
+        walk_loop(nodes, AnyOrder { stack: &mut state.any, depth: 0 }, tmax, leaf, test);
     }
 }
 
-/// The nearest-first loop.
+/// The loop: a leaf's primitives go to `leaf`, an inner node's children that the ray may meet
+/// to the stack, which says which child is next.
 #[inline(always)]
-fn nearest_first(
+fn walk_loop(
     nodes: &[WideNode],
-    stack: &mut [(ChildRef, f32)],
+    mut stack: impl ChildStack,
     tmax: &mut f32,
     mut leaf: impl FnMut(usize, &mut f32) -> bool,
     test: impl Fn(&WideNode, f32) -> NodeHits,
 ) {
-    let mut depth = 0;
-    let mut current = ChildRef::ROOT;
-    loop {
-        if current.is_leaf() {
-            for i in current.primitives() {
+    let mut current = Some(ChildRef::ROOT);
+    while let Some(child) = current {
+        if child.is_leaf() {
+            for i in child.primitives() {
                 if leaf(i, tmax) {
                     return;
                 }
             }
         } else {
-            let node = &nodes[current.index()];
+            let node = &nodes[child.index()];
             let hits = test(node, *tmax);
             if hits.mask != 0 {
-                current = push_sorted(node, &hits, stack, &mut depth);
+                current = Some(stack.push(node, &hits));
                 continue;
             }
         }
-        current = loop {
-            if depth == 0 {
-                return;
-            }
-            depth -= 1;
-            let (child, enter) = stack[depth];
-            if enter <= *tmax {
-                break child;
-            }
-        };
+        current = stack.pop(*tmax);
     }
 }
 
-/// Pushes the children in `hits` but the nearest onto `stack[..*depth]`, farthest first, and
-/// returns the nearest. The children are sorted in place on top of the stack (insertion: a node
-/// has few hit children).
-#[inline(always)]
-fn push_sorted(
-    node: &WideNode,
-    hits: &NodeHits,
-    stack: &mut [(ChildRef, f32)],
-    depth: &mut usize,
-) -> ChildRef {
-    let mut mask = hits.mask;
-    if mask & (mask - 1) == 0 {
-        return node.child[mask.trailing_zeros() as usize];
-    }
-    let base = *depth;
-    while mask != 0 {
-        let c = mask.trailing_zeros() as usize;
-        mask &= mask - 1;
-        let entry = (node.child[c], hits.enter[c]);
-        let mut k = *depth;
-        while k > base && stack[k - 1].1 < entry.1 {
-            stack[k] = stack[k - 1];
-            k -= 1;
-        }
-        stack[k] = entry;
-        *depth += 1;
-    }
-    *depth -= 1;
-    stack[*depth].0
+/// A walk's stack of children still to visit, and the order it visits them in.
+trait ChildStack {
+    /// Pushes the children in `hits` (at least one) but the one to visit next, and returns it.
+    fn push(&mut self, node: &WideNode, hits: &NodeHits) -> ChildRef;
+    /// The next child to visit, given how far the ray still looks; `None` ends the walk.
+    fn pop(&mut self, tmax: f32) -> Option<ChildRef>;
 }
 
-/// The any-order loop: the children the ray may meet are pushed in node order but the last,
-/// which is visited next.
-#[inline(always)]
-fn any_order(
-    nodes: &[WideNode],
-    stack: &mut [ChildRef],
-    tmax: &mut f32,
-    mut leaf: impl FnMut(usize, &mut f32) -> bool,
-    test: impl Fn(&WideNode, f32) -> NodeHits,
-) {
-    let mut depth = 0;
-    let mut current = ChildRef::ROOT;
-    loop {
-        if current.is_leaf() {
-            for i in current.primitives() {
-                if leaf(i, tmax) {
-                    return;
-                }
+/// Nearest first: the children stacked with the distance at which the ray enters them,
+/// farthest first, and dropped when popped if the ray no longer looks that far.
+struct NearestFirst<'a> {
+    stack: &'a mut [(ChildRef, f32)],
+    depth: usize,
+}
+
+impl ChildStack for NearestFirst<'_> {
+    /// The children are sorted in place on top of the stack (insertion: a node has few hit
+    /// children).
+    #[inline(always)]
+    fn push(&mut self, node: &WideNode, hits: &NodeHits) -> ChildRef {
+        let mut mask = hits.mask;
+        if mask & (mask - 1) == 0 {
+            return node.child[mask.trailing_zeros() as usize];
+        }
+        let base = self.depth;
+        while mask != 0 {
+            let c = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            let entry = (node.child[c], hits.enter[c]);
+            let mut k = self.depth;
+            while k > base && self.stack[k - 1].1 < entry.1 {
+                self.stack[k] = self.stack[k - 1];
+                k -= 1;
             }
-        } else {
-            let node = &nodes[current.index()];
-            let mask = test(node, *tmax).mask;
-            if mask != 0 {
-                current = push_each(node, mask, stack, &mut depth);
-                continue;
+            self.stack[k] = entry;
+            self.depth += 1;
+        }
+        self.depth -= 1;
+        self.stack[self.depth].0
+    }
+
+    #[inline(always)]
+    fn pop(&mut self, tmax: f32) -> Option<ChildRef> {
+        while self.depth > 0 {
+            self.depth -= 1;
+            let (child, enter) = self.stack[self.depth];
+            if enter <= tmax {
+                return Some(child);
             }
         }
-        if depth == 0 {
-            return;
-        }
-        depth -= 1;
-        current = stack[depth];
+        None
     }
 }
 
-/// The any-order push of a non-empty `mask`, one child at a time: pushes all but the last child
-/// and returns it.
-#[inline(always)]
-fn push_each(node: &WideNode, mut mask: u32, stack: &mut [ChildRef], depth: &mut usize) -> ChildRef {
-    loop {
-        let child = node.child[mask.trailing_zeros() as usize];
-        mask &= mask - 1;
-        if mask == 0 {
-            return child;
+/// Node order: the children pushed as they lie in the node but the last, which is next.
+struct AnyOrder<'a> {
+    stack: &'a mut [ChildRef],
+    depth: usize,
+}
+
+impl ChildStack for AnyOrder<'_> {
+    #[inline(always)]
+    fn push(&mut self, node: &WideNode, hits: &NodeHits) -> ChildRef {
+        let mut mask = hits.mask;
+        loop {
+            let child = node.child[mask.trailing_zeros() as usize];
+            mask &= mask - 1;
+            if mask == 0 {
+                return child;
+            }
+            self.stack[self.depth] = child;
+            self.depth += 1;
         }
-        stack[*depth] = child;
-        *depth += 1;
+    }
+
+    #[inline(always)]
+    fn pop(&mut self, _tmax: f32) -> Option<ChildRef> {
+        self.depth = self.depth.checked_sub(1)?;
+        Some(self.stack[self.depth])
     }
 }
