@@ -72,7 +72,8 @@ impl Hit {
 pub struct TraversalScratch {
     pub(super) outer: WalkState,
     pub(super) inner: WalkState,
-    /// The stack of packet walks of the flat tree (packet.rs).
+    /// The stack of packet walks of the flat tree (packet.rs, x86_64 only).
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
     packet: Box<[(ChildRef, u32, f32)]>,
 }
 

@@ -61,6 +61,7 @@ pub fn hard_shadow_ray(point: &SurfacePoint, light: &Light) -> ShadowRay {
     shadow_ray_to_centre(point, &LightSight::of(light))
 }
 
+/// `hard_shadow_ray` for a light prepared once per trace.
 pub(super) fn shadow_ray_to_centre(point: &SurfacePoint, light: &LightSight) -> ShadowRay {
     match *light {
         LightSight::Directional { towards } => ShadowRay::along(point, towards),
@@ -68,8 +69,8 @@ pub(super) fn shadow_ray_to_centre(point: &SurfacePoint, light: &LightSight) -> 
     }
 }
 
-/// Whether the segment from a surface point to the light's centre meets no other triangle.
-/// Shared by the hard reference and the sub-pixel samples of the pixel-coverage reference.
+/// Whether the segment from a surface point to the light's centre meets no other triangle, for
+/// one point (the hard reference traces its rays in batches, `ShadowBatch`).
 pub(super) fn hard_visible(
     bvh: &SceneBvh,
     scratch: &mut TraversalScratch,
