@@ -16,10 +16,10 @@
 //! that of N independent samples; stratification makes the true error smaller, so it is an
 //! upper bound that falls as 1/√N on penumbra pixels.
 
-use super::bvh::{RAYS_PER_BATCH, SceneBvh};
+use super::bvh::SceneBvh;
 use super::gbuffer::GBuffer;
-use super::reference::UNUSED_RAY;
 use super::sampling::{concentric_disk, jittered_stratum, orthonormal_frame};
+use super::shadow_batch::ShadowBatch;
 use super::shadow_ray::ShadowRay;
 use super::soft_reference::{SoftReference, mean_and_std_error, trace_evaluated};
 use crate::scene::{Light, LightKind, Scene};
@@ -94,9 +94,9 @@ pub fn trace_area_light_reference(
     Ok(trace_evaluated(bvh, gbuffer, m, |scratch, _, _, i| {
         let point = gbuffer.surface_point(scene, i);
         let (p64, n64) = (point.position.as_dvec3(), point.normal.as_dvec3());
-        // The samples facing the point's side of the surface, traced `RAYS_PER_BATCH` at a time.
-        let mut rays = [UNUSED_RAY; RAYS_PER_BATCH];
-        let (mut hits, mut pending) = (0u32, 0usize);
+        // The samples facing the point's side of the surface, traced together a batch at a time.
+        let mut batch = ShadowBatch::new();
+        let mut hits = 0u32;
         for k in 0..m {
             let (u, v) = jittered_stratum(i as u64, k, grid, LIGHT_SALT);
             let (dx, dy) = concentric_disk(u, v);
@@ -115,15 +115,10 @@ pub fn trace_area_light_reference(
                 }
             };
             if let Some(ray) = ray {
-                rays[pending] = ray;
-                pending += 1;
-            }
-            if pending == RAYS_PER_BATCH || (k + 1 == m && pending > 0) {
-                let occluded = bvh.shadow_occluded(scratch, &rays[..pending]);
-                hits += pending as u32 - occluded.count_ones();
-                pending = 0;
+                batch.push(bvh, scratch, 0, ray, |_, lit| hits += lit as u32);
             }
         }
+        batch.finish(bvh, scratch, |_, lit| hits += lit as u32);
         mean_and_std_error(hits, m)
     }))
 }

@@ -131,8 +131,9 @@ impl SceneBvh {
         }
     }
 
-    /// The nearest hit with t ∈ [tmin, tmax]; among hits at the same t the lowest scene triangle
-    /// id wins, so the result does not depend on the tree's shape.
+    /// The nearest hit with t ∈ [tmin, tmax] (tmin ≥ 0: the node test bounds distances from the
+    /// origin forwards); among hits at the same t the lowest scene triangle id wins, so the
+    /// result does not depend on the tree's shape.
     pub fn closest_hit(
         &self,
         scratch: &mut TraversalScratch,
@@ -170,7 +171,7 @@ impl SceneBvh {
         best
     }
 
-    /// Whether any triangle is hit with t ∈ [tmin, tmax] (a closed interval).
+    /// Whether any triangle is hit with t ∈ [tmin, tmax] (a closed interval, tmin ≥ 0).
     pub fn occluded(
         &self,
         scratch: &mut TraversalScratch,

@@ -11,8 +11,9 @@
 
 use super::bvh::{RAYS_PER_BATCH, SceneBvh};
 use super::gbuffer::{GBuffer, LightSight, PixelClass, surface_sample};
-use super::reference::{UNUSED_RAY, hard_visible, shadow_ray_to_centre};
+use super::reference::{hard_visible, shadow_ray_to_centre};
 use super::sampling::stratum_centre;
+use super::shadow_batch::ShadowBatch;
 use super::soft_reference::{SoftReference, mean_and_std_error, trace_evaluated};
 use crate::scene::{Camera, Light, Scene};
 use glam::Vec3;
@@ -34,7 +35,9 @@ pub fn trace_coverage_reference(
     let sight = LightSight::of(light);
     trace_evaluated(bvh, gbuffer, grid * grid, |scratch, x, y, i| {
         let (mut hits, mut surfaces) = (0u32, 0u32);
-        // The sub-rays `RAYS_PER_BATCH` at a time, then their evaluated surfaces' shadow rays.
+        // The sub-rays `RAYS_PER_BATCH` at a time, and their evaluated surfaces' shadow rays
+        // a batch at a time.
+        let mut batch = ShadowBatch::new();
         let samples = grid * grid;
         for first in (0..samples).step_by(RAYS_PER_BATCH) {
             let n = (samples - first).min(RAYS_PER_BATCH as u32) as usize;
@@ -44,18 +47,17 @@ pub fn trace_coverage_reference(
             });
             let mut primary = [None; RAYS_PER_BATCH];
             bvh.closest_hits(scratch, camera.position, &dirs[..n], &mut primary[..n]);
-            let (mut shadow, mut pending) = ([UNUSED_RAY; RAYS_PER_BATCH], 0);
             for (k, hit) in primary[..n].iter().enumerate() {
                 let Some(hit) = hit else { continue };
                 surfaces += 1;
                 let s = surface_sample(scene, hit, dirs[k], &sight);
                 if s.class == PixelClass::Evaluated {
-                    shadow[pending] = shadow_ray_to_centre(&s.point, &sight);
-                    pending += 1;
+                    let ray = shadow_ray_to_centre(&s.point, &sight);
+                    batch.push(bvh, scratch, 0, ray, |_, lit| hits += lit as u32);
                 }
             }
-            hits += pending as u32 - bvh.shadow_occluded(scratch, &shadow[..pending]).count_ones();
         }
+        batch.finish(bvh, scratch, |_, lit| hits += lit as u32);
         if surfaces > 0 {
             mean_and_std_error(hits, surfaces)
         } else {

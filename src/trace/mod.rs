@@ -17,6 +17,7 @@ mod node_test;
 mod packet;
 mod reference;
 mod sampling;
+mod shadow_batch;
 mod shadow_ray;
 mod simd4;
 mod soft_reference;

@@ -42,7 +42,7 @@ pub(super) struct Packet {
     axes: [usize; 3],
     /// Its shear factors, lane by lane.
     shear: [__m256; 2],
-    /// Lanes that hold a ray (the others repeat the first).
+    /// Lanes that hold a ray (the others repeat the last).
     pub(super) lanes: u32,
 }
 
@@ -251,8 +251,9 @@ fn push_children<const NEAREST: bool>(
 
 #[cfg(test)]
 mod tests {
+    use super::Packet;
     use crate::trace::splitmix::SplitMix64;
-    use crate::trace::{SceneBvh, ShadowRay};
+    use crate::trace::{SceneBvh, ShadowRay, WatertightRay};
     use glam::{Vec3, vec3};
 
     /// A soup of small triangles in a box, with a few large ones across it, so that rays meet
@@ -284,6 +285,12 @@ mod tests {
         let bvh = SceneBvh::build_from_triangles(&tris);
         let mut scratch = bvh.scratch();
         let (mut packed, mut hit_count) = (0, 0);
+        let forms_packet = |origins: &[Vec3], dirs: &[Vec3]| {
+            let rays: Vec<WatertightRay> =
+                origins.iter().zip(dirs).map(|(o, d)| WatertightRay::new((*o).into(), (*d).into())).collect();
+            // SAFETY: AVX2 checked above.
+            unsafe { Packet::new(&rays) }.is_some()
+        };
         for round in 0..3000 {
             let origin = Vec3::from_array(std::array::from_fn(|_| rng.range([-6.0, 6.0]) as f32));
             let centre = Vec3::from_array(std::array::from_fn(|_| rng.range([-3.0, 3.0]) as f32));
@@ -296,6 +303,7 @@ mod tests {
                     (centre + jitter - origin).normalize()
                 })
                 .collect();
+            packed += forms_packet(&vec![origin; n], &dirs) as usize;
             let mut hits = vec![None; n];
             bvh.closest_hits(&mut scratch, origin, &dirs, &mut hits);
             for (k, d) in dirs.iter().enumerate() {
@@ -318,6 +326,8 @@ mod tests {
                     }
                 })
                 .collect();
+            packed +=
+                forms_packet(&rays.iter().map(|r| r.origin).collect::<Vec<_>>(), &vec![towards; n]) as usize;
             let bits = bvh.shadow_occluded(&mut scratch, &rays);
             for (k, ray) in rays.iter().enumerate() {
                 assert_eq!(
@@ -326,8 +336,11 @@ mod tests {
                     "round {round}, ray {k}"
                 );
             }
-            packed += 1;
         }
-        assert!(packed > 0 && hit_count > 1000, "the test needs rays that hit ({hit_count})");
+        // Both kinds of query must mostly have run as packets, not one ray at a time.
+        assert!(
+            packed > 3000 && hit_count > 1000,
+            "the test needs packets ({packed}) and hits ({hit_count})"
+        );
     }
 }

@@ -2,11 +2,11 @@
 //! meets no triangle other than the ones that contain the point (docs/reference.md). The shadow
 //! ray cannot hit its own surface (shadow_ray.rs); no scene-dependent epsilon enters.
 
-use super::bvh::{RAYS_PER_BATCH, SceneBvh, TraversalScratch};
+use super::bvh::{SceneBvh, TraversalScratch};
 use super::gbuffer::{GBuffer, LightSight, PixelClass};
+use super::shadow_batch::ShadowBatch;
 use super::shadow_ray::{ShadowRay, SurfacePoint};
 use crate::scene::{Light, Scene};
-use glam::Vec3;
 use rayon::prelude::*;
 
 /// The grey levels of a reference mask PNG (docs/conventions.md, "Reference mask PNG").
@@ -80,42 +80,6 @@ pub(super) fn hard_visible(
     bvh.shadow_occluder(scratch, &shadow_ray_to_centre(point, light)).is_none()
 }
 
-/// What fills a batch's slots beyond its rays; never traced.
-pub(super) const UNUSED_RAY: ShadowRay =
-    ShadowRay { origin: Vec3::ZERO, direction: Vec3::X, tmax: 0.0, skip_triangle: u32::MAX };
-
-/// Shadow rays of one row's pixels, gathered to be traced together.
-struct ShadowBatch {
-    columns: [usize; RAYS_PER_BATCH],
-    rays: [ShadowRay; RAYS_PER_BATCH],
-    len: usize,
-}
-
-impl ShadowBatch {
-    fn new() -> Self {
-        ShadowBatch { columns: [0; RAYS_PER_BATCH], rays: [UNUSED_RAY; RAYS_PER_BATCH], len: 0 }
-    }
-
-    fn push(&mut self, column: usize, ray: ShadowRay) {
-        self.columns[self.len] = column;
-        self.rays[self.len] = ray;
-        self.len += 1;
-    }
-
-    fn is_full(&self) -> bool {
-        self.len == RAYS_PER_BATCH
-    }
-
-    /// Writes each ray's visibility (1 lit) into its column of `row`, and empties the batch.
-    fn trace_into(&mut self, bvh: &SceneBvh, scratch: &mut TraversalScratch, row: &mut [u8]) {
-        let occluded = bvh.shadow_occluded(scratch, &self.rays[..self.len]);
-        for (k, &x) in self.columns[..self.len].iter().enumerate() {
-            row[x] = (occluded >> k & 1 == 0) as u8;
-        }
-        self.len = 0;
-    }
-}
-
 /// Traces one shadow ray per evaluated pixel.
 pub fn trace_hard_reference(
     scene: &Scene,
@@ -129,19 +93,17 @@ pub fn trace_hard_reference(
     lit.par_chunks_mut(w).enumerate().for_each_init(
         || bvh.scratch(),
         |scratch, (y, row)| {
-            // Up to `RAYS_PER_BATCH` evaluated pixels of the row, traced together.
+            // The row's evaluated pixels, traced together a batch at a time.
             let mut batch = ShadowBatch::new();
             for x in 0..w {
                 let i = y * w + x;
                 if gbuffer.class[i] != PixelClass::Evaluated {
                     continue;
                 }
-                batch.push(x, shadow_ray_to_centre(&gbuffer.surface_point(scene, i), &sight));
-                if batch.is_full() {
-                    batch.trace_into(bvh, scratch, row);
-                }
+                let ray = shadow_ray_to_centre(&gbuffer.surface_point(scene, i), &sight);
+                batch.push(bvh, scratch, x, ray, |x, lit| row[x] = lit as u8);
             }
-            batch.trace_into(bvh, scratch, row);
+            batch.finish(bvh, scratch, |x, lit| row[x] = lit as u8);
         },
     );
     HardReference { width: gbuffer.width, height: gbuffer.height, lit }

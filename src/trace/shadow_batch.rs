@@ -1,0 +1,60 @@
+//! Shadow rays gathered to be traced `RAYS_PER_BATCH` at a time (`SceneBvh::shadow_occluded`,
+//! which walks them together where it can): a row's pixels in the hard reference, a pixel's
+//! light samples or sub-pixel surfaces in the soft references.
+
+use super::bvh::{RAYS_PER_BATCH, SceneBvh, TraversalScratch};
+use super::shadow_ray::ShadowRay;
+use glam::Vec3;
+
+/// Up to `RAYS_PER_BATCH` shadow rays, each with its caller's tag (a pixel's column, or
+/// nothing), waiting to be traced.
+pub(super) struct ShadowBatch {
+    tags: [usize; RAYS_PER_BATCH],
+    rays: [ShadowRay; RAYS_PER_BATCH],
+    len: usize,
+}
+
+/// What fills the slots beyond a batch's rays; never traced.
+const UNUSED_RAY: ShadowRay =
+    ShadowRay { origin: Vec3::ZERO, direction: Vec3::X, tmax: 0.0, skip_triangle: u32::MAX };
+
+impl ShadowBatch {
+    pub(super) fn new() -> Self {
+        ShadowBatch { tags: [0; RAYS_PER_BATCH], rays: [UNUSED_RAY; RAYS_PER_BATCH], len: 0 }
+    }
+
+    /// Adds `ray`; once the batch is full, traces it and calls `visible(tag, lit)` for each ray.
+    #[inline]
+    pub(super) fn push(
+        &mut self,
+        bvh: &SceneBvh,
+        scratch: &mut TraversalScratch,
+        tag: usize,
+        ray: ShadowRay,
+        visible: impl FnMut(usize, bool),
+    ) {
+        self.tags[self.len] = tag;
+        self.rays[self.len] = ray;
+        self.len += 1;
+        if self.len == RAYS_PER_BATCH {
+            self.finish(bvh, scratch, visible);
+        }
+    }
+
+    /// Traces the rays waiting, calls `visible(tag, lit)` for each, and empties the batch.
+    pub(super) fn finish(
+        &mut self,
+        bvh: &SceneBvh,
+        scratch: &mut TraversalScratch,
+        mut visible: impl FnMut(usize, bool),
+    ) {
+        if self.len == 0 {
+            return;
+        }
+        let occluded = bvh.shadow_occluded(scratch, &self.rays[..self.len]);
+        for (k, &tag) in self.tags[..self.len].iter().enumerate() {
+            visible(tag, occluded >> k & 1 == 0);
+        }
+        self.len = 0;
+    }
+}
