@@ -53,6 +53,10 @@ pub struct Hit {
     pub triangle: u32,
     pub t: f32,
     pub barycentric: [f32; 3],
+    /// The triangle's world vertices as the test took them (`Scene::triangle`), carried so that
+    /// the surface point is computed from the copy the walk just read rather than from another
+    /// random read of the scene's.
+    pub vertices: [Vec3; 3],
 }
 
 impl Hit {
@@ -156,7 +160,12 @@ impl SceneBvh {
             |i, best_t| {
                 let [v0, v1, v2] = self.triangles[i];
                 if let Some(h) = ray.intersect(v0, v1, v2, tmin, *best_t) {
-                    let hit = Hit { triangle: self.scene_ids[i], t: h.t, barycentric: h.barycentric };
+                    let hit = Hit {
+                        triangle: self.scene_ids[i],
+                        t: h.t,
+                        barycentric: h.barycentric,
+                        vertices: [v0, v1, v2].map(Vec3::from),
+                    };
                     if hit.beats(&best) {
                         best = Some(hit);
                         *best_t = h.t;
@@ -346,7 +355,12 @@ impl SceneBvh {
                 |i, k, tmax| {
                     let [v0, v1, v2] = triangles[i];
                     if let Some(h) = watertight[k].intersect(v0, v1, v2, 0.0, tmax[k]) {
-                        let hit = Hit { triangle: self.scene_ids[i], t: h.t, barycentric: h.barycentric };
+                        let hit = Hit {
+                            triangle: self.scene_ids[i],
+                            t: h.t,
+                            barycentric: h.barycentric,
+                            vertices: [v0, v1, v2].map(Vec3::from),
+                        };
                         if hit.beats(&best[k]) {
                             best[k] = Some(hit);
                             tmax[k] = h.t;

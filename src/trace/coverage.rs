@@ -50,7 +50,7 @@ pub fn trace_coverage_reference(
             for (k, hit) in primary[..n].iter().enumerate() {
                 let Some(hit) = hit else { continue };
                 surfaces += 1;
-                let s = surface_sample(scene, hit, dirs[k], &sight);
+                let s = surface_sample(hit, dirs[k], &sight);
                 if s.class == PixelClass::Evaluated {
                     let ray = shadow_ray_to_centre(&s.point, &sight);
                     batch.push(bvh, scratch, 0, ray, |_, lit| hits += lit as u32);

@@ -121,8 +121,8 @@ pub(super) struct SurfaceSample {
 
 /// The surface point of a primary ray's closest hit, and its class. Shared by the G-buffer
 /// (pixel-centre rays) and the pixel-coverage reference (sub-pixel rays).
-pub(super) fn surface_sample(scene: &Scene, hit: &Hit, dir: Vec3, light: &LightSight) -> SurfaceSample {
-    let verts = &scene.triangle(hit.triangle);
+pub(super) fn surface_sample(hit: &Hit, dir: Vec3, light: &LightSight) -> SurfaceSample {
+    let verts = &hit.vertices;
     let p = barycentric_point(verts, hit.barycentric);
     let (v0, v1, v2) = (verts[0].as_dvec3(), verts[1].as_dvec3(), verts[2].as_dvec3());
     let mut ng = (v1 - v0).cross(v2 - v0).normalize();
@@ -180,7 +180,7 @@ impl GBuffer {
                         bvh.closest_hits(scratch, camera.position, &dirs[..n], &mut hits[..n]);
                         for (k, hit) in hits[..n].iter().enumerate() {
                             let Some(hit) = hit else { continue };
-                            let (x, sample) = (first + k, surface_sample(scene, hit, dirs[k], &sight));
+                            let (x, sample) = (first + k, surface_sample(hit, dirs[k], &sight));
                             let p = sample.point;
                             cls[x] = sample.class;
                             pos[x] = p.position;

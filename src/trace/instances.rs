@@ -102,7 +102,12 @@ impl InstanceLevel {
                 else {
                     return false;
                 };
-                let hit = Hit { triangle: local.id, t: h.t, barycentric: h.barycentric };
+                let hit = Hit {
+                    triangle: local.id,
+                    t: h.t,
+                    barycentric: h.barycentric,
+                    vertices: local.world.map(Vec3::from),
+                };
                 if hit.beats(best) && !local.degenerate() {
                     *best = Some(hit);
                     *best_t = h.t;

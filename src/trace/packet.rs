@@ -92,28 +92,32 @@ impl Packet {
         })
     }
 
-    /// Per child of `node`, the lanes of `lanes` whose ray may meet it within [0, tmax[lane]],
-    /// and (with `KEY`) the distance at which the lowest of those lanes enters it.
+    /// Pushes the children of `node` that some lane of `lanes` may meet within [0, tmax[lane]]
+    /// onto `stack[..*depth]`, each with those lanes, and pops the one to visit next (`None`
+    /// when no child is met). Nearest first, the children are sorted by the distance at which
+    /// the lowest lane enters them, so the nearest is next; otherwise they go in node order.
+    /// Every slot is tested: an empty one's inverted box is missed (testing it costs less than
+    /// skipping it).
     #[target_feature(enable = "avx2")]
     #[inline]
-    fn test_node<const KEY: bool>(
+    fn push_children<const NEAREST: bool>(
         &self,
         node: &WideNode,
         tmax: &[f32; LANES],
         lanes: u32,
-    ) -> ([u32; 8], [f32; 8]) {
+        stack: &mut [(ChildRef, u32, f32)],
+        depth: &mut usize,
+    ) -> Option<(ChildRef, u32)> {
         let bytes = node as *const WideNode as *const u8;
         // SAFETY: `offset` is that of one of the node's plane arrays (`plane_offsets`), and c < 8.
         let plane =
             |offset: usize, c: usize| unsafe { _mm256_set1_ps(*(bytes.add(offset) as *const f32).add(c)) };
         // SAFETY: eight f32.
         let tmax = unsafe { _mm256_loadu_ps(tmax.as_ptr()) };
-        let (mut hit_lanes, mut enter_first) = ([0u32; 8], [0f32; 8]);
-        let first = lanes.trailing_zeros() as usize;
+        // The lowest lane's entry distance, moved to lane 0 (`_mm256_cvtss_f32`).
+        let lowest = _mm256_set1_epi32(lanes.trailing_zeros() as i32);
+        let base = *depth;
         for c in 0..8 {
-            if node.child[c] == ChildRef::EMPTY {
-                continue;
-            }
             let (mut enter, mut exit) = (_mm256_setzero_ps(), tmax);
             for axis in 0..3 {
                 let near = plane(self.near_offset[axis], c);
@@ -123,15 +127,24 @@ impl Packet {
                 enter = _mm256_max_ps(enter, t_near);
                 exit = _mm256_min_ps(exit, t_far);
             }
-            hit_lanes[c] = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit)) as u32 & lanes;
-            if KEY {
-                let mut each = [0f32; LANES];
-                // SAFETY: eight f32.
-                unsafe { _mm256_storeu_ps(each.as_mut_ptr(), enter) };
-                enter_first[c] = each[first];
+            let hit = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit)) as u32 & lanes;
+            if hit == 0 {
+                continue;
             }
+            let key = if NEAREST { _mm256_cvtss_f32(_mm256_permutevar8x32_ps(enter, lowest)) } else { 0.0 };
+            let mut k = *depth;
+            while NEAREST && k > base && stack[k - 1].2 < key {
+                stack[k] = stack[k - 1];
+                k -= 1;
+            }
+            stack[k] = (node.child[c], hit, key);
+            *depth += 1;
         }
-        (hit_lanes, enter_first)
+        if *depth == base {
+            return None;
+        }
+        *depth -= 1;
+        Some((stack[*depth].0, stack[*depth].1))
     }
 
     /// The lanes of `lanes` whose ray the watertight test might not reject for `triangle`: all
@@ -204,8 +217,7 @@ pub(super) fn walk_packet<const NEAREST: bool>(
             }
         } else if lanes != 0 {
             let node = &nodes[child.index()];
-            let (hit_lanes, enter) = packet.test_node::<NEAREST>(node, tmax, lanes);
-            if let Some(next) = push_children::<NEAREST>(node, &hit_lanes, &enter, stack, &mut depth) {
+            if let Some(next) = packet.push_children::<NEAREST>(node, tmax, lanes, stack, &mut depth) {
                 current = next;
                 continue;
             }
@@ -216,37 +228,6 @@ pub(super) fn walk_packet<const NEAREST: bool>(
         depth -= 1;
         current = (stack[depth].0, stack[depth].1);
     }
-}
-
-/// Pushes the children with lanes but one onto `stack[..*depth]`, and returns that one: nearest
-/// first, the one the lowest lane enters first, the others sorted farthest first beneath it.
-#[inline(always)]
-fn push_children<const NEAREST: bool>(
-    node: &WideNode,
-    hit_lanes: &[u32; 8],
-    enter: &[f32; 8],
-    stack: &mut [(ChildRef, u32, f32)],
-    depth: &mut usize,
-) -> Option<(ChildRef, u32)> {
-    let base = *depth;
-    for c in 0..8 {
-        if hit_lanes[c] == 0 {
-            continue;
-        }
-        let entry = (node.child[c], hit_lanes[c], enter[c]);
-        let mut k = *depth;
-        while NEAREST && k > base && stack[k - 1].2 < entry.2 {
-            stack[k] = stack[k - 1];
-            k -= 1;
-        }
-        stack[k] = entry;
-        *depth += 1;
-    }
-    if *depth == base {
-        return None;
-    }
-    *depth -= 1;
-    Some((stack[*depth].0, stack[*depth].1))
 }
 
 #[cfg(test)]
