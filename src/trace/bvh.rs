@@ -240,10 +240,10 @@ impl SceneBvh {
     }
 }
 
-/// The most rays `shadow_occluded` and `closest_hits` take at once.
+/// The most rays `shadow_occluded` takes, and `closest_hits` walks, at once.
 pub const RAYS_PER_BATCH: usize = 8;
 
-/// Queries for up to eight rays at once: the single-ray answers, walked together where the
+/// Queries for many rays at once: the single-ray answers, walked eight at a time where the
 /// processor and the rays allow (packet.rs).
 impl SceneBvh {
     /// Bit k set where shadow ray k is occluded: `shadow_occluder(rays[k]).is_some()`.
@@ -255,7 +255,8 @@ impl SceneBvh {
         (0..rays.len()).map(|k| (self.shadow_occluder(scratch, &rays[k]).is_some() as u32) << k).sum()
     }
 
-    /// `closest_hit(origin, directions[k], 0, ∞)` into `hits[k]` for each k.
+    /// `closest_hit(origin, directions[k], 0, ∞)` into `hits[k]` for each k, for any number of
+    /// rays: neighbouring rays are walked `RAYS_PER_BATCH` at a time.
     pub fn closest_hits(
         &self,
         scratch: &mut TraversalScratch,
@@ -263,12 +264,14 @@ impl SceneBvh {
         directions: &[Vec3],
         hits: &mut [Option<Hit>],
     ) {
-        #[cfg(target_arch = "x86_64")]
-        if self.closest_hits_packet(scratch, origin, directions, hits) {
-            return;
-        }
-        for (hit, &direction) in hits.iter_mut().zip(directions) {
-            *hit = self.closest_hit(scratch, origin, direction, 0.0, f32::INFINITY);
+        for (directions, hits) in directions.chunks(RAYS_PER_BATCH).zip(hits.chunks_mut(RAYS_PER_BATCH)) {
+            #[cfg(target_arch = "x86_64")]
+            if self.closest_hits_packet(scratch, origin, directions, hits) {
+                continue;
+            }
+            for (hit, &direction) in hits.iter_mut().zip(directions) {
+                *hit = self.closest_hit(scratch, origin, direction, 0.0, f32::INFINITY);
+            }
         }
     }
 

@@ -1,10 +1,10 @@
 //! The G-buffer of one (camera, light): per pixel the primary hit of the pixel-centre ray and its
 //! class. The reference and every technique evaluate exactly these surface points.
 
-use super::bvh::{Hit, RAYS_PER_BATCH, SceneBvh};
+use super::bvh::{Hit, SceneBvh};
 use super::shadow_ray::{SurfacePoint, position_error};
 use super::watertight::barycentric_point;
-use crate::scene::{Camera, Light, LightKind, Scene};
+use crate::scene::{Camera, Film, Light, LightKind, Scene};
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
@@ -168,32 +168,55 @@ impl GBuffer {
             .zip(object.par_chunks_mut(w as usize))
             .enumerate()
             .for_each_init(
-                || bvh.scratch(),
-                |scratch, (y, ((((cls, pos), nrm), tri), obj))| {
-                    let row = film.row(y as u32);
-                    // Neighbouring pixels' rays are traced together (`SceneBvh::closest_hits`).
-                    for first in (0..w as usize).step_by(RAYS_PER_BATCH) {
-                        let n = RAYS_PER_BATCH.min(w as usize - first);
-                        let dirs: [Vec3; RAYS_PER_BATCH] =
-                            std::array::from_fn(|k| row.direction(&columns, (first + k.min(n - 1)) as u32));
-                        let mut hits = [None; RAYS_PER_BATCH];
-                        bvh.closest_hits(scratch, camera.position, &dirs[..n], &mut hits[..n]);
-                        for (k, hit) in hits[..n].iter().enumerate() {
-                            let Some(hit) = hit else { continue };
-                            let (x, sample) = (first + k, surface_sample(hit, dirs[k], &sight));
-                            let p = sample.point;
-                            cls[x] = sample.class;
-                            pos[x] = p.position;
-                            nrm[x] = p.normal;
-                            tri[x] = p.triangle;
-                            obj[x] = scene.object_of(p.triangle);
-                        }
+                || (bvh.scratch(), vec![Vec3::ZERO; w as usize], vec![None; w as usize]),
+                |(scratch, dirs, hits), (y, ((((cls, pos), nrm), tri), obj))| {
+                    row_directions(&film, &columns, y, dirs);
+                    bvh.closest_hits(scratch, camera.position, dirs, hits);
+                    for (x, hit) in hits.iter().enumerate() {
+                        let Some(hit) = hit else { continue };
+                        let sample = surface_sample(hit, dirs[x], &sight);
+                        let p = sample.point;
+                        cls[x] = sample.class;
+                        pos[x] = p.position;
+                        nrm[x] = p.normal;
+                        tri[x] = p.triangle;
+                        obj[x] = scene.object_of(p.triangle);
                     }
                 },
             );
         let evaluated = (0..n as u32).filter(|&i| class[i as usize] == PixelClass::Evaluated).collect();
         GBuffer { width: w, height: h, class, position, normal, triangle, object, evaluated }
     }
+}
+
+/// The pixel-centre ray directions of `camera`, row by row: the G-buffer's rays.
+pub fn primary_directions(camera: &Camera) -> Vec<Vec3> {
+    let (film, w) = (camera.film(), camera.width as usize);
+    let columns = film.columns();
+    let mut directions = filled(Vec3::ZERO, camera.pixel_count());
+    directions.par_chunks_mut(w).enumerate().for_each(|(y, dirs)| row_directions(&film, &columns, y, dirs));
+    directions
+}
+
+/// The pixel-centre directions of row `y`.
+fn row_directions(film: &Film, columns: &[f64], y: usize, directions: &mut [Vec3]) {
+    let row = film.row(y as u32);
+    for (x, dir) in directions.iter_mut().enumerate() {
+        *dir = row.direction(columns, x as u32);
+    }
+}
+
+/// The closest hits of rays from the camera along `directions` (`primary_directions`), walked
+/// row by row as the G-buffer walks them, without the surface work the G-buffer adds: the
+/// tracer's own share of primary rays, which `reference --timing` times.
+pub fn primary_hits(bvh: &SceneBvh, camera: &Camera, directions: &[Vec3]) -> Vec<Option<Hit>> {
+    let w = camera.width as usize;
+    let mut hits = filled(None, directions.len());
+    hits.par_chunks_mut(w).zip(directions.par_chunks(w)).for_each_init(
+        || bvh.scratch(),
+        |scratch, (hits, dirs)| bvh.closest_hits(scratch, camera.position, dirs, hits),
+    );
+    hits
 }
 
 /// `n` copies of `value`, written by every thread: at 4096² a G-buffer array is up to 192 MiB,

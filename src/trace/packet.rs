@@ -117,6 +117,10 @@ impl Packet {
         // The lowest lane's entry distance, moved to lane 0 (`_mm256_cvtss_f32`).
         let lowest = _mm256_set1_epi32(lanes.trailing_zeros() as i32);
         let base = *depth;
+        let mut top = base;
+        // Room for eight more: a node at level L (root 1) finds at most 7·(L − 1) entries
+        // beneath it, and the stack holds 7·depth + 1 (`SceneBvh::scratch`).
+        assert!(stack.len() >= base + 8, "the packet stack is sized to the tree");
         for c in 0..8 {
             let (mut enter, mut exit) = (_mm256_setzero_ps(), tmax);
             for axis in 0..3 {
@@ -128,17 +132,24 @@ impl Packet {
                 exit = _mm256_min_ps(exit, t_far);
             }
             let hit = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit)) as u32 & lanes;
-            if hit == 0 {
-                continue;
-            }
             let key = if NEAREST { _mm256_cvtss_f32(_mm256_permutevar8x32_ps(enter, lowest)) } else { 0.0 };
-            let mut k = *depth;
-            while NEAREST && k > base && stack[k - 1].2 < key {
-                stack[k] = stack[k - 1];
-                k -= 1;
+            // Written whether met or not, kept only if met: no branch on a coin toss.
+            // SAFETY: top < base + 8 ≤ stack.len() (asserted above).
+            unsafe { *stack.get_unchecked_mut(top) = (node.child[c], hit, key) };
+            top += (hit != 0) as usize;
+        }
+        *depth = top;
+        if NEAREST {
+            // Insertion sort, farthest first: a node has few met children.
+            for i in base + 1..top {
+                let entry = stack[i];
+                let mut k = i;
+                while k > base && stack[k - 1].2 < entry.2 {
+                    stack[k] = stack[k - 1];
+                    k -= 1;
+                }
+                stack[k] = entry;
             }
-            stack[k] = (node.child[c], hit, key);
-            *depth += 1;
         }
         if *depth == base {
             return None;
