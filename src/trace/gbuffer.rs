@@ -206,17 +206,38 @@ fn row_directions(film: &Film, columns: &[f64], y: usize, directions: &mut [Vec3
     }
 }
 
+/// A primary ray's closest hit as `primary_hits` writes it: what a tracer's hit record holds
+/// (the Embree tool's too), without the vertices `Hit` carries for the G-buffer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PrimaryHit {
+    /// Scene triangle id, u32::MAX where the ray hits nothing.
+    pub triangle: u32,
+    pub t: f32,
+    pub barycentric: [f32; 3],
+}
+
+impl PrimaryHit {
+    const MISS: PrimaryHit = PrimaryHit { triangle: u32::MAX, t: f32::INFINITY, barycentric: [0.0; 3] };
+}
+
 /// The closest hits of rays from the camera along `directions` (`primary_directions`), walked
 /// row by row as the G-buffer walks them, without the surface work the G-buffer adds: the
 /// tracer's own share of primary rays, which `reference --timing` times.
-pub fn primary_hits(bvh: &SceneBvh, camera: &Camera, directions: &[Vec3]) -> Vec<Option<Hit>> {
+pub fn primary_hits(bvh: &SceneBvh, camera: &Camera, directions: &[Vec3]) -> Vec<PrimaryHit> {
     let w = camera.width as usize;
-    let mut hits = filled(None, directions.len());
-    hits.par_chunks_mut(w).zip(directions.par_chunks(w)).for_each_init(
-        || bvh.scratch(),
-        |scratch, (hits, dirs)| bvh.closest_hits(scratch, camera.position, dirs, hits),
+    let mut records = filled(PrimaryHit::MISS, directions.len());
+    records.par_chunks_mut(w).zip(directions.par_chunks(w)).for_each_init(
+        || (bvh.scratch(), vec![None; w]),
+        |(scratch, hits), (records, dirs)| {
+            bvh.closest_hits(scratch, camera.position, dirs, hits);
+            for (record, hit) in records.iter_mut().zip(hits.iter()) {
+                if let Some(h) = hit {
+                    *record = PrimaryHit { triangle: h.triangle, t: h.t, barycentric: h.barycentric };
+                }
+            }
+        },
     );
-    hits
+    records
 }
 
 /// `n` copies of `value`, written by every thread: at 4096² a G-buffer array is up to 192 MiB,
@@ -225,4 +246,36 @@ fn filled<T: Copy + Send + Sync>(value: T, n: usize) -> Vec<T> {
     let mut v = Vec::with_capacity(n);
     v.par_extend(rayon::iter::repeat_n(value, n));
     v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::load_scene;
+    use std::path::Path;
+
+    /// The rays `reference --timing` times as primary rays are the G-buffer's, with the same
+    /// hits: the same triangle per pixel, and the same surface point from its barycentrics.
+    #[test]
+    fn primary_hits_are_the_gbuffer_hits() {
+        for name in ["rocks", "spot"] {
+            let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("scenes/{name}.json"));
+            let scene = load_scene(&path).expect("bundled scene");
+            let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
+            let bvh = SceneBvh::build(&scene);
+            let g = GBuffer::trace(&scene, &bvh, camera, light);
+            let records = primary_hits(&bvh, camera, &primary_directions(camera));
+            assert_eq!(records.len(), g.pixel_count());
+            let mut hits = 0;
+            for (i, r) in records.iter().enumerate() {
+                assert_eq!(r.triangle, g.triangle[i], "{name}: pixel {i}");
+                if r.triangle != u32::MAX {
+                    let p = barycentric_point(&scene.triangle(r.triangle), r.barycentric).as_vec3();
+                    assert_eq!(p.to_array().map(f32::to_bits), g.position[i].to_array().map(f32::to_bits));
+                    hits += 1;
+                }
+            }
+            assert!(hits > records.len() / 2, "{name}: the view must mostly hit ({hits})");
+        }
+    }
 }

@@ -31,7 +31,7 @@ pub use area_light::{AreaLightError, trace_area_light_reference, validate_area_l
 pub use bvh::{Hit, SceneBvh, TraversalScratch};
 pub use cache::{CachedReference, ReferenceCache, reference_digest, soft_reference_digest};
 pub use coverage::trace_coverage_reference;
-pub use gbuffer::{GBuffer, PixelClass, primary_directions, primary_hits};
+pub use gbuffer::{GBuffer, PixelClass, PrimaryHit, primary_directions, primary_hits};
 pub use node_test::node_test_name;
 pub use reference::{HardReference, MaskCode, hard_shadow_ray, trace_hard_reference};
 pub use shadow_ray::{ShadowRay, SurfacePoint, offset_ray_origin, position_error};
