@@ -2,13 +2,15 @@
 //! G-buffer (primary rays), hard reference (shadow rays) and the area-light reference (4×4 shadow
 //! rays per pixel towards a sun of 2° angular diameter; throughput in shadow rays). And primary
 //! and shadow rays on an outdoor scene of 200K triangles (`generate forest`: terrain and trees
-//! with thin trunks, under the sun), the rays `reference --timing` times, with its coverage and
-//! area-light references per sample beside them.
+//! with thin trunks, under the sun), the rays `reference --timing` times (primary rays prepared
+//! before the clock, as it times them), with the G-buffer and the coverage and area-light
+//! references per sample beside them.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use shadowtruth::scene::{LightKind, load_scene};
 use shadowtruth::trace::{
-    GBuffer, SceneBvh, trace_area_light_reference, trace_coverage_reference, trace_hard_reference,
+    GBuffer, SceneBvh, primary_directions, primary_hits, trace_area_light_reference,
+    trace_coverage_reference, trace_hard_reference,
 };
 use std::path::Path;
 use std::process::Command;
@@ -62,7 +64,9 @@ fn trace_outdoor(c: &mut Criterion) {
     let mut g = c.benchmark_group("trace/forest200k");
     g.sample_size(10);
     g.throughput(Throughput::Elements(gbuffer.pixel_count() as u64));
-    g.bench_function("primary_rays", |b| b.iter(|| GBuffer::trace(&scene, &bvh, camera, sun)));
+    let directions = primary_directions(camera);
+    g.bench_function("primary_rays", |b| b.iter(|| primary_hits(&bvh, camera, &directions)));
+    g.bench_function("gbuffer", |b| b.iter(|| GBuffer::trace(&scene, &bvh, camera, sun)));
     g.throughput(Throughput::Elements(gbuffer.evaluated.len() as u64));
     g.bench_function("shadow_rays", |b| b.iter(|| trace_hard_reference(&scene, &bvh, &gbuffer, sun)));
     // The soft references per sample, beside the hard rate: 2×2 sub-pixel samples (a primary
