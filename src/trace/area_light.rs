@@ -19,9 +19,8 @@
 use super::bvh::SceneBvh;
 use super::gbuffer::GBuffer;
 use super::sampling::{concentric_disk, jittered_stratum, orthonormal_frame};
-use super::shadow_batch::ShadowBatch;
 use super::shadow_ray::ShadowRay;
-use super::soft_reference::{SoftReference, mean_and_std_error, trace_evaluated};
+use super::soft_reference::{Estimate, SoftReference, trace_evaluated};
 use crate::scene::{Light, LightKind, Scene};
 use glam::DVec3;
 
@@ -91,12 +90,10 @@ pub fn trace_area_light_reference(
 ) -> Result<SoftReference, AreaLightError> {
     let emitter = emitter(light, grid)?;
     let m = grid * grid;
-    Ok(trace_evaluated(bvh, gbuffer, m, |scratch, _, _, i| {
+    Ok(trace_evaluated(bvh, gbuffer, m, |scratch, rays, x, _, i| {
         let point = gbuffer.surface_point(scene, i);
         let (p64, n64) = (point.position.as_dvec3(), point.normal.as_dvec3());
-        // The samples facing the point's side of the surface, traced together a batch at a time.
-        let mut batch = ShadowBatch::new();
-        let mut hits = 0u32;
+        // The samples facing the point's side of the surface, traced with the row's.
         for k in 0..m {
             let (u, v) = jittered_stratum(i as u64, k, grid, LIGHT_SALT);
             let (dx, dy) = concentric_disk(u, v);
@@ -115,10 +112,9 @@ pub fn trace_area_light_reference(
                 }
             };
             if let Some(ray) = ray {
-                batch.push(bvh, scratch, 0, ray, |_, lit| hits += lit as u32);
+                rays.push(bvh, scratch, x, ray);
             }
         }
-        batch.finish(bvh, scratch, |_, lit| hits += lit as u32);
-        mean_and_std_error(hits, m)
+        Estimate::Mean { samples: m }
     }))
 }

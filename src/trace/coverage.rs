@@ -13,8 +13,7 @@ use super::bvh::{RAYS_PER_BATCH, SceneBvh};
 use super::gbuffer::{GBuffer, LightSight, PixelClass, surface_sample};
 use super::reference::{hard_visible, shadow_ray_to_centre};
 use super::sampling::stratum_centre;
-use super::shadow_batch::ShadowBatch;
-use super::soft_reference::{SoftReference, mean_and_std_error, trace_evaluated};
+use super::soft_reference::{Estimate, SoftReference, trace_evaluated};
 use crate::scene::{Camera, Light, Scene};
 use glam::Vec3;
 
@@ -33,11 +32,10 @@ pub fn trace_coverage_reference(
     assert!(grid >= 1, "the coverage grid must be at least 1×1");
     let film = camera.film();
     let sight = LightSight::of(light);
-    trace_evaluated(bvh, gbuffer, grid * grid, |scratch, x, y, i| {
-        let (mut hits, mut surfaces) = (0u32, 0u32);
-        // The sub-rays `RAYS_PER_BATCH` at a time, and their evaluated surfaces' shadow rays
-        // a batch at a time.
-        let mut batch = ShadowBatch::new();
+    trace_evaluated(bvh, gbuffer, grid * grid, |scratch, rays, x, y, i| {
+        let mut surfaces = 0u32;
+        // The sub-rays `RAYS_PER_BATCH` at a time; their evaluated surfaces' shadow rays join
+        // the row's.
         let samples = grid * grid;
         for first in (0..samples).step_by(RAYS_PER_BATCH) {
             let n = (samples - first).min(RAYS_PER_BATCH as u32) as usize;
@@ -53,18 +51,17 @@ pub fn trace_coverage_reference(
                 let s = surface_sample(hit, dirs[k], &sight);
                 if s.class == PixelClass::Evaluated {
                     let ray = shadow_ray_to_centre(&s.point, &sight);
-                    batch.push(bvh, scratch, 0, ray, |_, lit| hits += lit as u32);
+                    rays.push(bvh, scratch, x, ray);
                 }
             }
         }
-        batch.finish(bvh, scratch, |_, lit| hits += lit as u32);
         if surfaces > 0 {
-            mean_and_std_error(hits, surfaces)
+            Estimate::Mean { samples: surfaces }
         } else {
             // Only possible if no sub-ray reproduces the centre hit: fall back to the centre's
             // hard visibility.
             let lit = hard_visible(bvh, scratch, &gbuffer.surface_point(scene, i), &sight);
-            (lit as u32 as f32, 0.0)
+            Estimate::Known(lit as u32 as f32, 0.0)
         }
     })
 }

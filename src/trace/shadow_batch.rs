@@ -1,6 +1,7 @@
 //! Shadow rays gathered to be traced `RAYS_PER_BATCH` at a time (`SceneBvh::shadow_occluded`,
-//! which walks them together where it can): a row's pixels in the hard reference, a pixel's
-//! light samples or sub-pixel surfaces in the soft references.
+//! which walks them together where it can): a row's pixels in the hard reference, and a row's
+//! light samples or sub-pixel surfaces (`RowShadows`) in the soft references, so that a pixel
+//! with fewer rays than a batch does not trace a batch of its own.
 
 use super::bvh::{RAYS_PER_BATCH, SceneBvh, TraversalScratch};
 use super::shadow_ray::ShadowRay;
@@ -56,5 +57,41 @@ impl ShadowBatch {
             visible(tag, occluded >> k & 1 == 0);
         }
         self.len = 0;
+    }
+}
+
+/// A row's shadow rays, each under its pixel's column, traced `RAYS_PER_BATCH` at a time
+/// across the row's pixels, with each column's count of unoccluded rays.
+pub(super) struct RowShadows {
+    batch: ShadowBatch,
+    lit: Vec<u32>,
+}
+
+impl RowShadows {
+    pub(super) fn new(width: usize) -> Self {
+        RowShadows { batch: ShadowBatch::new(), lit: vec![0; width] }
+    }
+
+    /// Adds the shadow ray of the pixel in column `x`.
+    #[inline]
+    pub(super) fn push(&mut self, bvh: &SceneBvh, scratch: &mut TraversalScratch, x: usize, ray: ShadowRay) {
+        let lit = &mut self.lit;
+        self.batch.push(bvh, scratch, x, ray, |x, visible| lit[x] += visible as u32);
+    }
+
+    /// Traces the rays still waiting: every count is final.
+    pub(super) fn finish(&mut self, bvh: &SceneBvh, scratch: &mut TraversalScratch) {
+        let lit = &mut self.lit;
+        self.batch.finish(bvh, scratch, |x, visible| lit[x] += visible as u32);
+    }
+
+    /// The unoccluded rays of column `x` (after `finish`).
+    pub(super) fn lit(&self, x: usize) -> u32 {
+        self.lit[x]
+    }
+
+    /// Zero counts for the next row (after `finish`).
+    pub(super) fn clear(&mut self) {
+        self.lit.fill(0);
     }
 }

@@ -5,6 +5,7 @@
 
 use super::bvh::{SceneBvh, TraversalScratch};
 use super::gbuffer::{GBuffer, PixelClass};
+use super::shadow_batch::RowShadows;
 use exr::prelude::*;
 use rayon::prelude::*;
 use std::io::Cursor;
@@ -54,28 +55,45 @@ pub(super) fn mean_and_std_error(hits: u32, m: u32) -> (f32, f32) {
     (p as f32, se as f32)
 }
 
-/// A soft reference of `samples` samples per pixel: `estimate(scratch, x, y, i)` gives (visibility,
-/// standard error) of every evaluated pixel (index i = y·width + x); the others hold zeros. Rows
-/// run in parallel with one traversal scratch per worker; each pixel's estimate depends on the
-/// pixel alone, so the bits do not depend on the thread count.
+/// How a pixel's estimate follows from its shadow rays (`trace_evaluated`).
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Estimate {
+    /// The mean of `samples` 0/1 samples, of which the pixel's unoccluded rays are the 1s.
+    Mean { samples: u32 },
+    /// Known without its rays: (visibility, standard error).
+    Known(f32, f32),
+}
+
+/// A soft reference of `samples` samples per pixel: `gather(scratch, rays, x, y, i)` adds the
+/// shadow rays of each evaluated pixel (index i = y·width + x) to its row's `rays` under column
+/// `x`, and says how the pixel's estimate follows from them; the other pixels hold zeros. A
+/// row's rays are traced together, eight at a time across its pixels, and rows run in parallel
+/// with one traversal scratch per worker; each ray's answer is its own, so the bits depend
+/// neither on the thread count nor on how rays are batched.
 pub(super) fn trace_evaluated(
     bvh: &SceneBvh,
     gbuffer: &GBuffer,
     samples: u32,
-    estimate: impl Fn(&mut TraversalScratch, usize, usize, usize) -> (f32, f32) + Sync,
+    gather: impl Fn(&mut TraversalScratch, &mut RowShadows, usize, usize, usize) -> Estimate + Sync,
 ) -> SoftReference {
     let n = gbuffer.pixel_count();
     let w = gbuffer.width as usize;
     let mut visibility = vec![0f32; n];
     let mut std_error = vec![0f32; n];
     visibility.par_chunks_mut(w).zip(std_error.par_chunks_mut(w)).enumerate().for_each_init(
-        || bvh.scratch(),
-        |scratch, (y, (vis, err))| {
-            for x in 0..w {
-                let i = y * w + x;
-                if gbuffer.class[i] == PixelClass::Evaluated {
-                    (vis[x], err[x]) = estimate(scratch, x, y, i);
-                }
+        || (bvh.scratch(), RowShadows::new(w), vec![Estimate::Known(0.0, 0.0); w]),
+        |(scratch, rays, estimates), (y, (vis, err))| {
+            let evaluated = |x: usize| gbuffer.class[y * w + x] == PixelClass::Evaluated;
+            rays.clear();
+            for x in (0..w).filter(|&x| evaluated(x)) {
+                estimates[x] = gather(scratch, rays, x, y, y * w + x);
+            }
+            rays.finish(bvh, scratch);
+            for x in (0..w).filter(|&x| evaluated(x)) {
+                (vis[x], err[x]) = match estimates[x] {
+                    Estimate::Mean { samples } => mean_and_std_error(rays.lit(x), samples),
+                    Estimate::Known(visibility, std_error) => (visibility, std_error),
+                };
             }
         },
     );
