@@ -393,9 +393,13 @@ struct ReferenceArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
-    /// Also time the tracer: primary and shadow rays per second, median of --repeats.
+    /// Also time the tracer: primary rays per second (prepared before the clock, closest hits
+    /// written, as Embree's tool times them), the G-buffer's pixels per second (those hits'
+    /// surface points and classes too), and shadow rays per second (the whole hard
+    /// reference), each the median of --repeats.
     #[arg(long)]
     timing: bool,
+    /// How many times --timing runs each measurement.
     #[arg(long, default_value_t = 5)]
     repeats: usize,
     /// With --timing: the saved `--timing` output of the Embree reference tool on the same view
