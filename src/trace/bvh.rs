@@ -286,24 +286,14 @@ impl SceneBvh {
         });
         // SAFETY: the processor has AVX2 (`wide_available`).
         let packet = unsafe { Packet::new(&watertight[..rays.len()]) }?;
-        let mut active = packet.lanes;
         let mut tmax: [f32; LANES] = std::array::from_fn(|k| rays[lane(k)].tmax);
-        let (tree, triangles) = (&self.tree.nodes, &self.triangles);
         // SAFETY: as above.
-        unsafe {
-            walk_packet::<ANY_ORDER>(
-                tree,
-                triangles,
-                &mut scratch.packet,
-                &packet,
-                &mut active,
-                &mut tmax,
-                |i, k, _| {
-                    let [v0, v1, v2] = triangles[i];
-                    self.scene_ids[i] != rays[k].skip_triangle
-                        && watertight[k].intersect_beyond_error(v0, v1, v2, rays[k].tmax).is_some()
-                },
-            )
+        let active = unsafe {
+            self.walk_flat::<ANY_ORDER>(scratch, &packet, &mut tmax, |i, k, _| {
+                let [v0, v1, v2] = self.triangles[i];
+                self.scene_ids[i] != rays[k].skip_triangle
+                    && watertight[k].intersect_beyond_error(v0, v1, v2, rays[k].tmax).is_some()
+            })
         };
         let mut occluded = packet.lanes & !active;
         if let Some(instances) = &self.instances {
@@ -322,6 +312,30 @@ impl SceneBvh {
             }
         }
         Some(occluded)
+    }
+
+    /// Walks the flat triangles' tree with `packet`, from every lane, and returns the lanes
+    /// still active at the end (`walk_packet`'s `leaf` and `tmax`). Needs AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn walk_flat<const NEAREST: bool>(
+        &self,
+        scratch: &mut TraversalScratch,
+        packet: &Packet,
+        tmax: &mut [f32; LANES],
+        leaf: impl FnMut(usize, usize, &mut [f32; LANES]) -> bool,
+    ) -> u32 {
+        let mut active = packet.lanes;
+        walk_packet::<NEAREST>(
+            &self.tree.nodes,
+            &self.triangles,
+            &mut scratch.packet,
+            packet,
+            &mut active,
+            tmax,
+            leaf,
+        );
+        active
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -344,34 +358,24 @@ impl SceneBvh {
         };
         let mut best = [None; LANES];
         let mut tmax = [f32::INFINITY; LANES];
-        let (tree, triangles) = (&self.tree.nodes, &self.triangles);
-        let mut active = packet.lanes;
         // SAFETY: as above.
         unsafe {
-            walk_packet::<NEAREST_FIRST>(
-                tree,
-                triangles,
-                &mut scratch.packet,
-                &packet,
-                &mut active,
-                &mut tmax,
-                |i, k, tmax| {
-                    let [v0, v1, v2] = triangles[i];
-                    if let Some(h) = watertight[k].intersect(v0, v1, v2, 0.0, tmax[k]) {
-                        let hit = Hit {
-                            triangle: self.scene_ids[i],
-                            t: h.t,
-                            barycentric: h.barycentric,
-                            vertices: [v0, v1, v2].map(Vec3::from),
-                        };
-                        if hit.beats(&best[k]) {
-                            best[k] = Some(hit);
-                            tmax[k] = h.t;
-                        }
+            self.walk_flat::<NEAREST_FIRST>(scratch, &packet, &mut tmax, |i, k, tmax| {
+                let [v0, v1, v2] = self.triangles[i];
+                if let Some(h) = watertight[k].intersect(v0, v1, v2, 0.0, tmax[k]) {
+                    let hit = Hit {
+                        triangle: self.scene_ids[i],
+                        t: h.t,
+                        barycentric: h.barycentric,
+                        vertices: [v0, v1, v2].map(Vec3::from),
+                    };
+                    if hit.beats(&best[k]) {
+                        best[k] = Some(hit);
+                        tmax[k] = h.t;
                     }
-                    false
-                },
-            )
+                }
+                false
+            })
         };
         for (k, hit) in hits.iter_mut().enumerate().take(directions.len()) {
             if let Some(instances) = &self.instances {
