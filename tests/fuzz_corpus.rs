@@ -1,5 +1,5 @@
 //! Replays the committed fuzz corpus (fuzz/corpus/<target>/) through the same functions the fuzz
-//! targets call (src/fuzzing.rs), so that every input the fuzzer kept, and every crash it found
+//! targets call (src/fuzzing/), so that every input the fuzzer kept, and every crash it found
 //! once, is checked on each test run without the nightly toolchain. See fuzz/README.md.
 
 use std::panic::{AssertUnwindSafe, catch_unwind};

@@ -35,7 +35,7 @@ pub fn load_scene_str(text: &str, source: &Path, base_dir: &Path) -> Result<Scen
 
 /// As [`load_scene_str`], with at most `max_triangles` in the scene and in its shapes: the same
 /// checks at a smaller size, so that the fuzzer spends its time on the reader, not on building
-/// millions of triangles (src/fuzzing.rs).
+/// millions of triangles (src/fuzzing/).
 pub(crate) fn load_scene_str_within(
     text: &str,
     source: &Path,

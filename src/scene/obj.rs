@@ -28,7 +28,7 @@ pub(crate) fn read_obj(path: &Path) -> Result<IndexedMesh, Vec<String>> {
 }
 
 /// Parses OBJ text held in memory; `shown` names the mesh in errors. `read_obj` reads through
-/// here, and so does the fuzzer (src/fuzzing.rs).
+/// here, and so does the fuzzer (src/fuzzing/).
 pub(crate) fn parse_obj(bytes: &[u8], shown: &str) -> Result<IndexedMesh, Vec<String>> {
     let text = String::from_utf8_lossy(bytes);
     let bad = non_finite_vertices(&text);
