@@ -212,6 +212,36 @@ fn missing_mesh_file_names_the_resolved_path() {
     assert_eq!(p.len(), 1, "{p:#?}");
 }
 
+/// A mesh path that names a FIFO, a device, or a file outside the scene's folder (directly or
+/// through a link) is refused before the file is opened: opening the FIFO would block, and
+/// reading the device would never end.
+#[cfg(unix)]
+#[test]
+fn mesh_paths_read_only_regular_files_inside_the_scene_folder() {
+    let root = tempfile::tempdir().unwrap();
+    let dir = root.path().join("scene");
+    fs::create_dir_all(dir.join("meshes")).unwrap();
+    write(&dir, "meshes/ground.obj", "v -5 0 -5\nv -5 0 5\nv 5 0 5\nf 1 2 3\n");
+    write(root.path(), "outside.obj", "v -5 0 -5\nv -5 0 5\nv 5 0 5\nf 1 2 3\n");
+    std::os::unix::fs::symlink(root.path().join("outside.obj"), dir.join("meshes/link.obj")).unwrap();
+    assert!(std::process::Command::new("mkfifo").arg(dir.join("meshes/pipe.obj")).status().unwrap().success());
+    let outside = root.path().join("outside.obj").display().to_string();
+    for (mesh, needle) in [
+        ("meshes/pipe.obj", "a FIFO, not a regular file"),
+        ("meshes/link.obj", "through a symbolic link"),
+        ("../outside.obj", "leaves the folder"),
+        (outside.as_str(), "is an absolute path"),
+        ("/dev/zero", "is an absolute path"),
+        ("meshes", "a folder, not a regular file"),
+    ] {
+        let text = with(base(), |s| s["objects"][0] = json!({ "name": "m", "mesh": mesh }));
+        assert_problem(&problems_in(&dir, &text), "objects[0].mesh", needle);
+    }
+    // The same mesh, inside the folder, loads.
+    let text = with(base(), |s| s["objects"][0] = json!({ "name": "m", "mesh": "meshes/ground.obj" }));
+    assert!(load_in(&dir, &text).is_ok());
+}
+
 #[test]
 fn absurd_image_sizes_are_rejected() {
     let p = problems(&with(base(), |s| {
@@ -487,4 +517,15 @@ fn procedural_shapes_are_limited_per_scene() {
     let found = problems(&together);
     assert_problem(&found, "objects[1].shape", "the procedural shapes up to this one have 4194316 triangles");
     assert_eq!(found.len(), 1, "only the first shape over the limit is named: {found:#?}");
+}
+
+/// Each bundled scene reads only files inside its own folder, so the scenes of `scenes/papers/`
+/// and `scenes/paths/` hold copies of the suite's meshes: they must stay the suite's bytes.
+#[test]
+fn bundled_mesh_copies_equal_the_suite_meshes() {
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    for copy in ["papers/meshes/l_shape.obj", "paths/meshes/rocks.obj", "paths/meshes/rocks_terrain.obj"] {
+        let original = scenes.join("meshes").join(Path::new(copy).file_name().unwrap());
+        assert_eq!(fs::read(scenes.join(copy)).unwrap(), fs::read(&original).unwrap(), "{copy}");
+    }
 }

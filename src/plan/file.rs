@@ -42,10 +42,13 @@ impl PlanInputError {
     }
 }
 
+/// The largest plan file read: plans list techniques and settings, a few kilobytes each.
+const MAX_PLAN_FILE_BYTES: u64 = 64 << 20;
+
 /// Reads a plan file, refusing plans of more than `max_runs` runs and naming scene files that
 /// do not exist (folders are expanded later).
 pub fn read_plan(path: &Path, max_runs: u64) -> Result<Plan, PlanInputError> {
-    let text = std::fs::read_to_string(path)
+    let text = crate::input_file::read_named_text(path, MAX_PLAN_FILE_BYTES)
         .map_err(|e| PlanInputError::one(path, "", format!("cannot read plan file: {e}")))?;
     let plan = parse_plan_limited(&text, path, max_runs)?;
     let missing: Vec<Problem> = (plan.scenes.iter().enumerate())

@@ -16,7 +16,7 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
     if is_gltf_path(path) {
         return load_gltf_scene(path, Limits { scene: MAX_SCENE_TRIANGLES, shapes: MAX_SHAPE_TRIANGLES });
     }
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+    let text = crate::input_file::read_named_text(path, MAX_SCENE_FILE_BYTES).map_err(|e| SceneError {
         problems: vec![Problem {
             file: path.to_path_buf(),
             path: String::new(),
@@ -25,6 +25,10 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
     })?;
     load_scene_str(&text, path, path.parent().unwrap_or(Path::new("")))
 }
+
+/// The largest scene file read: a million instances (`MAX_INSTANCES`) with a full transform each
+/// take about 200 MB of JSON.
+const MAX_SCENE_FILE_BYTES: u64 = 512 << 20;
 
 /// Loads a scene from text; `source` names it in errors, `base_dir` resolves mesh paths.
 /// Every problem (format, values, meshes) is collected; the scene is returned only without any.
@@ -168,16 +172,17 @@ fn add_object(
     problems: &mut Problems,
 ) {
     let (key, mesh) = match &object.geometry {
-        Some(Geometry::Mesh(relative)) => ("mesh", read_obj(&base_dir.join(relative))),
+        Some(Geometry::Mesh(relative)) => ("mesh", read_obj(base_dir, relative)),
         Some(Geometry::Shape(shape)) => {
             if !budget.admit_shape(&object.path, shape.triangle_count(), problems) {
                 return;
             }
             ("shape", Ok(shape.mesh()))
         }
-        Some(Geometry::Gltf(relative)) => {
-            return add_gltf_object(scene, object, &base_dir.join(relative), budget, problems);
-        }
+        Some(Geometry::Gltf(relative)) => match crate::input_file::open_inside(base_dir, relative) {
+            Ok(inside) => return add_gltf_object(scene, object, &inside.path, budget, problems),
+            Err(message) => return problems.report(&format!("{}.gltf", object.path), message),
+        },
         None => return,
     };
     let at = format!("{}.{key}", object.path);

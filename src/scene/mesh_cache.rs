@@ -55,8 +55,19 @@ pub fn mesh_cache_path(obj: &Path) -> Option<PathBuf> {
 
 /// The cached mesh of `obj`, if its cache is present, intact and made from this version of it.
 pub(super) fn read_cached(obj: &Path, key: SourceKey) -> Option<IndexedMesh> {
-    let bytes = std::fs::read(mesh_cache_path(obj)?).ok()?;
+    let folder = obj.parent().unwrap_or(Path::new(""));
+    let relative = Path::new(MESH_CACHE_DIR).join(mesh_cache_path(obj)?.file_name()?);
+    // The cache is read as the OBJ is: a regular file inside the scene's folder (a scene that
+    // arrives as an archive may bring a cache that links elsewhere), of a bounded size.
+    let (_, bytes) = crate::input_file::read_inside(folder, relative.to_str()?, max_cache_bytes(key)).ok()?;
     decode(&bytes, &name_of(obj), key)
+}
+
+/// The largest cache of an OBJ of `key.bytes`: a cached vertex or triangle takes 12 bytes, and
+/// the OBJ at least 2 for each (`v 0 0 0` is 8 bytes; each further index ` 9` of a polygon's
+/// `f` line adds a triangle).
+fn max_cache_bytes(key: SourceKey) -> u64 {
+    HEADER_BYTES as u64 + key.bytes.saturating_mul(6)
 }
 
 /// Stores `mesh` as the cache of `obj`; a cache that cannot be written is only a missed
@@ -66,6 +77,10 @@ pub(super) fn write_cached(obj: &Path, key: SourceKey, mesh: &IndexedMesh) {
         return;
     };
     if let Some(dir) = path.parent() {
+        // Never written through a link: the cache folder must be a folder of its own.
+        if std::fs::symlink_metadata(dir).is_ok_and(|m| !m.is_dir()) {
+            return;
+        }
         let _ = std::fs::create_dir_all(dir);
         let _ = crate::atomic_file::remove_stray_temp_files(dir);
     }

@@ -10,15 +10,27 @@ use std::path::Path;
 /// How many bad vertices are listed before the rest are only counted.
 const MAX_LISTED: usize = 5;
 
-/// Reads the OBJ file at `path`, from its binary cache when that is intact and up to date
-/// (mesh_cache.rs), else by parsing it (and caching a large one). Errors are messages that
-/// name the file.
-pub(crate) fn read_obj(path: &Path) -> Result<IndexedMesh, Vec<String>> {
+/// The largest OBJ file read: one of the most triangles a scene may hold (`MAX_SCENE_TRIANGLES`),
+/// with normals and texture coordinates at full precision, takes about 2 GB.
+const MAX_OBJ_BYTES: u64 = 4 << 30;
+
+/// Reads the OBJ file `relative`, a path written in a scene file, inside `folder`, the scene's
+/// folder (`input_file::open_inside`: no path out of it, regular files only), from its binary
+/// cache when that is intact and up to date (mesh_cache.rs), else by parsing it (and caching a
+/// large one). Errors are messages that name the file.
+pub(crate) fn read_obj(folder: &Path, relative: &str) -> Result<IndexedMesh, Vec<String>> {
+    let inside = crate::input_file::open_inside(folder, relative).map_err(|m| vec![m])?;
+    let path = inside.path.as_path();
     let key = SourceKey::of(path);
     if let Some(mesh) = key.and_then(|k| read_cached(path, k)) {
         return Ok(mesh);
     }
-    let bytes = std::fs::read(path).map_err(|e| vec![format!("cannot read mesh {}: {e}", path.display())])?;
+    if inside.len_bytes > MAX_OBJ_BYTES {
+        return Err(vec![format!("mesh {} is {} bytes, more than the {MAX_OBJ_BYTES} read", path.display(), inside.len_bytes)]);
+    }
+    let mut bytes = Vec::with_capacity(inside.len_bytes as usize);
+    std::io::Read::read_to_end(&mut std::io::Read::take(inside.file, MAX_OBJ_BYTES), &mut bytes)
+        .map_err(|e| vec![format!("cannot read mesh {}: {e}", path.display())])?;
     let mesh = parse_obj(&bytes, &path.display().to_string())?;
     // The key read before the text: an OBJ rewritten meanwhile gets a cache that never matches.
     if let Some(k) = key {
