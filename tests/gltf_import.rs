@@ -102,6 +102,74 @@ fn the_fixture_camera_and_lights_look_down_their_nodes_minus_z() {
     assert_eq!(radius, None);
 }
 
+/// A spot light without `range` reaches 1.01 × the distance to the farthest corner of the box
+/// around every placement of every mesh, by hand: the triangle (0,0,0), (1,0,0), (0,0,−1) placed
+/// at x = 0 and x = 10 spans x 0..11, y 0, z −1..0; from the light at (0, 5, 0) the farthest
+/// corner is (11, 0, −1), √147 away. Bad aspect ratios and ranges name their own fields.
+#[test]
+fn spot_defaults_come_from_the_placed_bounds_and_bad_views_name_their_fields() {
+    use std::f64::consts::FRAC_1_SQRT_2;
+    let positions: Vec<u8> =
+        [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, -1.0].iter().flat_map(|x| x.to_le_bytes()).collect();
+    let uri = format!("data:application/octet-stream;base64,{}", base64_of(&positions));
+    let gltf = |aspect: f64, range: Option<f64>| {
+        let mut light = serde_json::json!({ "type": "spot", "spot": { "outerConeAngle": 0.5 } });
+        if let Some(range) = range {
+            light["range"] = range.into();
+        }
+        serde_json::json!({
+            "asset": { "version": "2.0" },
+            "buffers": [{ "uri": uri, "byteLength": 36 }],
+            "bufferViews": [{ "buffer": 0, "byteLength": 36 }],
+            "accessors": [{ "bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                            "min": [0, 0, -1], "max": [1, 0, 0] }],
+            "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0 } }] }],
+            "cameras": [{ "type": "perspective", "perspective": { "yfov": 0.8, "znear": 0.1, "aspectRatio": aspect } }],
+            "extensionsUsed": ["KHR_lights_punctual"],
+            "extensions": { "KHR_lights_punctual": { "lights": [light] } },
+            "nodes": [
+                { "mesh": 0 }, { "mesh": 0, "translation": [10, 0, 0] }, { "camera": 0, "translation": [0, 1, 5] },
+                { "translation": [0, 5, 0], "rotation": [-FRAC_1_SQRT_2, 0, 0, FRAC_1_SQRT_2],
+                  "extensions": { "KHR_lights_punctual": { "light": 0 } } }
+            ]
+        })
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let load = |doc: serde_json::Value| {
+        let path = dir.path().join("spot.gltf");
+        std::fs::write(&path, doc.to_string()).unwrap();
+        load_scene(&path)
+    };
+    let scene = load(gltf(1.5, None)).expect("a spot light without range");
+    let LightKind::Spot { near, far, .. } = scene.lights[0].kind else { panic!("a spot light") };
+    assert_eq!(far, (1.01 * 147f64.sqrt()) as f32);
+    assert_eq!(near, (1.01 * 147f64.sqrt() * 1e-3) as f32);
+    assert_eq!((scene.cameras[0].width, scene.cameras[0].height), (1080, 720));
+    for (doc, field) in [
+        (gltf(-2.0, Some(10.0)), "cameras[0].perspective.aspectRatio"),
+        (gltf(0.0, Some(10.0)), "cameras[0].perspective.aspectRatio"),
+        (gltf(30.0, Some(10.0)), "cameras[0].perspective.aspectRatio"),
+        (gltf(1.5, Some(-1.0)), "extensions.KHR_lights_punctual.lights[0].range"),
+    ] {
+        let found = load(doc).expect_err(field).problems;
+        assert_eq!(found.iter().map(|p| p.path.as_str()).collect::<Vec<_>>(), [field], "{found:?}");
+    }
+}
+
+/// Standard base64 with padding.
+fn base64_of(bytes: &[u8]) -> String {
+    const DIGITS: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::new();
+    for chunk in bytes.chunks(3) {
+        let word = chunk.iter().enumerate().fold(0u32, |w, (i, &b)| w | (b as u32) << (16 - 8 * i));
+        for k in 0..4 {
+            let digit = DIGITS[(word >> (18 - 6 * k) & 63) as usize] as char;
+            out.push(if k <= chunk.len() { digit } else { '=' });
+        }
+    }
+    out
+}
+
 /// The problems of loading `path` (relative to tests/bad_inputs), as displayed.
 fn problems(path: &str) -> Vec<(PathBuf, String, String)> {
     let error = load_scene(&common::repo().join("tests/bad_inputs").join(path)).expect_err(path);

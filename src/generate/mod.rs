@@ -6,6 +6,7 @@
 mod city;
 mod count;
 mod forest;
+mod loadable;
 mod mesh_file;
 mod scene_file;
 mod terrain;
@@ -85,9 +86,14 @@ pub(crate) fn generate(options: &GenerateOptions) -> GeneratedScene {
 /// Generates and writes the scene folder `dir` (created if missing): the mesh files first, then
 /// `scene.json`, each atomically, so that the scene never names a mesh that is not there yet.
 /// Returns the scene file's path and the triangle count.
+/// Options or a scene the loader would refuse are an `InvalidInput` error naming the option,
+/// before anything is written (`loadable.rs`).
 pub(crate) fn write_generated(dir: &Path, options: &GenerateOptions) -> std::io::Result<(PathBuf, u64)> {
-    std::fs::create_dir_all(dir)?;
+    let refused = |m: String| std::io::Error::new(std::io::ErrorKind::InvalidInput, m);
+    loadable::check_options(options).map_err(refused)?;
     let scene = generate(options);
+    loadable::check_scene(&scene, options).map_err(refused)?;
+    std::fs::create_dir_all(dir)?;
     let off = scene.triangle_count().abs_diff(options.triangles) as f64 / options.triangles as f64;
     debug_assert!(options.triangles < MIN_COUNT_FOR_TOLERANCE || off <= COUNT_TOLERANCE, "{off}");
     let mut files = Vec::new();

@@ -1,7 +1,8 @@
 //! A glTF file as a whole scene (docs/gltf.md): named after the file's stem, every placement of
 //! every mesh an object, with the file's cameras and lights.
 
-use super::gltf::{ImportOptions, import_gltf};
+use super::format::MAX_SHAPE_TRIANGLES;
+use super::gltf::{GltfProblem, GltfScene, ImportOptions, import_gltf, import_gltf_bytes};
 use super::load::{Budget, Limits};
 use super::placement::{add_mesh_placements, number_instances};
 use super::{Scene, SceneError};
@@ -16,9 +17,32 @@ pub(super) fn is_gltf_path(path: &Path) -> bool {
 
 /// Loads the glTF at `path` as a scene; problems name the file and the glTF JSON path.
 pub(super) fn load_gltf_scene(path: &Path, limits: Limits) -> Result<Scene, SceneError> {
-    let mut problems = Problems::new(path);
     let options = ImportOptions { max_triangles: limits.scene, views: true };
-    let imported = match import_gltf(path, options) {
+    scene_of(import_gltf(path, options), path, limits)
+}
+
+/// A glTF held in memory (`.gltf` JSON or `.glb`) as a scene, its buffer files inside `folder`,
+/// with at most `max_triangles`: the same checks at a smaller size, for the fuzzer
+/// (src/fuzzing/gltf_reader.rs). `source` names it in errors and gives the scene its name.
+pub(crate) fn load_gltf_within(
+    bytes: &[u8],
+    source: &Path,
+    folder: &Path,
+    max_triangles: u64,
+) -> Result<Scene, SceneError> {
+    let limits = Limits { scene: max_triangles, shapes: max_triangles.min(MAX_SHAPE_TRIANGLES) };
+    let options = ImportOptions { max_triangles, views: true };
+    scene_of(import_gltf_bytes(bytes, folder, options), source, limits)
+}
+
+/// The scene of an imported glTF: every placement of every mesh an object, within `limits`.
+fn scene_of(
+    imported: Result<GltfScene, Vec<GltfProblem>>,
+    path: &Path,
+    limits: Limits,
+) -> Result<Scene, SceneError> {
+    let mut problems = Problems::new(path);
+    let imported = match imported {
         Ok(imported) => imported,
         Err(list) => {
             list.into_iter().for_each(|p| problems.report(&p.path, p.message));

@@ -1,15 +1,28 @@
-//! Opening a glTF file: the bytes, the JSON (inside a GLB container or not) and the crate's
-//! validation, whose errors come with their JSON paths.
+//! Opening a glTF file: the bytes (within a bound), the JSON (inside a GLB container or not) and
+//! the crate's validation, whose errors come with their JSON paths.
 
 use super::GltfProblem;
+use super::buffers::MAX_BUFFER_BYTES;
 use gltf::json::validation::Error as Invalid;
 use std::path::Path;
 
-/// The parsed and validated document with its GLB binary chunk, if any.
-pub(super) fn open(path: &Path) -> Result<gltf::Gltf, Vec<GltfProblem>> {
-    let bytes =
-        std::fs::read(path).map_err(|e| vec![GltfProblem::new("", format!("cannot read glTF file: {e}"))])?;
-    match gltf::Gltf::from_slice(&bytes) {
+/// Most bytes of JSON besides a glTF's buffers: as for a scene file, a million nodes with a full
+/// transform each take about 200 MB.
+const MAX_JSON_BYTES: u64 = 512 << 20;
+
+/// Most bytes of a `.gltf` or `.glb` file read: the buffers' limit as base64 `data:` URIs (four
+/// bytes for three), and the JSON.
+pub(crate) const MAX_GLTF_FILE_BYTES: u64 = MAX_BUFFER_BYTES / 3 * 4 + MAX_JSON_BYTES;
+
+/// The bytes of the glTF file at `path`, at most `MAX_GLTF_FILE_BYTES` of them.
+pub(super) fn read(path: &Path) -> Result<Vec<u8>, Vec<GltfProblem>> {
+    crate::input_file::read_named(path, MAX_GLTF_FILE_BYTES)
+        .map_err(|m| vec![GltfProblem::new("", format!("glTF file: {m}"))])
+}
+
+/// The parsed and validated document of a glTF file's bytes, with its GLB binary chunk, if any.
+pub(super) fn parse(bytes: &[u8]) -> Result<gltf::Gltf, Vec<GltfProblem>> {
+    match gltf::Gltf::from_slice(bytes) {
         Ok(gltf) => Ok(gltf),
         Err(gltf::Error::Validation(list)) => {
             Err(list.into_iter().map(|(at, e)| GltfProblem::new(at.to_string(), describe(&e))).collect())

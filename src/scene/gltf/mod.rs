@@ -17,8 +17,9 @@ mod views;
 
 use super::placement::Placement;
 use super::shapes::IndexedMesh;
-use super::{Camera, Light};
+use super::{Camera, Light, box_corners};
 use glam::DVec3;
+use std::cell::OnceCell;
 use std::path::Path;
 
 /// A problem in a glTF file: its JSON path (`nodes[3].rotation`) and what is wrong.
@@ -62,10 +63,21 @@ pub(crate) struct ImportOptions {
     pub views: bool,
 }
 
-/// Reads the glTF (`.gltf` or `.glb`) at `path`; every problem found is returned.
+/// Reads the glTF (`.gltf` or `.glb`) at `path`, its buffer files inside its folder; every
+/// problem found is returned.
 pub(crate) fn import_gltf(path: &Path, options: ImportOptions) -> Result<GltfScene, Vec<GltfProblem>> {
-    let mut gltf = document::open(path)?;
-    let buffers = buffers::load(&mut gltf, path)?;
+    let bytes = document::read(path)?;
+    import_gltf_bytes(&bytes, path.parent().unwrap_or(Path::new("")), options)
+}
+
+/// Reads a glTF held in memory (`.gltf` JSON or `.glb`), its buffer files inside `folder`.
+pub(crate) fn import_gltf_bytes(
+    bytes: &[u8],
+    folder: &Path,
+    options: ImportOptions,
+) -> Result<GltfScene, Vec<GltfProblem>> {
+    let mut gltf = document::parse(bytes)?;
+    let buffers = buffers::load(&mut gltf, folder)?;
     let mut problems = Vec::new();
     let tree = nodes::walk(&gltf.document, &mut problems);
     let meshes =
@@ -73,19 +85,30 @@ pub(crate) fn import_gltf(path: &Path, options: ImportOptions) -> Result<GltfSce
     let mut scene = GltfScene { meshes, ..GltfScene::default() };
     if options.views {
         scene.cameras = views::cameras(&gltf.document, &tree.cameras, &mut problems);
-        let bounds = || world_bounds(&scene.meshes);
+        // Computed once, and only when a spot light needs it.
+        let bounds = OnceCell::new();
+        let bounds = || *bounds.get_or_init(|| world_bounds(&scene.meshes));
         scene.lights = views::lights(&gltf.document, &tree.lights, bounds, &mut problems);
     }
     if problems.is_empty() { Ok(scene) } else { Err(problems) }
 }
 
-/// World-space bounds (min, max) of every placed vertex, for the defaults of spot lights.
+/// A box (min, max) around every placed vertex, for the defaults of spot lights: each mesh's own
+/// box, from one pass over its vertices, with its corners moved by each placement. The cost is
+/// the vertices plus the placements, not their product; the box may be larger than the tightest
+/// one around the placed vertices (a rotated mesh), never smaller.
 fn world_bounds(meshes: &[PlacedMesh]) -> (DVec3, DVec3) {
     let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
     for placed in meshes {
+        let positions = &placed.mesh.positions;
+        if positions.is_empty() {
+            continue;
+        }
+        let mesh_lo = positions.iter().fold(DVec3::INFINITY, |a, &p| a.min(p));
+        let mesh_hi = positions.iter().fold(DVec3::NEG_INFINITY, |a, &p| a.max(p));
         for placement in &placed.placements {
-            for &p in &placed.mesh.positions {
-                let w = placement.world_from_mesh.transform_point3(p);
+            for corner in box_corners(mesh_lo, mesh_hi) {
+                let w = placement.world_from_mesh.transform_point3(corner);
                 (lo, hi) = (lo.min(w), hi.max(w));
             }
         }

@@ -8,7 +8,7 @@ use super::names::UniqueNames;
 use super::nodes::NodeItem;
 use crate::json_input::{as_positive, count, open_range};
 use crate::scene::format::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE};
-use crate::scene::{Camera, Light, LightKind};
+use crate::scene::{Camera, Light, LightKind, box_corners};
 use glam::{DAffine3, DVec3};
 use gltf::khr_lights_punctual::Kind;
 
@@ -69,11 +69,7 @@ fn camera_of(
     let height = extras.get("height", count(1, MAX_IMAGE_SIDE), problems);
     let (width, height) = match (width, height) {
         (Some(w), Some(h)) => (w, h),
-        _ => {
-            let aspect = p.aspect_ratio().map_or(DEFAULT_ASPECT, f64::from);
-            let width = (aspect * DEFAULT_HEIGHT as f64).round().clamp(1.0, MAX_IMAGE_SIDE as f64);
-            (width as u32, DEFAULT_HEIGHT)
-        }
+        _ => (width_of_aspect(p.aspect_ratio(), &at, problems)?, DEFAULT_HEIGHT),
     };
     if width as u64 * height as u64 > MAX_IMAGE_PIXELS {
         problems.push(extras.problem("", format!("image {width}×{height} has more than 64 megapixels")));
@@ -90,7 +86,27 @@ fn camera_of(
     // A look_at far enough from a distant position that f32 rounding keeps the direction.
     let look_at = position + forward * position.length().max(1.0);
     let (position, look_at, up) = (position.as_vec3(), look_at.as_vec3(), up.as_vec3());
+    if !(position.is_finite() && look_at.is_finite()) {
+        problems.push(outside_f32(item));
+        return None;
+    }
     Some(Camera { name, position, look_at, up, fov_y_deg, width, height, path: None })
+}
+
+/// The image width for `aspectRatio` at the default height: `None` (reported) when the ratio is
+/// not positive or gives a width outside 1 ..= `MAX_IMAGE_SIDE` pixels.
+fn width_of_aspect(aspect: Option<f32>, at: &str, problems: &mut Vec<GltfProblem>) -> Option<u32> {
+    let aspect = aspect.map_or(DEFAULT_ASPECT, f64::from);
+    let width = (aspect * DEFAULT_HEIGHT as f64).round();
+    if aspect > 0.0 && (1.0..=MAX_IMAGE_SIDE as f64).contains(&width) {
+        return Some(width as u32);
+    }
+    let message = format!(
+        "{aspect} gives a {width}×{DEFAULT_HEIGHT} image; the width must be 1 to {MAX_IMAGE_SIDE} pixels \
+         (give the camera extras width and height for another size)"
+    );
+    problems.push(GltfProblem::new(format!("{at}.perspective.aspectRatio"), message));
+    None
 }
 
 pub(super) fn lights(
@@ -152,41 +168,91 @@ fn light_kind(
                 return None;
             }
             let position = item.world.translation;
-            let (near, far) = spot_range(position, light.range(), extras, bounds, problems)?;
+            let range = spot_light_range(light.range(), &at, problems)?;
+            let (near, far) = spot_range(position, range, extras, &at, bounds, problems)?;
             let radius = extras.get("radius", as_positive, problems).map(|r| r as f32);
+            if radius.is_some_and(|r| !(r.is_finite() && r > 0.0)) {
+                problems.push(extras.problem("radius", "must be positive within the range of f32 numbers"));
+                return None;
+            }
             let (position, cone_deg) = (position.as_vec3(), cone_deg as f32);
+            if !position.is_finite() {
+                problems.push(outside_f32(item));
+                return None;
+            }
             Some(LightKind::Spot { position, direction, cone_deg, near, far, radius })
         }
     }
 }
 
+/// A camera or light node whose world position f32 cannot hold.
+fn outside_f32(item: &NodeItem) -> GltfProblem {
+    GltfProblem::new(format!("nodes[{}]", item.node), "its world position leaves the range of f32 numbers")
+}
+
+/// The light's `range` (`Some(None)` when absent); `None` when it is not positive (reported at
+/// `{at}.range`: KHR_lights_punctual ranges are greater than zero).
+fn spot_light_range(range: Option<f32>, at: &str, problems: &mut Vec<GltfProblem>) -> Option<Option<f64>> {
+    match range.map(f64::from) {
+        Some(r) if !(r > 0.0 && r.is_finite()) => {
+            problems.push(GltfProblem::new(format!("{at}.range"), format!("{r} must be greater than 0")));
+            None
+        }
+        range => Some(range),
+    }
+}
+
+/// Where a spot light's far distance comes from, for the message when it is not beyond near.
+enum FarSource {
+    Extras,
+    Range,
+    Default,
+}
+
 /// A spot light's (near, far): the extras' when given; else far is `range`, or the distance to
-/// the farthest corner of the scene's bounds plus 1 %; near is far / 1000.
+/// the farthest corner of the scene's bounds plus 1 %; near is far / 1000. `at` is the light's
+/// JSON path (`extensions.KHR_lights_punctual.lights[i]`).
 fn spot_range(
     position: DVec3,
-    range: Option<f32>,
+    range: Option<f64>,
     extras: &Extras,
+    at: &str,
     bounds: &impl Fn() -> (DVec3, DVec3),
     problems: &mut Vec<GltfProblem>,
 ) -> Option<(f32, f32)> {
-    let far = extras.get("far", as_positive, problems).or(range.map(f64::from));
-    let far = far.unwrap_or_else(|| {
-        let farthest = farthest_corner(bounds(), position);
-        if farthest.is_finite() && farthest > 0.0 { farthest * 1.01 } else { 1.0 }
-    });
+    let (far, source) = match (extras.get("far", as_positive, problems), range) {
+        (Some(far), _) => (far, FarSource::Extras),
+        (None, Some(range)) => (range, FarSource::Range),
+        (None, None) => {
+            let farthest = farthest_corner(bounds(), position);
+            (if farthest.is_finite() && farthest > 0.0 { farthest * 1.01 } else { 1.0 }, FarSource::Default)
+        }
+    };
     let near = extras.get("near", as_positive, problems).unwrap_or(far * DEFAULT_NEAR_FRACTION);
-    if far <= near {
-        problems.push(extras.problem("far", format!("{far} must be greater than near ({near})")));
+    // Compared as the f32 the light keeps, so that rounding cannot make them equal or infinite.
+    let (near32, far32) = (near as f32, far as f32);
+    if !(near32 > 0.0 && far32.is_finite() && near32 < far32) {
+        let problem = match source {
+            FarSource::Extras => extras.problem(
+                "far",
+                format!("{far} must be greater than near ({near}), both within the range of f32 numbers"),
+            ),
+            FarSource::Range => GltfProblem::new(
+                format!("{at}.range"),
+                format!("{far} must be greater than the light's near distance ({near}), within the range of f32"),
+            ),
+            FarSource::Default => extras.problem(
+                "near",
+                format!("{near} must be positive and less than the light's far distance ({far}, from the scene's bounds)"),
+            ),
+        };
+        problems.push(problem);
         return None;
     }
-    Some((near as f32, far as f32))
+    Some((near32, far32))
 }
 
 /// The distance from `p` to the farthest corner of the box (lo, hi).
 fn farthest_corner((lo, hi): (DVec3, DVec3), p: DVec3) -> f64 {
-    let corner = |c: u32| {
-        let pick = |bit: u32, l: f64, h: f64| if c & bit == 0 { l } else { h };
-        DVec3::new(pick(1, lo.x, hi.x), pick(2, lo.y, hi.y), pick(4, lo.z, hi.z))
-    };
-    (0..8).map(|c| corner(c).distance(p)).fold(0.0, f64::max)
+    box_corners(lo, hi).iter().map(|c| c.distance(p)).fold(0.0, f64::max)
 }
