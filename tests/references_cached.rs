@@ -1,11 +1,14 @@
-//! The cached references under references/ are exactly what the tracer computes today, and
-//! their manifest records the digest of what each depends on.
+//! The cached references under references/ are exactly what the tracer computes today, their
+//! manifest records the digest of what each depends on and the SHA-256 of each file, and the
+//! folder holds nothing else.
 
 mod common;
 
 use common::{bundled, repo};
+use sha2::{Digest, Sha256};
 use shadowtruth::scene::ViewKey;
 use shadowtruth::trace::{GBuffer, ReferenceCache, SceneBvh, reference_digest, trace_hard_reference};
+use std::collections::BTreeSet;
 
 const SUITE: [&str; 5] = ["grazing_wall", "l_shape", "plane_box", "rocks", "spot"];
 
@@ -54,4 +57,27 @@ fn the_suite_is_what_scenes_holds() {
         .collect();
     found.sort();
     assert_eq!(found, SUITE);
+}
+
+#[test]
+fn the_folder_holds_exactly_the_files_its_manifest_names() {
+    let dir = repo().join("references");
+    let manifest: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("manifest.json")).unwrap()).unwrap();
+    assert_eq!(manifest["format"], "shadowtruth/references/v2");
+    let mut named = BTreeSet::new();
+    for (key, entry) in manifest["entries"].as_object().unwrap() {
+        let file = entry["mask"].as_str().unwrap();
+        let bytes = std::fs::read(dir.join(file)).unwrap_or_else(|e| panic!("{key}: {file}: {e}"));
+        let sha256: String = Sha256::digest(&bytes).iter().map(|b| format!("{b:02x}")).collect();
+        assert_eq!(entry["sha256"].as_str(), Some(sha256.as_str()), "{key}: {file}: bytes changed");
+        named.insert(file.to_string());
+    }
+    named.insert("manifest.json".into());
+    let on_disk: BTreeSet<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|name| name != ".manifest.lock")
+        .collect();
+    assert_eq!(on_disk, named, "files the manifest does not name (an earlier layout?) or names but lacks");
 }

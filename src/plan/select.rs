@@ -6,7 +6,9 @@ use super::{Plan, PlanError, PlanInputError};
 use crate::raster::MAX_SHADOW_MAP_RESOLUTION;
 use crate::scene::{Problem, Scene, SceneError, load_scene};
 use crate::technique::ReferenceKind;
-use std::path::PathBuf;
+use std::collections::HashMap;
+use std::collections::hash_map::Entry;
+use std::path::{Path, PathBuf};
 
 /// A loaded scene and the (camera, light) index pairs the plan runs on it.
 pub(crate) struct Selected {
@@ -144,6 +146,7 @@ pub(crate) fn load_selected(plan: &Plan) -> Result<Vec<Selected>, PlanError> {
             Err(e) => scene_problems.extend(e.problems),
         }
     }
+    scene_problems.extend(name_problems(&selected));
     if !scene_problems.is_empty() {
         return Err(SceneError { problems: scene_problems }.into());
     }
@@ -151,6 +154,32 @@ pub(crate) fn load_selected(plan: &Plan) -> Result<Vec<Selected>, PlanError> {
         return Err(PlanInputError { problems }.into());
     }
     Ok(selected)
+}
+
+/// A scene's name is its identity in the report, the cache and every file name: each scene
+/// needs one, and no two the same (the report could not tell their runs apart). Each problem is
+/// at the later file's `name`, naming the earlier file.
+fn name_problems(selected: &[Selected]) -> Vec<Problem> {
+    let mut first_with: HashMap<&str, &Path> = HashMap::new();
+    let mut problems = Vec::new();
+    for scene in selected.iter().map(|s| &s.scene) {
+        let problem = |message: String| Problem { file: scene.source.clone(), path: "name".into(), message };
+        if scene.name.trim().is_empty() {
+            problems.push(problem("must not be empty: a scene's name tells its runs apart".into()));
+            continue;
+        }
+        match first_with.entry(&scene.name) {
+            Entry::Vacant(slot) => {
+                slot.insert(&scene.source);
+            }
+            Entry::Occupied(first) => problems.push(problem(format!(
+                "{:?} is also the name of {}: each scene of a plan needs its own name",
+                scene.name,
+                first.get().display()
+            ))),
+        }
+    }
+    problems
 }
 
 /// PCSS is scored against the area light: every light it runs under needs a size.

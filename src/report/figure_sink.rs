@@ -33,8 +33,10 @@ struct PendingRun {
 
 /// The file under `figures/` of the grid of one (view, resolution, depth format), written after
 /// every figure of its runs: `run --resume` takes it as the sign that the map's figures are done.
-pub fn grid_file_name(view: ViewKey, resolution: u32, depth_format: &str) -> String {
-    format!("{}.r{resolution}.{depth_format}.grid.png", view_stem(view))
+/// `<view stem>.r<resolution>.<format>.grid.png`: the view's stem tells views apart, and the
+/// format is one of the tool's own names.
+pub fn grid_file_name(view: ViewKey, resolution: u32, depth_format: DepthFormat) -> String {
+    format!("{}.r{resolution}.{}.grid.png", view_stem(view), depth_format.name())
 }
 
 /// Writes figures under a report folder's `figures/`.
@@ -156,7 +158,7 @@ impl FigureSink {
             .map_err(self.io())?;
         let cells: Vec<GridCell> =
             cells.iter().map(|(caption, image)| GridCell { image, caption: caption.clone() }).collect();
-        let path = self.dir.join(grid_file_name(view.key(), resolution, format.name()));
+        let path = self.dir.join(grid_file_name(view.key(), resolution, format));
         grid(&cells, 4, GRID_CELL_WIDTH).write_png(&path).map_err(self.io())?;
         self.spent_ms += sw.ms();
         Ok(())

@@ -13,12 +13,12 @@
 
 use super::font;
 pub use super::indexed_image::{FALSE_LIT_INDEX, FALSE_SHADOW_INDEX, GREY_MAX, IndexedImage, grey, is_grey};
+use crate::file_name;
 use crate::record::RunRecord;
 use crate::scene::{Light, LightKind, ViewKey};
 use crate::trace::{GBuffer, HardReference, PixelClass};
 use glam::Vec3;
 use rayon::prelude::*;
-use sha2::{Digest, Sha256};
 use std::path::Path;
 
 /// Background pixels of the base image (no hit).
@@ -545,97 +545,42 @@ pub fn write_reference_figure(
     Ok(name)
 }
 
-/// A file-name-safe rendering of `s`: ASCII letters, digits, `_`, `-` and `.` are kept, `=`
-/// becomes `-`, `)` is dropped, anything else (`(`, `,`, `/`, spaces, non-ASCII…) becomes `_`;
-/// a leading `.` or `-` becomes `_` and an empty name `_`.
-fn file_safe(s: &str) -> String {
-    let mut out: String = s
-        .chars()
-        .filter(|&c| c != ')')
-        .map(|c| match c {
-            c if c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.' => c,
-            '=' => '-',
-            _ => '_',
-        })
-        .collect();
-    if out.starts_with(['.', '-']) {
-        out.replace_range(0..1, "_");
-    }
-    if out.is_empty() {
-        out.push('_');
-    }
-    out
-}
-
-const MAX_READABLE: usize = 160;
-
-fn view_readable(scene: &str, camera: &str, light: &str) -> String {
-    format!("{}.{}.{}", file_safe(scene), file_safe(camera), file_safe(light))
-}
-
-/// The first 8 hex digits of the SHA-256 of `parts` (each prefixed with its length, so that
-/// part boundaries count).
-fn short_hash(parts: &[&str]) -> String {
-    let mut hasher = Sha256::new();
-    for part in parts {
-        hasher.update((part.len() as u64).to_le_bytes());
-        hasher.update(part.as_bytes());
-    }
-    crate::scene::hex(&hasher.finalize()[..4])
-}
-
-/// A readable, file-name-safe and unique stem for a view's files (its reference figure):
-/// `<scene>.<camera>.<light>.<hash>`, each name passed through a character filter (only ASCII
-/// letters, digits, `_`, `-`, `.`) and `<hash>` the first 8 hex digits of the SHA-256 of the
-/// exact names, so that views whose filtered names coincide still get distinct stems.
+/// The stem of a view's files (its reference figure): the view's own
+/// (`ViewKey::file_stem`), `<scene>.<camera>.<light>.<digest>`, the names filtered and capped
+/// and the digest that of the exact names (`src/file_name.rs`), the stem its cached references
+/// have too.
 pub fn view_stem(view: ViewKey) -> String {
-    let mut readable = view_readable(view.scene, view.camera, view.light);
-    readable.truncate(MAX_READABLE);
-    format!("{readable}.{}", short_hash(&[view.scene, view.camera, view.light]))
+    view.file_stem()
 }
 
-/// A readable, file-name-safe and unique stem for a run's files:
-/// `<scene>.<camera>.<light>.<label>.r<resolution>.<depth format>.<hash>`, each part passed
-/// through the filter of [`view_stem`], the readable part capped at 160 characters, and `<hash>`
-/// the first 8 hex digits of the SHA-256 of the exact key (scene, camera, light, technique,
-/// label, parameters, resolution, depth format).
+/// The stem of a run's files: `<scene>.<camera>.<light>.<label>.r<resolution>.<depth format>`
+/// filtered and capped, then the digest of the exact key (scene, camera, light, technique,
+/// label, parameters, resolution, depth format; `src/file_name.rs`).
 pub fn run_stem(record: &RunRecord) -> String {
-    let mut readable = format!(
-        "{}.{}.r{}.{}",
-        view_readable(&record.scene, &record.camera, &record.light),
-        file_safe(&record.label),
-        record.resolution,
-        file_safe(&record.depth_format)
-    );
-    readable.truncate(MAX_READABLE);
-    let hash = short_hash(&[
-        &record.scene,
-        &record.camera,
-        &record.light,
-        &record.technique,
-        &record.label,
-        &serde_json::Value::Object(record.parameters.clone()).to_string(),
-        &record.resolution.to_string(),
-        &record.depth_format,
-    ]);
-    format!("{readable}.{hash}")
+    let resolution = format!("r{}", record.resolution);
+    let readable =
+        [&record.scene, &record.camera, &record.light, &record.label, &resolution, &record.depth_format]
+            .map(|part| file_name::readable(part))
+            .join(".");
+    let parameters = serde_json::Value::Object(record.parameters.clone()).to_string();
+    file_name::stem_with(
+        &readable,
+        &[
+            &record.scene,
+            &record.camera,
+            &record.light,
+            &record.technique,
+            &record.label,
+            &parameters,
+            &record.resolution.to_string(),
+            &record.depth_format,
+        ],
+    )
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn file_safe_keeps_names_readable() {
-        assert_eq!(file_safe("constant(bias_depth=0.001)"), "constant_bias_depth-0.001");
-        assert_eq!(
-            file_safe("slope_scaled(factor=1.5,units=2,cull=none)"),
-            "slope_scaled_factor-1.5_units-2_cull-none"
-        );
-        assert_eq!(file_safe("../a b/c"), "_._a_b_c");
-        assert_eq!(file_safe(""), "_");
-        assert_eq!(file_safe("-x"), "_x");
-    }
 
     #[test]
     fn downscale_averages_greys_and_keeps_errors() {

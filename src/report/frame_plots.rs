@@ -1,12 +1,12 @@
 //! The per-frame plots of runs over a path (`run --frames`): for each (scene, camera, light,
-//! resolution, depth format) with such runs, `plots/frames_<view stem>.r<res>.<format>.png` and
-//! `.svg`, two charts on one frame axis (`plots.rs`'s stacked charts): the error of every frame,
-//! one series per technique setting, and the pixels that flickered since the frame before.
+//! resolution, depth format) with such runs,
+//! `plots/frames_<scene>.<camera>.<light>.r<res>.<format>.<digest>.png` and `.svg`, two charts on
+//! one frame axis (`plots.rs`'s stacked charts): the error of every frame, one series per
+//! technique setting, and the pixels that flickered since the frame before.
 
-use super::figures::view_stem;
-use super::plots::{Chart, file_safe, write_stacked};
+use super::plots::{Chart, write_stacked};
 use super::{Report, RunRecord};
-use crate::scene::ViewKey;
+use crate::file_name;
 use std::path::Path;
 
 /// The lowest error drawn (in %), as in the other plots: error-free frames sit on it.
@@ -21,10 +21,16 @@ pub struct FramePlot {
     pub charts: [Chart; 2],
 }
 
-/// The stem under `plots/` of the per-frame plot of a run's (view, resolution, depth format).
+/// The stem under `plots/` of the per-frame plot of a run's (view, resolution, depth format):
+/// `frames_<scene>.<camera>.<light>.r<res>.<format>.<digest>`, readable, bounded and one per
+/// identity (`src/file_name.rs`).
 pub fn frame_plot_stem(run: &RunRecord) -> String {
-    let view = view_stem(ViewKey::new(&run.scene, &run.camera, &run.light));
-    format!("frames_{view}.r{}.{}", run.resolution, file_safe(&run.depth_format))
+    let resolution = run.resolution.to_string();
+    let parts = [run.scene.as_str(), &run.camera, &run.light, &resolution, &run.depth_format];
+    let readable = [&run.scene, &run.camera, &run.light, &format!("r{resolution}"), &run.depth_format]
+        .map(|part| file_name::readable(part))
+        .join(".");
+    file_name::stem_with(&format!("frames_{readable}"), &[&["frames"], &parts[..]].concat())
 }
 
 /// The runs over a path of each per-frame plot (indices into `report.runs`), with the plot's
@@ -143,7 +149,7 @@ mod tests {
         let groups = frame_plot_groups(&report);
         assert_eq!(groups.iter().map(|g| g.1.clone()).collect::<Vec<_>>(), [vec![0, 1, 2], vec![3]]);
         let plots = frame_plots(&report);
-        assert!(plots[0].stem.starts_with("frames_s.main.sun.") && plots[0].stem.ends_with(".r1024.f32"));
+        assert!(plots[0].stem.starts_with("frames_s.main.sun.r1024.f32."), "{}", plots[0].stem);
         let [errors, flicker] = &plots[0].charts;
         assert_eq!(errors.series.len(), 3);
         assert_eq!(errors.series[1].1[2], (2.0, 2.0), "frame 2 of b: 2 %");

@@ -4,6 +4,7 @@
 
 use super::{Report, RunRecord};
 use crate::atomic_file::{encode_rgb_png, write_atomic};
+use crate::file_name;
 use plotters::coord::CoordTranslate;
 use plotters::prelude::*;
 use std::collections::BTreeMap;
@@ -94,9 +95,26 @@ fn compact(x: f64) -> String {
     if text.contains('.') { text.trim_end_matches('0').trim_end_matches('.').to_string() } else { text }
 }
 
-/// `s` with every character but ASCII letters, digits, `-` and `.` replaced by `_`.
-pub(super) fn file_safe(s: &str) -> String {
-    s.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect()
+/// The (scene, camera, light) names of a run, the first part of every chart's key.
+type View = (String, String, String);
+
+fn view_of(r: &RunRecord) -> View {
+    (r.scene.clone(), r.camera.clone(), r.light.clone())
+}
+
+/// `scene/camera/light`, as chart titles name a view.
+fn view_title((scene, camera, light): &View) -> String {
+    format!("{scene}/{camera}/{light}")
+}
+
+/// The stem under `plots/` of a chart of `kind` (`sweep`, `resolution`, `cost`) about `view`
+/// and the rest of its key `exact_rest` (`readable_rest` as a reader should see it): bounded,
+/// and one per identity (`src/file_name.rs`).
+fn chart_stem(kind: &str, (scene, camera, light): &View, exact_rest: &[&str], readable_rest: &str) -> String {
+    let readable = format!("{kind}_{scene}_{camera}_{light}_{readable_rest}");
+    let exact: Vec<&str> =
+        [kind, scene, camera, light].into_iter().chain(exact_rest.iter().copied()).collect();
+    file_name::stem_with(&readable, &exact)
 }
 
 /// Every chart of a report.
@@ -119,7 +137,7 @@ fn rates_percent(r: &RunRecord) -> [f64; 3] {
 /// the swept values whose error is within `SAFE_SLACK` of it.
 fn parameter_sweeps(report: &Report) -> Vec<Chart> {
     // (scene/camera/light, technique, format, parameter, the other parameters) → resolution → points
-    type Key = (String, String, String, String, String);
+    type Key = (View, String, String, String, String);
     type ByResolution = BTreeMap<u32, Vec<(f64, [f64; 3])>>;
     let mut groups: BTreeMap<Key, ByResolution> = BTreeMap::new();
     for r in &report.runs {
@@ -128,7 +146,7 @@ fn parameter_sweeps(report: &Report) -> Vec<Chart> {
             let mut others = r.parameters.clone();
             others.remove(name);
             let key = (
-                format!("{}/{}/{}", r.scene, r.camera, r.light),
+                view_of(r),
                 r.technique.clone(),
                 r.depth_format.clone(),
                 name.clone(),
@@ -154,9 +172,15 @@ fn parameter_sweeps(report: &Report) -> Vec<Chart> {
                 panel_titles.push(format!("{res}²"));
             }
             Chart {
-                stem: file_safe(&format!("sweep_{view}_{technique}_{param}_{format}_{others_text}")),
+                stem: chart_stem(
+                    "sweep",
+                    &view,
+                    &[&technique, &param, &format, &others],
+                    &format!("{technique}_{param}_{format}_{others_text}"),
+                ),
                 title: format!(
-                    "{view}: {technique} {}{}",
+                    "{}: {technique} {}{}",
+                    view_title(&view),
                     if others_text.is_empty() { String::new() } else { format!("({others_text}) ") },
                     format
                 ),
@@ -198,11 +222,10 @@ type SeriesByName = BTreeMap<String, Vec<(f64, f64)>>;
 /// Error against resolution, one series per technique setting.
 fn resolution_charts(report: &Report) -> Vec<Chart> {
     // By (view, depth format).
-    let mut groups: BTreeMap<(String, String), SeriesByName> = BTreeMap::new();
+    let mut groups: BTreeMap<(View, String), SeriesByName> = BTreeMap::new();
     for r in &report.runs {
-        let view = format!("{}/{}/{}", r.scene, r.camera, r.light);
         groups
-            .entry((view, r.depth_format.clone()))
+            .entry((view_of(r), r.depth_format.clone()))
             .or_default()
             .entry(r.label.clone())
             .or_default()
@@ -212,8 +235,8 @@ fn resolution_charts(report: &Report) -> Vec<Chart> {
         .into_iter()
         .filter(|(_, s)| s.values().any(|p| p.len() >= 2))
         .map(|((view, format), series)| Chart {
-            stem: file_safe(&format!("resolution_{view}_{format}")),
-            title: format!("{view}: error against shadow-map resolution ({format})"),
+            stem: chart_stem("resolution", &view, &[&format], &format),
+            title: format!("{}: error against shadow-map resolution ({format})", view_title(&view)),
             x_label: "shadow-map resolution (texels per side)".into(),
             y_label: "error (% of evaluated pixels; 0 drawn at 1e-4)".into(),
             log_x: true,
@@ -248,11 +271,10 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
 fn cost_charts(report: &Report) -> Vec<Chart> {
     // By (view, resolution, depth format): (label, (cost, error)) per run.
     type Points = Vec<(String, (f64, f64))>;
-    let mut groups: BTreeMap<(String, u32, String), Points> = BTreeMap::new();
+    let mut groups: BTreeMap<(View, u32, String), Points> = BTreeMap::new();
     for r in &report.runs {
-        let view = format!("{}/{}/{}", r.scene, r.camera, r.light);
         groups
-            .entry((view, r.resolution, r.depth_format.clone()))
+            .entry((view_of(r), r.resolution, r.depth_format.clone()))
             .or_default()
             .push((r.label.clone(), (r.timings.ns_per_pixel, error_percent(r))));
     }
@@ -262,8 +284,8 @@ fn cost_charts(report: &Report) -> Vec<Chart> {
         .map(|((view, res, format), pts)| {
             let all: Vec<(f64, f64)> = pts.iter().map(|p| p.1).collect();
             Chart {
-                stem: file_safe(&format!("cost_{view}_{res}_{format}")),
-                title: format!("{view}: cost against error at {res}² ({format})"),
+                stem: chart_stem("cost", &view, &[&res.to_string(), &format], &format!("{res}_{format}")),
+                title: format!("{}: cost against error at {res}² ({format})", view_title(&view)),
                 x_label: "shading cost (ns per evaluated pixel)".into(),
                 y_label: "error (% of evaluated pixels; 0 drawn at 1e-4)".into(),
                 log_x: false,

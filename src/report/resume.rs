@@ -7,6 +7,7 @@
 use super::figure_sink::grid_file_name;
 use super::{Report, RunRecord, load_report};
 use crate::plan::MapKey;
+use crate::raster::DepthFormat;
 use crate::record::ShardRecord;
 use crate::scene::ViewKey;
 use anyhow::{Result, anyhow, bail};
@@ -66,7 +67,11 @@ pub fn open_resumed(dir: &Path, figures: bool, shard: Option<ShardRecord>) -> Re
     Ok(Some(Resumed { report, done, dropped_runs }))
 }
 
+/// Whether the map's grid figure is there. A depth format the tool does not know (an edited
+/// report) never had a grid written: its map is run again.
 fn grid_written(dir: &Path, key: &MapKey) -> bool {
     let view = ViewKey::new(&key.scene, &key.camera, &key.light);
-    dir.join("figures").join(grid_file_name(view, key.resolution, &key.depth_format)).is_file()
+    DepthFormat::parse(&key.depth_format).is_some_and(|format| {
+        dir.join("figures").join(grid_file_name(view, key.resolution, format)).is_file()
+    })
 }

@@ -81,7 +81,7 @@ pub(crate) fn read_scene(root: &Value, problems: &mut Problems) -> SceneDesc {
         let message = format!("unsupported format \"{format}\"; expected \"{SCENE_FORMAT}\"");
         top.problem("format", message);
     }
-    desc.name = top.required("name", as_string).unwrap_or_default();
+    desc.name = top.required("name", as_name).unwrap_or_default();
     if let Some(items) = top.array("objects") {
         if items.is_empty() {
             top.problem("objects", "must contain at least one object");

@@ -19,4 +19,16 @@ impl<'a> ViewKey<'a> {
     pub fn from_view(scene: &'a Scene, camera: &'a Camera, light: &'a Light) -> Self {
         ViewKey::new(&scene.name, &camera.name, &light.name)
     }
+
+    /// The three names, scene first.
+    pub fn parts(&self) -> [&'a str; 3] {
+        [self.scene, self.camera, self.light]
+    }
+
+    /// The stem of every file named after this view (its cached references, its reference
+    /// figure): `<scene>.<camera>.<light>.<digest>`, the names filtered and capped, the digest
+    /// that of the exact names, whatever they hold (`src/file_name.rs`).
+    pub fn file_stem(&self) -> String {
+        crate::file_name::stem(&self.parts())
+    }
 }

@@ -1,14 +1,25 @@
 //! The reference cache under `references/`: one hard mask PNG per (scene, camera, light), one
 //! soft reference EXR per (scene, camera, light, kind, sample grid), and a manifest with the
 //! digest of everything each file depends on (geometry, camera, light and its area size, kind,
-//! sample count, sampling scheme, tracer version). A file whose digest no longer matches is
-//! traced again.
+//! sample count, sampling scheme, tracer version) and the SHA-256 of the file's bytes. A file
+//! whose digest no longer matches, or whose bytes are not those recorded, is traced again.
 //!
-//! Manifest keys: `scene/camera/light` for hard masks (as before soft references existed, so
-//! older manifests stay valid) and `scene/camera/light/KIND-NxN` for soft ones (`coverage`,
-//! `area`), so that every kind and grid of one view coexists. An entry records its `kind` and
-//! `samples` per pixel; both are left out for hard masks (kind `hard`, 1 sample), so older
-//! manifests read unchanged and hard entries are written as before.
+//! Names are data, never paths: every file is named by its view's stem (`ViewKey::file_stem`,
+//! `src/file_name.rs`), `<scene>.<camera>.<light>.<digest>.png` for a hard mask and
+//! `….<KIND>-NxN.exr` for a soft reference, directly in the cache folder, whatever the names
+//! hold. A manifest entry names its file, and an entry naming any other file than its view's is
+//! ignored, so that the manifest cannot point a read elsewhere.
+//!
+//! Manifest keys: the view's names, each with `%` written `%25` and `/` written `%2F`, joined by
+//! `/` (`scene/camera/light` for plain names, and no two views share a key), then `/KIND-NxN`
+//! for soft references (`coverage`, `area`), so that every kind and grid of one view coexists.
+//! An entry records its `kind` and `samples` per pixel; both are left out for hard masks (kind
+//! `hard`, 1 sample). A manifest of another format (the earlier `references/v1`, whose keys
+//! could collide) is ignored as a whole: its views are traced again, never misread.
+//!
+//! Every read is bounded first: the manifest and each file must be regular files under a size
+//! limit (a file's from its recorded size), a file's SHA-256 is checked before its header, and
+//! its header's size against the entry before its pixels are decoded.
 //!
 //! Runs may share one cache folder concurrently. Each writes its file (atomically) before its
 //! manifest entry, and records the entry while holding an exclusive lock on `.manifest.lock`:
@@ -24,28 +35,40 @@ use crate::scene::{Camera, Light, LightKind, LightSize, Scene, ViewKey};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
+use std::io::{Cursor, Read};
 use std::path::{Path, PathBuf};
 
-pub const MANIFEST_FORMAT: &str = "shadowtruth/references/v1";
+/// The manifest's format: v2 keys cannot collide and entries record their file's SHA-256.
+pub const MANIFEST_FORMAT: &str = "shadowtruth/references/v2";
 
 /// The file whose exclusive lock guards the manifest's read-modify-write (never removed: removing
 /// a lock file lets two runs lock two different files).
 pub const MANIFEST_LOCK_FILE: &str = ".manifest.lock";
 
+/// The largest manifest read (a larger one is ignored, as a broken one is): some 100 000
+/// entries.
+const MAX_MANIFEST_BYTES: u64 = 64 << 20;
+
+/// The most pixels of a cached file: a camera's most (the scene format's limit).
+const MAX_CACHED_PIXELS: u64 = crate::scene::MAX_IMAGE_PIXELS;
+
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct Manifest {
     format: String,
-    /// Key `scene/camera/light` (hard masks) or `scene/camera/light/KIND-NxN` (soft references).
+    /// Key: the view's escaped names (`key`), then `/KIND-NxN` for soft references.
     entries: BTreeMap<String, ManifestEntry>,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct ManifestEntry {
-    /// File path relative to the cache folder (a PNG mask or a soft reference EXR).
+    /// File path relative to the cache folder (a PNG mask or a soft reference EXR): always the
+    /// view's own (`mask_path`, `soft_path`); an entry naming another file is ignored.
     mask: String,
     digest: String,
+    /// The SHA-256 of the file's bytes (hex), checked before the file is decoded.
+    sha256: String,
     width: u32,
     height: u32,
     /// `hard` (absent), `coverage` or `area`.
@@ -153,14 +176,56 @@ pub struct ReferenceCache {
     dir: PathBuf,
 }
 
-/// The manifest key of a view's hard mask: `scene/camera/light`.
+/// The manifest key of a view's hard mask: its names escaped and joined, `scene/camera/light`
+/// for plain names. Escaping `%` and `/` makes the key injective: `a/b` + `c` is `a%2Fb/c`,
+/// `a` + `b/c` is `a/b%2Fc`.
 fn key(view: ViewKey) -> String {
-    format!("{}/{}/{}", view.scene, view.camera, view.light)
+    view.parts().map(|name| name.replace('%', "%25").replace('/', "%2F")).join("/")
 }
 
-/// The manifest key of a view's soft reference: `scene/camera/light/KIND-NxN`.
+/// The manifest key of a view's soft reference: `key/KIND-NxN`.
 fn soft_key(view: ViewKey, kind: SoftKind, grid: u32) -> String {
     format!("{}/{}-{grid}x{grid}", key(view), kind.name())
+}
+
+/// The SHA-256 of `bytes`, in hex.
+fn sha256_hex(bytes: &[u8]) -> String {
+    crate::scene::hex(&Sha256::digest(bytes))
+}
+
+/// The bytes of `path` when it is a regular file (not a FIFO, device or link, which could block
+/// or lead elsewhere) of at most `max_bytes`; None otherwise.
+fn read_regular_file(path: &Path, max_bytes: u64) -> Option<Vec<u8>> {
+    let is_small_file = |m: std::fs::Metadata| m.is_file() && m.len() <= max_bytes;
+    if !is_small_file(std::fs::symlink_metadata(path).ok()?) {
+        return None;
+    }
+    let file = std::fs::File::open(path).ok()?;
+    if !is_small_file(file.metadata().ok()?) {
+        return None;
+    }
+    let mut bytes = Vec::new();
+    file.take(max_bytes + 1).read_to_end(&mut bytes).ok()?;
+    (bytes.len() as u64 <= max_bytes).then_some(bytes)
+}
+
+/// The most bytes a cached file of `entry`'s size may take: its pixels' bytes uncompressed
+/// (`bytes_per_pixel` each) twice over, plus room for headers; None for a size no camera has.
+fn max_file_bytes(entry: &ManifestEntry, bytes_per_pixel: u64) -> Option<u64> {
+    let pixels = entry.width as u64 * entry.height as u64;
+    (pixels > 0 && pixels <= MAX_CACHED_PIXELS).then(|| 2 * pixels * bytes_per_pixel + (1 << 20))
+}
+
+/// The width and height a PNG's header gives, without decoding its pixels.
+fn png_size(bytes: &[u8]) -> Option<(u32, u32)> {
+    image::ImageReader::with_format(Cursor::new(bytes), image::ImageFormat::Png).into_dimensions().ok()
+}
+
+/// The width and height an EXR's first header gives, without decoding its pixels.
+fn exr_size(bytes: &[u8]) -> Option<(u32, u32)> {
+    let meta = exr::meta::MetaData::read_from_buffered(Cursor::new(bytes), false).ok()?;
+    let size = meta.headers.first()?.layer_size;
+    Some((u32::try_from(size.width()).ok()?, u32::try_from(size.height()).ok()?))
 }
 
 impl ReferenceCache {
@@ -176,9 +241,10 @@ impl ReferenceCache {
         self.dir.join("manifest.json")
     }
 
+    /// The manifest as it is on disk; an empty one when there is none, or it is unreadable, too
+    /// large or of another format.
     fn read_manifest(&self) -> Manifest {
-        std::fs::read(self.manifest_path())
-            .ok()
+        read_regular_file(&self.manifest_path(), MAX_MANIFEST_BYTES)
             .and_then(|b| serde_json::from_slice::<Manifest>(&b).ok())
             .filter(|m| m.format == MANIFEST_FORMAT)
             .unwrap_or_else(|| Manifest { format: MANIFEST_FORMAT.into(), entries: BTreeMap::new() })
@@ -189,19 +255,35 @@ impl ReferenceCache {
         self.read_manifest().entries.get(&key(view)).map(|e| e.digest.clone())
     }
 
-    /// The path of a cached mask, relative to the cache folder: `scene/camera__light.png`.
+    /// The path of a cached mask, relative to the cache folder: `<view stem>.png`
+    /// (`ViewKey::file_stem`).
     pub fn mask_path(view: ViewKey) -> String {
-        format!("{}/{}__{}.png", view.scene, view.camera, view.light)
+        format!("{}.png", view.file_stem())
     }
 
-    /// The cached mask when its recorded digest equals `digest` and the file decodes.
+    /// The bytes of `entry`'s file when the entry names `rel` (the view's own file), the file
+    /// is no larger than its size allows and its SHA-256 is the one recorded.
+    fn read_verified(&self, entry: &ManifestEntry, rel: &str, bytes_per_pixel: u64) -> Option<Vec<u8>> {
+        if entry.mask != rel {
+            return None;
+        }
+        let bytes = read_regular_file(&self.dir.join(rel), max_file_bytes(entry, bytes_per_pixel)?)?;
+        (sha256_hex(&bytes) == entry.sha256).then_some(bytes)
+    }
+
+    /// The cached mask when its recorded digest equals `digest`, its bytes are those recorded
+    /// and it decodes at the recorded size.
     pub fn load(&self, view: ViewKey, digest: &str) -> Option<CachedReference> {
         let manifest = self.read_manifest();
         let entry = manifest.entries.get(&key(view))?;
         if entry.digest != digest {
             return None;
         }
-        let img = image::open(self.dir.join(&entry.mask)).ok()?.into_luma8();
+        let bytes = self.read_verified(entry, &Self::mask_path(view), 1)?;
+        if png_size(&bytes)? != (entry.width, entry.height) {
+            return None;
+        }
+        let img = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png).ok()?.into_luma8();
         if img.width() != entry.width || img.height() != entry.height {
             return None;
         }
@@ -218,9 +300,17 @@ impl ReferenceCache {
         codes: &[u8],
     ) -> std::io::Result<()> {
         let rel = Self::mask_path(view);
-        self.write_file(&rel, &encode_gray_png(width, height, codes)?)?;
-        let entry =
-            ManifestEntry { mask: rel, digest: digest.into(), width, height, kind: hard_kind(), samples: 1 };
+        let bytes = encode_gray_png(width, height, codes)?;
+        self.write_file(&rel, &bytes)?;
+        let entry = ManifestEntry {
+            mask: rel,
+            digest: digest.into(),
+            sha256: sha256_hex(&bytes),
+            width,
+            height,
+            kind: hard_kind(),
+            samples: 1,
+        };
         self.record(key(view), entry)
     }
 
@@ -262,20 +352,25 @@ impl ReferenceCache {
     }
 
     /// The path of a cached soft reference, relative to the cache folder:
-    /// `scene/camera__light.KIND-NxN.exr`.
+    /// `<view stem>.KIND-NxN.exr` (`ViewKey::file_stem`).
     pub fn soft_path(view: ViewKey, kind: SoftKind, grid: u32) -> String {
-        format!("{}/{}__{}.{}-{grid}x{grid}.exr", view.scene, view.camera, view.light, kind.name())
+        format!("{}.{}-{grid}x{grid}.exr", view.file_stem(), kind.name())
     }
 
-    /// The cached soft reference when its recorded digest equals `digest` and the file decodes
-    /// with the recorded size and sample count.
+    /// The cached soft reference when its recorded digest equals `digest`, its bytes are those
+    /// recorded and it decodes with the recorded size and sample count.
     pub fn load_soft(&self, view: ViewKey, kind: SoftKind, grid: u32, digest: &str) -> Option<SoftReference> {
         let manifest = self.read_manifest();
         let entry = manifest.entries.get(&soft_key(view, kind, grid))?;
         if entry.digest != digest || entry.kind != kind.name() || entry.samples != grid * grid {
             return None;
         }
-        let reference = SoftReference::from_exr(&std::fs::read(self.dir.join(&entry.mask)).ok()?).ok()?;
+        // Two f32 channels, V and E.
+        let bytes = self.read_verified(entry, &Self::soft_path(view, kind, grid), 8)?;
+        if exr_size(&bytes)? != (entry.width, entry.height) {
+            return None;
+        }
+        let reference = SoftReference::from_exr(&bytes).ok()?;
         (reference.width == entry.width
             && reference.height == entry.height
             && reference.samples == entry.samples)
@@ -293,10 +388,12 @@ impl ReferenceCache {
     ) -> std::io::Result<()> {
         let grid = reference.samples.isqrt();
         let rel = Self::soft_path(view, kind, grid);
-        self.write_file(&rel, &reference.to_exr()?)?;
+        let bytes = reference.to_exr()?;
+        self.write_file(&rel, &bytes)?;
         let entry = ManifestEntry {
             mask: rel,
             digest: digest.into(),
+            sha256: sha256_hex(&bytes),
             width: reference.width,
             height: reference.height,
             kind: kind.name().into(),
@@ -320,7 +417,9 @@ impl ReferenceCache {
     ) -> std::io::Result<(super::HardReference, bool)> {
         let view = ViewKey::from_view(scene, camera, light);
         let digest = reference_digest(scene, camera, light);
-        if let Some(cached) = self.load(view, &digest) {
+        if let Some(cached) = self.load(view, &digest)
+            && (cached.width, cached.height) == (gbuffer.width, gbuffer.height)
+        {
             let reference = super::HardReference::from_mask_codes(cached.width, cached.height, &cached.codes);
             if reference.mask_codes(gbuffer) == cached.codes {
                 return Ok((reference, true));
@@ -393,5 +492,106 @@ impl ReferenceCache {
         let reference = trace()?;
         self.store_soft(view, kind, &digest, &reference)?;
         Ok((reference, false))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn entry_of(cache: &ReferenceCache, key: &str) -> ManifestEntry {
+        cache.read_manifest().entries[key].clone()
+    }
+
+    fn write_manifest(cache: &ReferenceCache, manifest: &Manifest) {
+        std::fs::write(cache.manifest_path(), serde_json::to_vec(manifest).unwrap()).unwrap();
+    }
+
+    #[test]
+    fn keys_and_file_names_cannot_collide() {
+        let pairs = [
+            (ViewKey::new("s", "a/b", "c"), ViewKey::new("s", "a", "b/c")),
+            (ViewKey::new("s", "a__b", "c"), ViewKey::new("s", "a", "b__c")),
+            (ViewKey::new("s%2Fa", "b", "c"), ViewKey::new("s/a", "b", "c")),
+        ];
+        for (one, other) in pairs {
+            assert_ne!(key(one), key(other));
+            assert_ne!(ReferenceCache::mask_path(one), ReferenceCache::mask_path(other));
+        }
+        assert_eq!(
+            key(ViewKey::new("plane_box", "main", "sun")),
+            "plane_box/main/sun",
+            "plain names read as they are"
+        );
+        for hostile in ["../../x", "/abs", "a\0b", ""] {
+            let path = ReferenceCache::mask_path(ViewKey::new(hostile, hostile, hostile));
+            assert!(!path.contains('/') && !path.starts_with('.'), "{path:?}");
+        }
+    }
+
+    #[test]
+    fn an_entry_naming_another_file_is_ignored() {
+        let dir = tempfile::tempdir().unwrap();
+        let cache = ReferenceCache::new(dir.path());
+        let (one, other) = (ViewKey::new("s", "c", "one"), ViewKey::new("s", "c", "other"));
+        cache.store(one, "d1", 2, 1, &[0, 255]).unwrap();
+        cache.store(other, "d2", 2, 1, &[255, 0]).unwrap();
+        // One's entry now names the other's file, with that file's own SHA-256.
+        let mut manifest = cache.read_manifest();
+        let theirs = entry_of(&cache, &key(other));
+        let mine = manifest.entries.get_mut(&key(one)).unwrap();
+        (mine.mask, mine.sha256) = (theirs.mask, theirs.sha256);
+        write_manifest(&cache, &manifest);
+        assert!(cache.load(one, "d1").is_none());
+        assert_eq!(cache.load(other, "d2").unwrap().codes, [255, 0]);
+    }
+
+    #[test]
+    fn bytes_and_sizes_other_than_recorded_are_not_read() {
+        let dir = tempfile::tempdir().unwrap();
+        let cache = ReferenceCache::new(dir.path());
+        let view = ViewKey::new("s", "c", "l");
+        cache.store(view, "d", 2, 1, &[0, 255]).unwrap();
+        assert!(cache.load(view, "d").is_some());
+        let path = dir.path().join(ReferenceCache::mask_path(view));
+        // Another valid PNG of the right size.
+        std::fs::write(&path, encode_gray_png(2, 1, &[255, 255]).unwrap()).unwrap();
+        assert!(cache.load(view, "d").is_none(), "another PNG of the right size");
+        // The right bytes under an entry of another size.
+        std::fs::write(&path, encode_gray_png(2, 1, &[0, 255]).unwrap()).unwrap();
+        let mut manifest = cache.read_manifest();
+        manifest.entries.get_mut(&key(view)).unwrap().width = 1;
+        write_manifest(&cache, &manifest);
+        assert!(cache.load(view, "d").is_none(), "a header of another size");
+    }
+
+    #[test]
+    fn a_v1_manifest_is_ignored_and_replaced() {
+        let dir = tempfile::tempdir().unwrap();
+        let cache = ReferenceCache::new(dir.path());
+        let view = ViewKey::new("s", "c", "l");
+        cache.store(view, "d", 2, 1, &[0, 255]).unwrap();
+        let mut manifest = cache.read_manifest();
+        manifest.format = "shadowtruth/references/v1".into();
+        write_manifest(&cache, &manifest);
+        assert!(cache.load(view, "d").is_none() && cache.recorded_digest(view).is_none());
+        cache.store(ViewKey::new("s", "c", "m"), "d", 2, 1, &[0, 255]).unwrap();
+        assert_eq!(cache.read_manifest().entries.len(), 1, "only the new entry");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_fifo_in_place_of_a_file_is_not_opened() {
+        let dir = tempfile::tempdir().unwrap();
+        let cache = ReferenceCache::new(dir.path());
+        let view = ViewKey::new("s", "c", "l");
+        cache.store(view, "d", 2, 1, &[0, 255]).unwrap();
+        for path in [dir.path().join(ReferenceCache::mask_path(view)), cache.manifest_path()] {
+            std::fs::remove_file(&path).unwrap();
+            let made = std::process::Command::new("mkfifo").arg(&path).status().unwrap();
+            assert!(made.success());
+            // Opening a FIFO for reading blocks until a writer comes: this returns at once.
+            assert!(cache.load(view, "d").is_none());
+        }
     }
 }
