@@ -121,27 +121,21 @@ fn the_tuned_bias_beats_a_20_point_sweep_and_sits_in_its_safe_range() {
     assert!(dir.path().join("tuned/plots/tune_bias_depth.png").is_file());
 }
 
-/// The error of a `tune` that must fail before writing anything into `t`.
-fn tune_error(dir: &Path, param: &str) -> String {
+/// The error of a `tune` that must fail (exit 2) before writing anything into `t`.
+fn tune_refused(dir: &Path, options: &[&str]) -> String {
     let out = Command::new(env!("CARGO_BIN_EXE_shadowtruth"))
-        .args([
-            "tune",
-            "contact.json",
-            "--technique",
-            "constant",
-            "--param",
-            param,
-            "-o",
-            "t",
-            "--no-cache",
-            "-q",
-        ])
+        .args(["tune", "contact.json", "--technique", "constant", "-o", "t", "--no-cache", "-q"])
+        .args(options)
         .current_dir(dir)
         .output()
         .unwrap();
-    assert!(!out.status.success(), "--param {param} was accepted");
+    assert_eq!(out.status.code(), Some(2), "{options:?} was not refused");
     assert!(!dir.join("t").exists(), "nothing is written");
     String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn tune_error(dir: &Path, param: &str) -> String {
+    tune_refused(dir, &["--param", param])
 }
 
 #[test]
@@ -152,4 +146,23 @@ fn a_parameter_the_technique_does_not_have_is_named_before_anything_is_traced() 
     assert!(err.contains("scale_texels"), "{err}");
     let err = tune_error(dir.path(), "bias_depth=0:1");
     assert!(err.contains("0 < LO < HI"), "{err}");
+}
+
+#[test]
+fn every_number_out_of_its_range_is_refused_by_its_option_before_anything_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    write_contact_scene(&dir.path().join("contact.json"));
+    let weighted = ["--param", "bias_depth", "--objective", "weighted"];
+    for (options, named) in [
+        (&[&weighted[..], &["--weight", "NaN"]].concat(), "--weight NaN"),
+        (&[&weighted[..], &["--weight", "inf"]].concat(), "--weight inf"),
+        (&[&weighted[..], &["--weight=-1"]].concat(), "--weight -1"),
+        (&vec!["--param", "bias_depth=1e-200:1e200"], "--param bias_depth=1e-200:1e200"),
+        (&vec!["--param", "bias_depth", "--param", "bias_depth=1e-3:1e-2"], "bias_depth is given twice"),
+        (&vec!["--param", "bias_depth", "--gate-slack", "NaN"], "--gate-slack NaN"),
+        (&vec!["--param", "bias_depth", "--gate-slack=-1"], "--gate-slack -1"),
+    ] {
+        let err = tune_refused(dir.path(), options);
+        assert!(err.contains(named), "{options:?}: {err}");
+    }
 }

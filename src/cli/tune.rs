@@ -5,99 +5,20 @@
 use super::{expand_scenes, load_report, set_threads, write_plan_report};
 use crate::atomic_file::write_atomic;
 use crate::plan::{Plan, check_plan};
-use crate::raster::{DepthFormat, MAX_SHADOW_MAP_RESOLUTION};
+use crate::raster::DepthFormat;
 use crate::report::tune_chart;
-use crate::tune::{
-    LogRange, Objective, SuiteAggregate, TuneRecord, TuneRequest, TuneResult, TuneViews, gate_rules_toml,
-    tune,
-};
-use anyhow::{Context, Result, anyhow, bail};
-use clap::Args;
+use crate::tune::{TuneRecord, TuneRequest, TuneResult, TuneViews, gate_rules_toml, tune};
+use anyhow::{Context, Result, anyhow};
 use indicatif::{ProgressBar, ProgressStyle};
-use serde_json::{Map, Value};
 use std::path::PathBuf;
 
-#[derive(Args)]
-pub(super) struct TuneArgs {
-    /// Scene files or folders of scene files (default: scenes/).
-    scenes: Vec<PathBuf>,
-    /// The technique: its name (`constant`), or a JSON object with its fixed parameters
-    /// (`{"technique": "pcf", "kernel": "box", "size": 3}`).
-    #[arg(long)]
-    technique: String,
-    /// A parameter to tune, with its range searched on a log scale: NAME or NAME=LO:HI (both
-    /// positive). One to three. Known names have a default range (bias_depth 1e-6:0.1,
-    /// bias_world 1e-5:1, scale_texels 0.01:10, factor 0.01:16, units 0.01:64, k 1e-6:0.1,
-    /// z_offset 1e-5:0.1, radius_texels 0.25:8).
-    #[arg(long = "param", required = true, value_name = "NAME[=LO:HI]")]
-    params: Vec<String>,
-    /// What to minimise: `total` (false shadow + false lit), `weighted` (false shadow + W·false
-    /// lit, with --weight W) or `false-lit-under` (the least false lit with false shadow at most
-    /// --max-false-shadow X). Rates are fractions of each scene's scored pixels.
-    #[arg(long, value_enum, default_value_t = ObjectiveKind::Total)]
-    objective: ObjectiveKind,
-    #[arg(long, value_name = "W", required_if_eq("objective", "weighted"))]
-    weight: Option<f64>,
-    #[arg(long, value_name = "X", required_if_eq("objective", "false-lit-under"))]
-    max_false_shadow: Option<f64>,
-    /// The suite's objective: the mean of the scenes' or the worst scene's.
-    #[arg(long, value_enum, default_value_t = SuiteAggregate::Mean)]
-    suite: SuiteAggregate,
-    /// Shadow-map resolutions; every evaluation shades each of them.
-    #[arg(long, value_delimiter = ',', default_value = "1024",
-          value_parser = clap::value_parser!(u32).range(1..=MAX_SHADOW_MAP_RESOLUTION as i64))]
-    resolutions: Vec<u32>,
-    /// Depth format of the shadow maps: f32, unorm24 or unorm16.
-    #[arg(long, default_value = "f32")]
-    depth_format: String,
-    /// Output folder: tune.json, tune-gate.toml, plots/tune.png and the tuned settings' report.
-    #[arg(short, long, default_value = "reports/tune")]
-    out: PathBuf,
-    /// The slack of the gate rules written for the suite's setting (relative; one pixel more).
-    #[arg(long, default_value_t = 0.1)]
-    gate_slack: f64,
-    /// Reference cache folder.
-    #[arg(long, default_value = "references")]
-    references: PathBuf,
-    /// Trace every reference instead of reading or writing the cache.
-    #[arg(long)]
-    no_cache: bool,
-    /// Write tune.json and the plot only, without running the tuned settings into a report.
-    #[arg(long)]
-    no_report: bool,
-    /// Also run each scene's own best setting into the report, beside the suite's.
-    #[arg(long, conflicts_with = "no_report")]
-    report_scene_bests: bool,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    threads: Option<usize>,
-    /// No progress bar and no table.
-    #[arg(short, long)]
-    quiet: bool,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-enum ObjectiveKind {
-    Total,
-    Weighted,
-    FalseLitUnder,
-}
-
-/// Default search ranges of the parameters that have an obvious one.
-const DEFAULT_RANGES: [(&str, f64, f64); 8] = [
-    ("bias_depth", 1e-6, 0.1),
-    ("bias_world", 1e-5, 1.0),
-    ("scale_texels", 0.01, 10.0),
-    ("factor", 0.01, 16.0),
-    ("units", 0.01, 64.0),
-    ("k", 1e-6, 0.1),
-    ("z_offset", 1e-5, 0.1),
-    ("radius_texels", 0.25, 8.0),
-];
+/// The options and their checks live beside the search (`src/tune/options.rs`), where the
+/// fuzz entry reaches them too.
+pub(super) use crate::tune::TuneArgs;
 
 pub(super) fn run_tune(a: TuneArgs) -> Result<u8> {
     set_threads(a.threads)?;
-    let request = request(&a)?;
+    let request = a.request()?;
     let format = DepthFormat::parse(&a.depth_format)
         .ok_or_else(|| anyhow!("--depth-format {}: expected f32, unorm24 or unorm16", a.depth_format))?;
     let default_scenes = [PathBuf::from("scenes")];
@@ -145,66 +66,6 @@ fn progress_bar(quiet: bool) -> ProgressBar {
     );
     bar.enable_steady_tick(std::time::Duration::from_millis(200));
     bar
-}
-
-/// The request from the arguments, every problem named by its option.
-fn request(a: &TuneArgs) -> Result<TuneRequest> {
-    let base = technique_object(&a.technique)?;
-    if a.params.len() > 3 {
-        bail!("--param: at most three parameters are tuned together ({} given)", a.params.len());
-    }
-    let params = a.params.iter().map(|p| param_range(p)).collect::<Result<Vec<_>>>()?;
-    let objective = match a.objective {
-        ObjectiveKind::Total => Objective::Total,
-        ObjectiveKind::Weighted => Objective::Weighted { weight: a.weight.expect("required by clap") },
-        ObjectiveKind::FalseLitUnder => {
-            Objective::FalseLitUnder { max_false_shadow: a.max_false_shadow.expect("required by clap") }
-        }
-    };
-    let request = TuneRequest { base, params, objective, aggregate: a.suite };
-    // Both ends of every range must make a valid technique before anything is traced.
-    for corner in [true, false] {
-        let values: Vec<f64> = request.params.iter().map(|(_, r)| if corner { r.lo } else { r.hi }).collect();
-        request
-            .spec(&values)
-            .map_err(|e| anyhow!("--technique {} with --param {:?}: {e}", a.technique, a.params))?;
-    }
-    Ok(request)
-}
-
-fn technique_object(text: &str) -> Result<Map<String, Value>> {
-    if !text.trim_start().starts_with('{') {
-        let mut m = Map::new();
-        m.insert("technique".into(), Value::from(text));
-        return Ok(m);
-    }
-    match serde_json::from_str(text) {
-        Ok(Value::Object(m)) => Ok(m),
-        Ok(_) => bail!("--technique: expected a technique name or a JSON object"),
-        Err(e) => bail!("--technique: {e} (in {text})"),
-    }
-}
-
-/// `NAME` or `NAME=LO:HI`.
-fn param_range(text: &str) -> Result<(String, LogRange)> {
-    let (name, range) = match text.split_once('=') {
-        Some((name, range)) => {
-            let (lo, hi) =
-                range.split_once(':').ok_or_else(|| anyhow!("--param {text}: expected NAME=LO:HI"))?;
-            let parse = |s: &str| s.trim().parse::<f64>().map_err(|e| anyhow!("--param {text}: {s}: {e}"));
-            (name.trim(), LogRange { lo: parse(lo)?, hi: parse(hi)? })
-        }
-        None => {
-            let (_, lo, hi) = DEFAULT_RANGES.iter().find(|(n, _, _)| *n == text.trim()).ok_or_else(|| {
-                anyhow!("--param {text}: no default range for this parameter; give one as {text}=LO:HI")
-            })?;
-            (text.trim(), LogRange { lo: *lo, hi: *hi })
-        }
-    };
-    if !(range.lo > 0.0 && range.hi > range.lo && range.hi.is_finite()) {
-        bail!("--param {text}: the range must satisfy 0 < LO < HI (it is searched on a log scale)");
-    }
-    Ok((name.to_string(), range))
 }
 
 fn write_outputs(

@@ -2,19 +2,22 @@
 //! the whole suite, with the range around each optimum where the objective stays within
 //! `SAFE_RANGE_SLACK` of it (docs/tune.md).
 //!
+//! - `options.rs` the command's options and their checks, before anything is traced;
 //! - `search.rs` the search on log scales and the safe range (pure, on any function);
 //! - `objective.rs` what is minimised;
 //! - `views.rs` the views traced once, and one evaluation: a shading pass per view and resolution;
 //! - `record.rs` tune.json (`shadowtruth/tune/v1`) and the gate rules that lock the result.
 
 mod objective;
+mod options;
 mod record;
 mod search;
 mod views;
 
 pub use objective::{Objective, SuiteAggregate};
+pub use options::*;
 pub use record::{TuneRecord, TunedRecord, gate_rules_toml};
-pub use search::LogRange;
+pub use search::{LogRange, MAX_EVALUATIONS};
 pub use views::TuneViews;
 
 use crate::metrics::Counts;
@@ -94,12 +97,15 @@ pub struct TuneResult {
     pub scene_evaluations: usize,
 }
 
+/// The counts of a technique on one scene (by index), summed over its views and resolutions.
+pub type Shade<'s> = dyn FnMut(usize, &TechniqueSpec) -> Counts + 's;
+
 /// Evaluations of settings on scenes, each computed once.
 struct Evaluations<'v> {
-    views: &'v mut TuneViews,
+    shade: &'v mut Shade<'v>,
+    scene_count: usize,
     request: &'v TuneRequest,
     memo: HashMap<(usize, Vec<u64>), Counts>,
-    on_evaluation: &'v mut dyn FnMut(),
 }
 
 impl Evaluations<'_> {
@@ -109,8 +115,7 @@ impl Evaluations<'_> {
             return *c;
         }
         let spec = self.request.spec(values).expect("checked before the search");
-        let counts = self.views.counts(scene, &spec);
-        (self.on_evaluation)();
+        let counts = (self.shade)(scene, &spec);
         self.memo.insert(key, counts);
         counts
     }
@@ -127,7 +132,7 @@ impl Evaluations<'_> {
     }
 
     fn suite_point(&mut self, values: &[f64]) -> EvaluatedPoint {
-        let n = self.views.scenes.len();
+        let n = self.scene_count;
         let points: Vec<EvaluatedPoint> = (0..n).map(|s| self.scene_point(s, values)).collect();
         let mean = |f: fn(&EvaluatedPoint) -> f64| points.iter().map(f).sum::<f64>() / n.max(1) as f64;
         let objectives: Vec<f64> = points.iter().map(|p| p.objective).collect();
@@ -143,9 +148,21 @@ impl Evaluations<'_> {
 /// Searches the suite's optimum, then each scene's (reusing every evaluation already made).
 /// `on_evaluation` is called after each new shading of a scene.
 pub fn tune(views: &mut TuneViews, request: &TuneRequest, on_evaluation: &mut dyn FnMut()) -> TuneResult {
-    let ranges: Vec<LogRange> = request.params.iter().map(|(_, r)| *r).collect();
     let names: Vec<String> = views.scenes.iter().map(|s| s.name.clone()).collect();
-    let mut ev = Evaluations { views, request, memo: HashMap::new(), on_evaluation };
+    let mut shade = |scene: usize, spec: &TechniqueSpec| {
+        let counts = views.counts(scene, spec);
+        on_evaluation();
+        counts
+    };
+    tune_with(request, &names, &mut shade)
+}
+
+/// `tune` on any scenes: `shade` gives the counts of a setting on the scene of that index in
+/// `names` (a synthetic objective, for the fuzz entry and tests). Each (scene, setting) is
+/// shaded once; each search calls its objective at most `MAX_EVALUATIONS` times.
+pub fn tune_with(request: &TuneRequest, names: &[String], shade: &mut Shade<'_>) -> TuneResult {
+    let ranges: Vec<LogRange> = request.params.iter().map(|(_, r)| *r).collect();
+    let mut ev = Evaluations { shade, scene_count: names.len(), request, memo: HashMap::new() };
     let suite = optimise(&ranges, &mut |p| ev.suite_point(p));
     let scenes = (0..names.len())
         .map(|s| (names[s].clone(), optimise(&ranges, &mut |p| ev.scene_point(s, p))))

@@ -8,6 +8,10 @@
 //!
 //! Error counts are piecewise constant in a bias, so the search may stop anywhere on a plateau:
 //! the best point is the best of every point evaluated, never worse than any grid point.
+//!
+//! Every stage has a hard cap on its steps, whatever the ranges and the objective (docs/tune.md,
+//! Bounds): `MAX_EVALUATIONS` bounds the calls of a whole search with its safe ranges. An
+//! objective value that is NaN counts as the worst (+∞), so that no comparison silently fails.
 
 /// A positive interval searched on a log scale.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -17,10 +21,11 @@ pub struct LogRange {
 }
 
 impl LogRange {
-    /// `count` points from `lo` to `hi`, evenly spaced in log.
+    /// `count` points from `lo` to `hi`, evenly spaced in log (the ends exactly `lo` and `hi`).
     pub fn grid(&self, count: usize) -> Vec<f64> {
         let (a, b) = (self.lo.ln(), self.hi.ln());
-        (0..count).map(|i| (a + (b - a) * i as f64 / (count - 1) as f64).exp()).collect()
+        let step = (b - a) / count.saturating_sub(1).max(1) as f64;
+        (0..count).map(|i| (a + step * i as f64).exp().clamp(self.lo, self.hi)).collect()
     }
 }
 
@@ -42,6 +47,20 @@ pub const TOLERANCE_LOG10: f64 = 0.01;
 const SAFE_RANGE_TOLERANCE_LOG10: f64 = 0.02;
 /// Rounds of coordinate refinement with several parameters.
 const ROUNDS: usize = 2;
+/// Golden-section steps per bracket at most: 0.618^30 narrows a bracket of 10⁴ decades to the
+/// tolerance, and a valid range's bracket needs about 10.
+pub const MAX_GOLDEN_STEPS: usize = 30;
+/// Bisection steps per end of a safe range at most (2^30 narrows 10⁷ decades to its tolerance).
+pub const MAX_BISECTIONS: usize = 30;
+/// Calls of the objective by `minimise` and the safe ranges of every parameter, at most: the
+/// largest grid (5³), then per round and parameter a bracket (its four first points and the
+/// golden-section steps), then per parameter and end a walk over the grid and every point
+/// already evaluated, and the bisection.
+pub const MAX_EVALUATIONS: usize = {
+    let grid = GRID_3D * GRID_3D * GRID_3D;
+    let search = grid + ROUNDS * 3 * (4 + MAX_GOLDEN_STEPS);
+    search + 3 * 2 * (GRID_1D + search + MAX_BISECTIONS)
+};
 /// 1/φ.
 const INV_PHI: f64 = 0.618_033_988_749_894_9;
 
@@ -84,10 +103,11 @@ fn grid_minimum(grids: &[Vec<f64>], f: &mut dyn FnMut(&[f64]) -> f64) -> Point {
             .flat_map(|p: &Vec<f64>| grid.iter().map(move |&x| [&p[..], &[x]].concat()))
             .collect();
     }
-    let values: Vec<f64> = points.iter().map(|p| f(p)).collect();
+    let values: Vec<f64> = points.iter().map(|p| worst_if_nan(f(p))).collect();
     let least = values.iter().copied().fold(f64::INFINITY, f64::min);
+    // `least` is one of the values (+∞ when all are): the run holds at least that one.
     let first = values.iter().position(|&v| v == least).unwrap_or(0);
-    let run = values[first..].iter().take_while(|&&v| v == least).count();
+    let run = values[first..].iter().take_while(|&&v| v == least).count().max(1);
     let middle = first + (run - 1) / 2;
     Point { params: points[middle].clone(), value: values[middle] }
 }
@@ -104,7 +124,8 @@ fn neighbours(grid: &[f64], x: f64) -> (f64, f64) {
 /// (value of the parameter, objective). A bracket whose ends and first two inner points all
 /// score the same is flat (the function is taken to be unimodal, as golden section does), and
 /// is not searched further.
-fn golden_section(bracket: (f64, f64), mut g: impl FnMut(f64) -> f64) -> (f64, f64) {
+fn golden_section(bracket: (f64, f64), mut g_raw: impl FnMut(f64) -> f64) -> (f64, f64) {
+    let mut g = |x: f64| worst_if_nan(g_raw(x));
     let (mut a, mut b) = bracket;
     let mut c = b - (b - a) * INV_PHI;
     let mut d = a + (b - a) * INV_PHI;
@@ -113,7 +134,10 @@ fn golden_section(bracket: (f64, f64), mut g: impl FnMut(f64) -> f64) -> (f64, f
     if gc == gd && g(a.exp()) == gc && g(b.exp()) == gc {
         return (best.0.exp(), best.1);
     }
-    while (b - a) / std::f64::consts::LN_10 > TOLERANCE_LOG10 {
+    for _ in 0..MAX_GOLDEN_STEPS {
+        if (b - a) / std::f64::consts::LN_10 <= TOLERANCE_LOG10 {
+            break;
+        }
         if gc <= gd {
             (b, d, gd) = (d, c, gc);
             c = b - (b - a) * INV_PHI;
@@ -131,6 +155,11 @@ fn golden_section(bracket: (f64, f64), mut g: impl FnMut(f64) -> f64) -> (f64, f
         }
     }
     (best.0.exp(), best.1)
+}
+
+/// NaN compares false with everything: as +∞ it loses to every number instead.
+fn worst_if_nan(value: f64) -> f64 {
+    if value.is_nan() { f64::INFINITY } else { value }
 }
 
 /// Where the objective along one parameter stays within a bound around the best point.
@@ -159,7 +188,7 @@ pub fn safe_range(
     let mut along = |x: f64| {
         let mut p = best.params.clone();
         p[axis] = x;
-        f(&p)
+        worst_if_nan(f(&p))
     };
     let x0 = best.params[axis];
     let mut steps: Vec<f64> = range.grid(GRID_1D).into_iter().chain(known.iter().copied()).collect();
@@ -179,7 +208,10 @@ fn edge(x0: f64, steps: &[f64], bound: f64, along: &mut impl FnMut(f64) -> f64) 
     for &x in steps {
         if along(x) > bound {
             let mut bad = x;
-            while (good.ln() - bad.ln()).abs() / std::f64::consts::LN_10 > SAFE_RANGE_TOLERANCE_LOG10 {
+            for _ in 0..MAX_BISECTIONS {
+                if (good.ln() - bad.ln()).abs() / std::f64::consts::LN_10 <= SAFE_RANGE_TOLERANCE_LOG10 {
+                    break;
+                }
                 let mid = (good.ln() * 0.5 + bad.ln() * 0.5).exp();
                 if along(mid) > bound {
                     bad = mid;
@@ -259,6 +291,100 @@ mod tests {
         let best = minimise(&ranges, &mut f);
         assert!(log_distance(best.params[0], 10f64.powf(0.4)) < 0.05, "{best:?}");
         assert!(log_distance(best.params[1], 10f64.powf(-0.7)) < 0.05, "{best:?}");
+    }
+
+    /// `minimise`, then the safe range of every parameter over the points already evaluated on
+    /// its axis, as `tune` runs them; the number of calls of `f` and the best point.
+    fn search_with_safe_ranges(ranges: &[LogRange], f: &mut dyn FnMut(&[f64]) -> f64) -> (usize, Point) {
+        let seen: std::cell::RefCell<Vec<Vec<f64>>> = Default::default();
+        let mut counted = |p: &[f64]| {
+            seen.borrow_mut().push(p.to_vec());
+            f(p)
+        };
+        let best = minimise(ranges, &mut counted);
+        for (axis, &range) in ranges.iter().enumerate() {
+            let others_at_best = |p: &&Vec<f64>| (0..p.len()).all(|k| k == axis || p[k] == best.params[k]);
+            let known: Vec<f64> = seen.borrow().iter().filter(others_at_best).map(|p| p[axis]).collect();
+            let bound = best.value * 1.1;
+            let safe = safe_range(&best, axis, range, &known, bound, &mut counted);
+            assert!(safe.lo <= best.params[axis] && best.params[axis] <= safe.hi, "{safe:?} {best:?}");
+        }
+        (seen.borrow().len(), best)
+    }
+
+    type Objective = Box<dyn FnMut(&[f64]) -> f64>;
+
+    /// Objectives that break comparisons or never settle: NaN everywhere, NaN on every other
+    /// call, ±∞, and noise that no bracket narrows on.
+    fn hostile_objectives() -> Vec<(&'static str, Objective)> {
+        let mut call = 0u64;
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        vec![
+            ("NaN everywhere", Box::new(|_: &[f64]| f64::NAN)),
+            (
+                "NaN on every other call",
+                Box::new(move |p: &[f64]| {
+                    call += 1;
+                    if call.is_multiple_of(2) { f64::NAN } else { p[0].log10().abs() }
+                }),
+            ),
+            ("+inf everywhere", Box::new(|_: &[f64]| f64::INFINITY)),
+            ("-inf at large values", Box::new(|p: &[f64]| if p[0] > 1.0 { f64::NEG_INFINITY } else { 0.0 })),
+            (
+                "noise",
+                Box::new(move |_: &[f64]| {
+                    state ^= state << 13;
+                    state ^= state >> 7;
+                    state ^= state << 17;
+                    (state % 1000) as f64
+                }),
+            ),
+        ]
+    }
+
+    #[test]
+    fn every_search_ends_within_its_step_cap_whatever_the_objective_and_range() {
+        let huge = LogRange { lo: f64::MIN_POSITIVE, hi: f64::MAX };
+        let usual = LogRange { lo: 1e-6, hi: 0.1 };
+        for dims in 1..=3 {
+            for range in [usual, huge] {
+                for (name, mut f) in hostile_objectives() {
+                    let ranges = vec![range; dims];
+                    let (calls, best) = search_with_safe_ranges(&ranges, &mut f);
+                    assert!(
+                        calls <= MAX_EVALUATIONS,
+                        "{name}, {dims} parameters over {range:?}: {calls} calls"
+                    );
+                    // exp(ln(x)) may miss x by a few ulps.
+                    let inside = best.params.iter().all(|&x| range.lo * 0.999 <= x && x <= range.hi * 1.001);
+                    assert!(inside && !best.value.is_nan(), "{name}: {best:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn nan_is_the_worst_value_and_the_best_point_avoids_it() {
+        // NaN below 1e-3, a smooth well at 1e-2 above: the grid sees both sides.
+        let range = LogRange { lo: 1e-6, hi: 1.0 };
+        let mut f = |p: &[f64]| if p[0] < 1e-3 { f64::NAN } else { (p[0].log10() + 2.0).powi(2) };
+        let best = minimise(&[range], &mut f);
+        assert!(log_distance(best.params[0], 1e-2) < TOLERANCE_LOG10, "{best:?}");
+        // Only NaN: no panic, the middle of the grid, scored as the worst.
+        let best = minimise(&[range], &mut |_: &[f64]| f64::NAN);
+        assert_eq!(best.value, f64::INFINITY);
+        assert_eq!(best.params[0], range.grid(GRID_1D)[(GRID_1D - 1) / 2]);
+        // NaN beyond 0.1 ends the safe range there, as a worse value would.
+        let mut g = |p: &[f64]| if p[0] > 0.1 { f64::NAN } else { 0.0 };
+        let best = Point { params: vec![1e-3], value: 0.0 };
+        let safe = safe_range(&best, 0, range, &[], 0.0, &mut g);
+        assert!(log_distance(safe.hi, 0.1) < SAFE_RANGE_TOLERANCE_LOG10 && !safe.hi_at_range_end, "{safe:?}");
+        assert!(safe.lo_at_range_end, "{safe:?}");
+    }
+
+    #[test]
+    fn the_evaluation_cap_is_the_one_docs_tune_md_states() {
+        assert_eq!(MAX_EVALUATIONS, 2555);
     }
 
     #[test]
