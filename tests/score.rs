@@ -332,3 +332,184 @@ fn a_shadow_map_written_by_depth_map_scores_the_technique_on_our_own_map() {
     let counts: Counts = serde_json::from_value(imported[0]["counts"].clone()).unwrap();
     assert!(counts.false_shadow > 0 && counts.false_lit > 0 && counts.aliasing > 0, "{counts:?}");
 }
+
+/// A box on a plane under two suns and a spot light, written into `dir` as lights.json.
+fn scene_of_three_lights(dir: &Path) -> PathBuf {
+    let json = serde_json::json!({
+        "format": "shadowtruth/scene/v1", "name": "lights",
+        "objects": [
+            { "name": "ground", "shape": { "type": "plane", "size": [8, 8] } },
+            { "name": "box", "shape": { "type": "box", "size": [1, 1, 1] }, "closed": true,
+              "transform": { "translate": [0, 0.5, 0] } }
+        ],
+        "cameras": [{ "name": "c", "position": EYE, "look_at": [0, 0.4, 0], "fov_y_deg": 45,
+                      "width": 40, "height": 30 }],
+        "lights": [
+            { "name": "sun", "type": "directional", "direction": [-0.4, -1, -0.3] },
+            { "name": "sun2", "type": "directional", "direction": [0.5, -1, 0.2] },
+            { "name": "lamp", "type": "spot", "position": [1, 5, 1], "direction": [-0.2, -1, 0.1],
+              "cone_deg": 70, "near": 0.5, "far": 20 }
+        ]
+    });
+    let path = dir.join("lights.json");
+    std::fs::write(&path, serde_json::to_string_pretty(&json).unwrap()).unwrap();
+    path
+}
+
+/// The sidecar of `light`'s shadow map as view-export writes it: D3D's `clip_from_world` (the
+/// project's own clip space), with `near` and `far`, into `dir/<light>.json`.
+fn sidecar_from_view_export(scene: &Path, light: &str, dir: &Path) -> PathBuf {
+    let out = dir.join(format!("export_{light}"));
+    let (s, o) = (scene.to_str().unwrap(), out.to_str().unwrap());
+    shadowtruth(&["view-export", s, "--light", light, "--resolution", "16", "--quiet", "-o", o]);
+    let view: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("view.json")).unwrap()).unwrap();
+    let map = &view["light"]["shadow_map"];
+    let cells = map["d3d"]["clip_from_world_row_major"].as_array().unwrap();
+    let rows: Vec<&[serde_json::Value]> = cells.chunks(4).collect();
+    let sidecar = serde_json::json!({ "clip_from_world": rows, "near": map["near"], "far": map["far"] });
+    let path = dir.join(format!("{light}.json"));
+    std::fs::write(&path, sidecar.to_string()).unwrap();
+    path
+}
+
+/// `score --shadow-map` of a 16² map with `sidecar` for `light`.
+fn score_map(scene: &Path, map: &Path, sidecar: &Path, light: &str, out: &Path) -> std::process::Output {
+    let args = [
+        "score",
+        scene.to_str().unwrap(),
+        "--camera",
+        "c",
+        "--light",
+        light,
+        "--shadow-map",
+        map.to_str().unwrap(),
+        "--clip-from-world",
+        sidecar.to_str().unwrap(),
+        "--technique",
+        TECHNIQUE,
+        "--no-cache",
+        "--no-figures",
+        "--quiet",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    Command::new(env!("CARGO_BIN_EXE_shadowtruth")).args(args).output().unwrap()
+}
+
+#[test]
+fn a_view_exports_own_sidecar_passes_the_light_check_and_another_lights_fails() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_of_three_lights(dir.path());
+    let map = dir.path().join("map.exr");
+    let empty = vec![1.0f32; 16 * 16];
+    let channel = AnyChannel::new("Z", FlatSamples::F32(empty));
+    let layer = Layer::new(
+        (16, 16),
+        LayerAttributes::named("depth"),
+        Encoding::FAST_LOSSLESS,
+        AnyChannels::sort(SmallVec::from_vec(vec![channel])),
+    );
+    Image::from_layer(layer).write().to_file(&map).unwrap();
+    let sidecars: Vec<(&str, PathBuf)> = ["sun", "sun2", "lamp"]
+        .into_iter()
+        .map(|l| (l, sidecar_from_view_export(&scene, l, dir.path())))
+        .collect();
+    for (light, sidecar) in &sidecars {
+        let out = score_map(&scene, &map, sidecar, light, &dir.path().join(format!("own_{light}")));
+        assert!(out.status.success(), "{light}: {}", String::from_utf8_lossy(&out.stderr));
+    }
+    let refused = |sidecar: &Path, light: &str| {
+        let out = score_map(&scene, &map, sidecar, light, &dir.path().join("other"));
+        assert_eq!(out.status.code(), Some(2), "{light}");
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(stderr.contains(&format!("{}: clip_from_world: ", sidecar.display())), "{stderr}");
+        stderr
+    };
+    // The angle between the two suns' directions, computed here.
+    let (a, b) =
+        (glam::DVec3::new(-0.4, -1.0, -0.3).normalize(), glam::DVec3::new(0.5, -1.0, 0.2).normalize());
+    let degrees = a.dot(b).acos().to_degrees();
+    let stderr = refused(&sidecars[1].1, "sun");
+    let shown: f64 = stderr.split("(row 2) is ").nth(1).unwrap().split('°').next().unwrap().parse().unwrap();
+    assert!((shown - degrees).abs() < 1e-3, "{shown}° against {degrees}°: {stderr}");
+    assert!(refused(&sidecars[2].1, "sun").contains("a perspective projection"));
+    assert!(refused(&sidecars[0].1, "lamp").contains("an orthographic projection"));
+}
+
+/// Counts the bytes allocated on each thread, and the most held at once since the last reset.
+mod allocations {
+    use std::alloc::{GlobalAlloc, Layout, System};
+    use std::cell::Cell;
+
+    thread_local! {
+        static HELD: Cell<isize> = const { Cell::new(0) };
+        static PEAK: Cell<isize> = const { Cell::new(0) };
+    }
+
+    pub struct Counting;
+
+    unsafe impl GlobalAlloc for Counting {
+        unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+            let _ = HELD.try_with(|held| {
+                held.set(held.get() + layout.size() as isize);
+                let _ = PEAK.try_with(|peak| peak.set(peak.get().max(held.get())));
+            });
+            unsafe { System.alloc(layout) }
+        }
+
+        unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+            let _ = HELD.try_with(|held| held.set(held.get() - layout.size() as isize));
+            unsafe { System.dealloc(ptr, layout) }
+        }
+    }
+
+    /// The most bytes `f` held at once on this thread, beyond what was held before it.
+    pub fn peak_of<T>(f: impl FnOnce() -> T) -> (T, usize) {
+        let before = HELD.with(Cell::get);
+        PEAK.with(|peak| peak.set(before));
+        let out = f();
+        (out, (PEAK.with(Cell::get) - before).max(0) as usize)
+    }
+}
+
+#[global_allocator]
+static COUNTING: allocations::Counting = allocations::Counting;
+
+#[test]
+fn a_wrong_size_image_is_refused_before_its_pixels_are_allocated() {
+    use shadowtruth::import::{ExpectedSize, ImageSource, read_visibility_from};
+    let dir = tempfile::tempdir().unwrap();
+    // 64 megapixels of zeros: 64 MB as grey PNG, 128 MB as f16 EXR, a few hundred KB on disk.
+    let (side, view) = (8192u32, ExpectedSize::View { width: WIDTH, height: HEIGHT });
+    let png_path = dir.path().join("big.png");
+    let mut encoder = png::Encoder::new(std::fs::File::create(&png_path).unwrap(), side, side);
+    encoder.set_color(png::ColorType::Grayscale);
+    encoder.write_header().unwrap().write_image_data(&vec![0u8; (side * side) as usize]).unwrap();
+    let exr_path = dir.path().join("big.exr");
+    let zeros = FlatSamples::F16(vec![f16::ZERO; (side * side) as usize]);
+    let channel = AnyChannel::new("V", zeros);
+    let encoding = Encoding { compression: Compression::ZIP16, ..Encoding::FAST_LOSSLESS };
+    let layer = Layer::new(
+        (side as usize, side as usize),
+        LayerAttributes::named("v"),
+        encoding,
+        AnyChannels::sort(SmallVec::from_vec(vec![channel])),
+    );
+    Image::from_layer(layer).write().to_file(&exr_path).unwrap();
+    for path in [&png_path, &exr_path] {
+        let (result, peak) = allocations::peak_of(|| {
+            read_visibility_from(ImageSource::File(path), &ReadOptions::default(), view)
+        });
+        let e = result.unwrap_err().to_string();
+        assert!(e.contains(&format!("declares {side}×{side}, expected {WIDTH}×{HEIGHT}")), "{e}");
+        assert!(peak < 1 << 20, "{}: {peak} bytes held before the size was refused", path.display());
+    }
+    // The right size is read, holding little more than its final image (4 bytes a pixel).
+    let (image, peak) = allocations::peak_of(|| {
+        read_visibility_from(ImageSource::File(&png_path), &ReadOptions::default(), ExpectedSize::ANY_CAMERA)
+    });
+    let pixels = image.unwrap().values.len();
+    assert_eq!(pixels, (side * side) as usize);
+    assert!((pixels * 4..pixels * 4 + (20 << 20)).contains(&peak), "{peak} bytes held for {pixels} pixels");
+}

@@ -3,9 +3,10 @@
 //! its shadow map, read by a built-in technique in place of the layers rasterized here.
 
 use super::{set_threads, write_plan_report};
-use crate::import::{ReadOptions, read_depth, read_shadow_map, read_visibility};
+use crate::import::{ImportedShadowMap, read_shadow_map};
 use crate::plan::{DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_MAX_RUNS, Plan};
 use crate::raster::{DepthFormat, MAX_SHADOW_MAP_RESOLUTION};
+use crate::scene::{Camera, Scene};
 use crate::technique::{ExternalParams, LayerNeeds, TechniqueSpec};
 use anyhow::{Result, anyhow};
 use clap::Args;
@@ -88,19 +89,24 @@ pub(super) fn score(a: ScoreArgs) -> Result<u8> {
     if !a.scene.is_file() {
         return Err(anyhow!("{}: no such scene file", a.scene.display()));
     }
+    // The scene for the camera's size and the light, so that bad files fail before anything is
+    // traced; a scene that does not load, or lacks the camera or light, fails in the plan.
+    let scene = crate::scene::load_scene(&a.scene).ok();
     let (technique, resolution, shadow_map) = match (&a.visibility, &a.shadow_map) {
-        (Some(visibility), _) => (imported_technique(&a, visibility)?, a.resolution, None),
+        (Some(visibility), _) => {
+            let camera = scene.as_ref().and_then(|s| s.camera(&a.camera));
+            (imported_technique(&a, visibility, camera)?, a.resolution, None)
+        }
         (None, Some(map)) => {
             let sidecar = a.clip_from_world.clone().unwrap_or_else(|| map.with_extension("json"));
             let shadow_map = read_shadow_map(map, &sidecar)?;
-            (
-                map_technique(a.technique.as_deref().unwrap_or_default())?,
-                shadow_map.layer.resolution,
-                Some(shadow_map),
-            )
+            let technique = map_technique(a.technique.as_deref().unwrap_or_default())?;
+            check_map_light(&shadow_map, scene.as_ref(), &a.light)?;
+            (technique, shadow_map.layer.resolution, Some(shadow_map))
         }
         (None, None) => return Err(anyhow!("give --visibility or --shadow-map")),
     };
+    drop(scene);
     let plan = Plan {
         source: None,
         scenes: vec![a.scene.clone()],
@@ -124,9 +130,9 @@ pub(super) fn score(a: ScoreArgs) -> Result<u8> {
     Ok(0)
 }
 
-/// The `external` technique of the visibility (and depth) files, checked before the reference is
-/// traced so that bad input fails at once.
-fn imported_technique(a: &ScoreArgs, visibility: &Path) -> Result<TechniqueSpec> {
+/// The `external` technique of the visibility (and depth) files, checked (against `camera`'s
+/// size) before the reference is traced so that bad input fails at once.
+fn imported_technique(a: &ScoreArgs, visibility: &Path, camera: Option<&Camera>) -> Result<TechniqueSpec> {
     let path = |p: &Path| p.to_string_lossy().into_owned();
     let params = ExternalParams {
         name: a.name.clone(),
@@ -136,13 +142,23 @@ fn imported_technique(a: &ScoreArgs, visibility: &Path) -> Result<TechniqueSpec>
         channel: a.channel.clone(),
         flip_y: a.flip_y,
     };
-    let spec = TechniqueSpec::External(params);
+    let spec = TechniqueSpec::External(params.clone());
     spec.validate().map_err(|e| anyhow!("{e}"))?;
-    read_visibility(visibility, &ReadOptions { channel: a.channel.clone(), flip_y: a.flip_y })?;
-    if let Some(depth) = &a.depth {
-        read_depth(depth, &ReadOptions { channel: None, flip_y: a.flip_y })?;
+    if let Some(camera) = camera {
+        params.read_buffers(camera)?;
     }
     Ok(spec)
+}
+
+/// The imported map checked against the scene's light (the plan checks it again), so that a
+/// map of another light fails before anything is traced.
+fn check_map_light(map: &ImportedShadowMap, scene: Option<&Scene>, light: &str) -> Result<()> {
+    if let Some(scene) = scene
+        && let Some(light) = scene.light(light)
+    {
+        map.light_view(light, scene.bounds())?;
+    }
+    Ok(())
 }
 
 /// The built-in technique `--technique` names, to shade with an imported map.

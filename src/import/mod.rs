@@ -11,17 +11,26 @@
 //!
 //! - A **shadow map** (`read_shadow_map`) is one depth layer with its `clip_from_world`, as
 //!   `shadowtruth depth-map` writes it: a built-in technique shades the reference's G-buffer
-//!   with it instead of our own map.
+//!   with it instead of our own map, once its matrix is checked to be the light's.
+//!
+//! Every image header is checked before a pixel is decoded (`ExpectedSize`): its size must be
+//! the camera's (or the map's) where that is known, and within the largest camera image (or
+//! map) where it is not; the file must be long enough for what the header declares.
 //!
 //! A pixel the reference evaluates is a *surface mismatch*, left out of every score and counted
 //! in `Counts::surface_mismatch`, when the renderer drew background there, or when its depth `d`
 //! differs from the reference's distance `t` by more than `tolerance · t + DEPTH_FLOOR_WORLD`.
 
+mod expected_size;
+mod exr_image;
+mod map_light;
+mod png_image;
 mod read;
 mod shadow_map;
 mod surface;
 
-pub use read::{read_depth, read_visibility};
+pub use expected_size::ExpectedSize;
+pub use read::{ImageSource, read_depth, read_depth_from, read_visibility, read_visibility_from};
 pub use shadow_map::{ImportedShadowMap, read_shadow_map};
 pub use surface::evaluated_visibility;
 

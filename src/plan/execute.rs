@@ -14,7 +14,7 @@ use super::select::{
 };
 use super::{BinnedView, Pipeline, Plan, PlanInputError, build_layers_timed};
 use crate::gpu::{GpuDepthMap, GpuDevice, GpuTechnique, shade_visibility};
-use crate::import::{ReadOptions, evaluated_visibility, read_depth, read_visibility};
+use crate::import::evaluated_visibility;
 use crate::metrics::{LightUv, Stopwatch, attribute, median_ms, score_hard, score_soft};
 use crate::raster::{DepthFormat, LightView};
 use crate::record::{PipelineUsed, RunRecord, SceneRecord, ScheduleRecord, Timings};
@@ -467,9 +467,8 @@ fn load_imported(plan: &Plan, traced: &TracedView) -> Result<Vec<Imported>, Plan
 }
 
 fn read_external(params: &ExternalParams, traced: &TracedView) -> Result<Vec<f32>, crate::error::Error> {
-    let visibility = read_visibility(&params.visibility, &params.read_options())?;
-    let depth_options = ReadOptions { channel: None, flip_y: params.flip_y };
-    let depth = params.depth.as_ref().map(|d| read_depth(d, &depth_options)).transpose()?;
+    // Both checked against the camera's size before a pixel is decoded.
+    let (visibility, depth) = params.read_buffers(traced.camera)?;
     evaluated_visibility(traced.gbuffer, traced.camera, &visibility, depth.as_ref(), params.depth_tolerance())
 }
 

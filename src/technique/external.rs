@@ -8,7 +8,11 @@
 use super::canonical::CanonicalFields;
 use super::params::{err, non_negative};
 use super::{Technique, TechniqueParams, TechniqueSpecError};
-use crate::import::{DEFAULT_DEPTH_TOLERANCE, ReadOptions};
+use crate::import::{
+    DEFAULT_DEPTH_TOLERANCE, ExpectedSize, ImageSource, ImportedImage, ReadOptions, read_depth_from,
+    read_visibility_from,
+};
+use crate::scene::Camera;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -60,10 +64,29 @@ impl ExternalParams {
         ReadOptions { channel: self.channel.clone(), flip_y: self.flip_y }
     }
 
+    /// The visibility file and the depth file (if any) of a view of `camera`, each header checked
+    /// to declare the camera's size before a pixel is decoded.
+    pub fn read_buffers(
+        &self,
+        camera: &Camera,
+    ) -> crate::error::Result<(ImportedImage, Option<ImportedImage>)> {
+        let expected = ExpectedSize::of_camera(camera);
+        let visibility = read_visibility_from(file(&self.visibility), &self.read_options(), expected)?;
+        let depth_options = ReadOptions { channel: None, flip_y: self.flip_y };
+        let depth =
+            self.depth.as_deref().map(|d| read_depth_from(file(d), &depth_options, expected)).transpose()?;
+        Ok((visibility, depth))
+    }
+
     /// The relative depth tolerance (`crate::import`), its default filled in.
     pub fn depth_tolerance(&self) -> f64 {
         self.depth_tolerance.unwrap_or(DEFAULT_DEPTH_TOLERANCE)
     }
+}
+
+/// A file named by a technique entry.
+fn file(name: &str) -> ImageSource<'_> {
+    ImageSource::File(Path::new(name))
 }
 
 /// A file name: not empty, and braces only around a known placeholder.
