@@ -14,6 +14,13 @@
 //! A cleaner may lock a temporary file in the instant between its creation and its writer's
 //! lock; the writer's lock then waits until the cleaner has removed it, the writer finds its file
 //! gone and starts over with a new one.
+//!
+//! Every output goes through here, and what is at its path decides how it is written
+//! (`OutputTarget`): nothing or a regular file is replaced by the rename; a FIFO or a character
+//! device (`/dev/stdout`, `/dev/null`, a terminal), or a symbolic link to one, is written into in
+//! place, as a shell redirection writes it, and stays what it is; anything else (a folder, a
+//! socket, a block device, any other symbolic link) is refused, naming the path and what it is,
+//! since a rename would replace what the tool did not write.
 
 use std::io::Write;
 use std::path::Path;
@@ -41,10 +48,27 @@ pub fn write_atomic_unsynced(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 }
 
 fn replace_file(path: &Path, bytes: &[u8], sync: bool) -> std::io::Result<()> {
+    match output_target(path)? {
+        OutputTarget::Replace => {}
+        OutputTarget::Stream => return write_in_place(path, bytes),
+        OutputTarget::Refuse(what) => return Err(refusal(path, &what)),
+    }
     let mut tmp = temp_file_for(path)?;
     tmp.write_all(bytes)?;
     if sync {
         tmp.as_file().sync_all()?;
+    }
+    persist(tmp, path)
+}
+
+/// Renames a temporary file of `temp_file_for` over `path`, when `path` is still nothing or a
+/// regular file: what is there may have changed while the file was written (an animation is
+/// written over a whole run).
+pub fn persist(tmp: NamedTempFile, path: &Path) -> std::io::Result<()> {
+    match output_target(path)? {
+        OutputTarget::Replace => {}
+        OutputTarget::Stream => return Err(refusal(path, "a stream (FIFO or character device)")),
+        OutputTarget::Refuse(what) => return Err(refusal(path, &what)),
     }
     // On failure the temporary file is removed when the returned `NamedTempFile` drops.
     tmp.persist(path).map_err(|e| e.error)?;
@@ -55,10 +79,113 @@ fn replace_file(path: &Path, bytes: &[u8], sync: bool) -> std::io::Result<()> {
 /// persisted to `path` or dropped: for a file written piece by piece (an animation) that must
 /// appear whole.
 pub fn temp_file_for(path: &Path) -> std::io::Result<NamedTempFile> {
+    match output_target(path)? {
+        OutputTarget::Replace => {}
+        OutputTarget::Stream => return Err(refusal(path, "a stream (FIFO or character device)")),
+        OutputTarget::Refuse(what) => return Err(refusal(path, &what)),
+    }
     let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
     std::fs::create_dir_all(dir)?;
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     locked_temp_file(dir, &name)
+}
+
+/// How an output path is written, from what is there now (see the module comment).
+enum OutputTarget {
+    /// Nothing, or a regular file: a temporary file renamed over it.
+    Replace,
+    /// A FIFO or character device, or a link to one: written into in place.
+    Stream,
+    /// Anything else, described (`a folder`).
+    Refuse(String),
+}
+
+fn output_target(path: &Path) -> std::io::Result<OutputTarget> {
+    let kind = match std::fs::symlink_metadata(path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(OutputTarget::Replace),
+        meta => meta?.file_type(),
+    };
+    if kind.is_file() {
+        return Ok(OutputTarget::Replace);
+    }
+    if is_stream(&kind) {
+        return Ok(OutputTarget::Stream);
+    }
+    if !kind.is_symlink() {
+        return Ok(OutputTarget::Refuse(kind_name(&kind).to_string()));
+    }
+    // `/dev/stdout` is a link to the process's stream; a link to anything else is not ours to
+    // replace, nor a place to write through to.
+    Ok(match std::fs::metadata(path) {
+        Ok(linked) if is_stream(&linked.file_type()) => OutputTarget::Stream,
+        Ok(linked) => {
+            OutputTarget::Refuse(format!("a symbolic link (to {})", kind_name(&linked.file_type())))
+        }
+        Err(_) => OutputTarget::Refuse("a symbolic link (to nothing)".to_string()),
+    })
+}
+
+/// Whether a file of this type is written as a stream: a FIFO or a character device.
+fn is_stream(kind: &std::fs::FileType) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        kind.is_fifo() || kind.is_char_device()
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = kind;
+        false
+    }
+}
+
+/// What a file of this type is, for messages.
+fn kind_name(kind: &std::fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_block_device() {
+            return "a block device";
+        }
+        if kind.is_socket() {
+            return "a socket";
+        }
+        if kind.is_fifo() {
+            return "a FIFO";
+        }
+        if kind.is_char_device() {
+            return "a character device";
+        }
+    }
+    if kind.is_dir() {
+        "a folder"
+    } else if kind.is_symlink() {
+        "a symbolic link"
+    } else if kind.is_file() {
+        "a regular file"
+    } else {
+        "not a regular file"
+    }
+}
+
+fn refusal(path: &Path, what: &str) -> std::io::Error {
+    std::io::Error::new(
+        std::io::ErrorKind::AlreadyExists,
+        format!("{}: is {what}, not a regular file: refusing to replace it", path.display()),
+    )
+}
+
+/// Writes `bytes` into the FIFO or character device at `path` (never creating a file), as
+/// `> path` in a shell would; errors (`/dev/full`: no space left) name the path.
+fn write_in_place(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let named = |e: std::io::Error| std::io::Error::new(e.kind(), format!("{}: {e}", path.display()));
+    let mut file = std::fs::OpenOptions::new().write(true).open(path).map_err(named)?;
+    // What was opened, not what was looked at a moment before, decides.
+    let kind = file.metadata().map_err(named)?.file_type();
+    if !is_stream(&kind) {
+        return Err(refusal(path, kind_name(&kind)));
+    }
+    file.write_all(bytes).and_then(|()| file.flush()).map_err(named)
 }
 
 /// A new temporary file in `dir` for the target `target_name`, exclusively locked by this
@@ -146,6 +273,22 @@ use image::ImageEncoder;
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn what_is_not_a_regular_file_is_never_replaced() {
+        let dir = tempfile::tempdir().unwrap();
+        let (victim, link, folder) = (dir.path().join("v"), dir.path().join("l"), dir.path().join("d"));
+        std::fs::write(&victim, "kept").unwrap();
+        std::os::unix::fs::symlink(&victim, &link).unwrap();
+        std::fs::create_dir(&folder).unwrap();
+        let e = write_atomic(&link, b"new").unwrap_err().to_string();
+        assert!(e.contains("l: is a symbolic link (to a regular file)"), "{e}");
+        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        assert!(temp_file_for(&folder).unwrap_err().to_string().contains("d: is a folder"));
+        assert_eq!(std::fs::read_to_string(&victim).unwrap(), "kept");
+        write_atomic(&victim, b"new").unwrap(); // a regular file is replaced
+        assert_eq!(std::fs::read_to_string(&victim).unwrap(), "new");
+    }
 
     #[test]
     fn a_temp_file_is_a_stray_once_its_writer_is_gone() {

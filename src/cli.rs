@@ -164,7 +164,7 @@ struct GenerateArgs {
     seed: u64,
     /// The camera's image width and height in pixels.
     #[arg(long, value_delimiter = ',', value_name = "W,H", default_value = "1920,1080",
-          value_parser = clap::value_parser!(u32).range(1..=16384))]
+          value_parser = clap::value_parser!(u32).range(1..=crate::scene::MAX_IMAGE_SIDE as i64))]
     image: Vec<u32>,
     /// Output folder (created if missing); files of the same names in it are replaced.
     #[arg(short, long, value_name = "DIR")]
@@ -476,21 +476,61 @@ struct GateArgs {
 /// Parses the arguments and runs the command: 0 success, 1 a gate failed, 2 a usage or input
 /// error.
 pub fn main() -> std::process::ExitCode {
+    use clap::{CommandFactory, FromArgMatches};
     use std::process::ExitCode;
-    let args = match Cli::try_parse() {
-        Ok(args) => args,
+    let parsed = Cli::command().try_get_matches().and_then(|m| Ok((Cli::from_arg_matches(&m)?, m)));
+    let (args, matches) = match parsed {
+        Ok(parsed) => parsed,
         Err(e) => {
             let code = if e.use_stderr() { 2 } else { 0 };
             let _ = e.print();
             return ExitCode::from(code);
         }
     };
-    match run(args) {
+    let result = lock_output_folder(&matches).and_then(|()| run(args));
+    crate::output_lock::release_output_folders();
+    match result {
         Ok(code) => ExitCode::from(code),
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::from(2)
         }
+    }
+}
+
+/// The commands that write into a folder, and the argument that names it: each locks its folder
+/// before it reads its inputs (`output_lock.rs`), so that a second process writing there is
+/// refused at once.
+const FOLDER_WRITING_COMMANDS: [(&str, &str); 9] = [
+    ("run", "out"),
+    ("papers", "out"),
+    ("tune", "out"),
+    ("score", "out"),
+    ("merge", "out"),
+    ("island", "out"),
+    ("view-export", "out"),
+    ("generate", "out"),
+    ("report", "dir"),
+];
+
+/// Locks the output folder of the command in `matches`, if it writes one.
+fn lock_output_folder(matches: &clap::ArgMatches) -> Result<()> {
+    let Some((command, sub)) = matches.subcommand() else { return Ok(()) };
+    let Some((_, arg)) = FOLDER_WRITING_COMMANDS.iter().find(|(name, _)| *name == command) else {
+        return Ok(());
+    };
+    let Some(path) = sub.try_get_one::<PathBuf>(arg).ok().flatten() else { return Ok(()) };
+    // `report` takes a folder or the report.json in it.
+    let dir = match (command == "report" && path.is_file()).then(|| path.parent()).flatten() {
+        Some(parent) if parent.as_os_str().is_empty() => Path::new("."),
+        Some(parent) => parent,
+        None => path.as_path(),
+    };
+    match crate::output_lock::lock_output_folder(dir) {
+        Err(held) if held.kind() == std::io::ErrorKind::WouldBlock => Err(held.into()),
+        // Any other failure (the path is a file, or under one) is the command's to report,
+        // naming its option, when it writes there.
+        _ => Ok(()),
     }
 }
 
@@ -1059,16 +1099,6 @@ fn generate(a: GenerateArgs) -> Result<u8> {
     let [width_px, height_px] = a.image[..] else {
         bail!("--image takes the width and height: W,H");
     };
-    if a.instanced && a.kind != crate::generate::SceneKind::Forest {
-        bail!("--instanced makes a forest of one tree: give `forest`");
-    }
-    if !a.instanced && a.triangles > crate::generate::MAX_HELD_TRIANGLES {
-        bail!(
-            "--triangles {}: a scene holds at most {} triangles; --instanced (forest) places more",
-            a.triangles,
-            crate::generate::MAX_HELD_TRIANGLES
-        );
-    }
     let options = crate::generate::GenerateOptions {
         kind: a.kind,
         triangles: a.triangles,
@@ -1077,6 +1107,8 @@ fn generate(a: GenerateArgs) -> Result<u8> {
         height_px,
         instanced: a.instanced,
     };
+    // Checked against the loader's own limits before the folder is touched.
+    crate::generate::check_options(&options).map_err(anyhow::Error::msg)?;
     let (path, triangles) = crate::generate::write_generated(&a.out, &options)
         .with_context(|| format!("writing the scene into {}", a.out.display()))?;
     println!("{} ({triangles} triangles)", path.display());
@@ -1100,4 +1132,18 @@ fn view_export(a: ViewExportArgs) -> Result<u8> {
         }
     }
     Ok(0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_folder_writing_command_names_its_folder_argument() {
+        let cli = <Cli as clap::CommandFactory>::command();
+        for (name, arg) in FOLDER_WRITING_COMMANDS {
+            let command = cli.find_subcommand(name).unwrap_or_else(|| panic!("no command {name}"));
+            assert!(command.get_arguments().any(|a| a.get_id() == arg), "{name} has no argument {arg}");
+        }
+    }
 }

@@ -35,8 +35,10 @@ extern crate self as shadowtruth;
 
 mod api;
 pub(crate) mod atomic_file;
+pub(crate) mod output_lock;
 mod cli;
 mod error;
+pub(crate) mod file_name;
 #[doc(hidden)]
 pub mod fuzzing;
 #[doc(hidden)]
@@ -48,6 +50,7 @@ pub mod gpu_pipeline {
 pub(crate) mod generate;
 pub(crate) mod gpu;
 pub mod import;
+pub(crate) mod input_file;
 pub(crate) mod json_input;
 pub mod metrics;
 pub(crate) mod papers;

@@ -6,7 +6,7 @@
 mod common;
 
 use shadowtruth::scene::ViewKey;
-use shadowtruth::trace::{ReferenceCache, SoftReference};
+use shadowtruth::trace::{ReferenceCache, SoftKind, SoftReference};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -129,6 +129,11 @@ fn threads_storing_into_one_cache_keep_every_manifest_entry() {
 /// How this tool names its temporary files (`src/atomic_file.rs`, `TEMP_PREFIX`).
 const TEMP_PREFIX: &str = ".shadowtruth-tmp.";
 
+/// The cache's file name of the hard mask of the view `a`/`c`/`l0`.
+fn mask_file() -> String {
+    ReferenceCache::mask_path(ViewKey::new("a", "c", "l0"))
+}
+
 /// A temporary file named as this tool names them, of a writer that died (no lock held).
 fn dead_temp_file(dir: &Path, target: &str) -> PathBuf {
     std::fs::create_dir_all(dir).unwrap();
@@ -163,13 +168,13 @@ fn the_next_run_removes_stray_temp_files_and_keeps_live_ones() {
         dead_temp_file(&out.join("figures"), "a.c.l0.reference.png"),
         dead_temp_file(&out.join("plots"), "resolution.svg"),
         dead_temp_file(&refs, "manifest.json"),
-        dead_temp_file(&refs.join("a"), "c__l0.png"),
+        dead_temp_file(&refs, &mask_file()),
     ];
     let live = [
         live_temp_file(&out, "index.html"),
         live_temp_file(&out.join("figures"), "a.c.l0.reference.png"),
         live_temp_file(&refs, "manifest.json"),
-        live_temp_file(&refs.join("a"), "c__l0.png"),
+        live_temp_file(&refs, &mask_file()),
     ];
     shadowtruth(
         &["run", "a.json", "--plan", "plan.json", "-o", "out", "--references", "refs", "--quiet"],
@@ -306,7 +311,10 @@ fn soft_exrs_are_byte_identical_across_runs_and_thread_counts() {
         let args = ["run", "a.json", "--plan", "plan.json", "-o", "out", "--references", &refs];
         shadowtruth(&[&args[..], &["--no-figures", "--quiet", "--threads", threads]].concat(), dir.path());
     }
-    for file in ["a/c__l0.coverage-2x2.exr", "a/c__l0.area-2x2.exr"] {
+    let view = ViewKey::new("a", "c", "l0");
+    let files =
+        [SoftKind::Coverage, SoftKind::AreaLight].map(|kind| ReferenceCache::soft_path(view, kind, 2));
+    for file in &files {
         let (one, two) =
             (read(dir.path().join("refs1").join(file)), read(dir.path().join("refs2").join(file)));
         assert!(one == two, "{file}: the cached EXR differs between 1 and 2 threads");

@@ -12,6 +12,9 @@ const TARGETS: &[(&str, Entry)] = &[
     ("obj_reader", shadowtruth::fuzzing::obj_reader),
     ("plan_reader", shadowtruth::fuzzing::plan_reader),
     ("gate_rules", shadowtruth::fuzzing::gate_rules),
+    ("gltf_reader", shadowtruth::fuzzing::gltf_reader),
+    ("image_reader", shadowtruth::fuzzing::image_reader),
+    ("tune_options", shadowtruth::fuzzing::tune_options),
 ];
 
 /// Runs every file of `fuzz/corpus/<target>/` and names each one that panics.

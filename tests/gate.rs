@@ -385,7 +385,9 @@ fn the_example_gate_runs_on_a_report_with_the_shipped_setting() {
     assert_eq!(code, 0, "stdout: {stdout}\nstderr: {stderr}");
     assert!(stdout.starts_with("4 rules, 6 runs checked, 0 violations"), "{stdout}");
     // One more false-shadow pixel of the shipped setting at 1024² breaks the no-regression rule.
-    now.runs.last_mut().unwrap().counts.false_shadow += 1;
+    let last = now.runs.last_mut().unwrap();
+    last.counts.false_shadow += 1;
+    last.rates = last.counts.rates();
     write_report(dir.path(), "now", &now);
     let (code, stdout, _) = gate(&["now", "--rules", example, "--baseline", "base"], dir.path());
     assert_eq!(code, 1, "{stdout}");
@@ -572,6 +574,7 @@ fn inconsistent_reports_exit_2_naming_the_file_and_path() {
     let mut empty = report(0);
     for r in &mut empty.runs {
         r.counts = Counts { pixels: 10, background: 10, ..Counts::default() };
+        r.rates = r.counts.rates();
     }
     write_report(dir.path(), "empty", &empty);
     check("empty", &["empty/report.json: runs: none of the 4 runs evaluated a pixel"]);
@@ -589,6 +592,7 @@ fn a_rule_matching_a_run_that_evaluated_nothing_exits_2() {
     let dir = tempfile::tempdir().unwrap();
     let mut now = report(0);
     now.runs[3].counts = Counts { pixels: 10, background: 10, ..Counts::default() };
+    now.runs[3].rates = now.runs[3].counts.rates();
     write_report(dir.path(), "now", &now);
     write(dir.path(), "rules.toml", ABSOLUTE);
     assert_bad_input(

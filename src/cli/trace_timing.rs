@@ -11,7 +11,7 @@
 use crate::metrics::{Stopwatch, median_ms};
 use crate::scene::{Camera, Light, Scene};
 use crate::trace::{GBuffer, SceneBvh, primary_directions, primary_hits, trace_hard_reference};
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use std::path::Path;
 
 /// Rays per second (in millions) of one kind, over how many rays.

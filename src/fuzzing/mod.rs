@@ -6,8 +6,14 @@
 //! and, in the ordinary test suite, over every file of the committed corpus (tests/fuzz_corpus.rs),
 //! which needs no nightly toolchain. Not a stable API.
 
+mod image_reader;
+pub use image_reader::*;
+
 use crate::scene::{Scene, load_scene_str_within, parse_obj};
 use std::path::{Component, Path, PathBuf};
+
+mod tune_options; pub use tune_options::*;
+mod gltf_reader; pub use gltf_reader::*;
 
 /// The folder that fuzzed scenes resolve their mesh paths in: a few small OBJ files under
 /// `meshes/`, named like the bundled scenes' meshes (fuzz/scene_dir/).

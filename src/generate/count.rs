@@ -2,11 +2,9 @@
 
 use super::MIN_TRIANGLES;
 use crate::scene::IndexedMesh;
-/// The most triangles a scene may hold (src/scene/format.rs), the loader's own constant.
-pub(crate) use crate::scene::MAX_SCENE_TRIANGLES as MAX_HELD_TRIANGLES;
 
 /// The most triangles a generated scene may number: what a scene may place with its instances
-/// (src/scene/format.rs); without instancing it may hold no more than `MAX_HELD_TRIANGLES`.
+/// (src/scene/format.rs); without instancing it may hold no more than `MAX_SCENE_TRIANGLES`.
 const MAX_TRIANGLES: u64 = crate::scene::MAX_INSTANCED_TRIANGLES;
 
 /// Parses a triangle count with an optional K or M suffix (decimals allowed with a suffix).

@@ -7,11 +7,12 @@ mod city;
 mod count;
 mod forest;
 mod loadable;
+pub(crate) use loadable::check_options;
 mod mesh_file;
 mod scene_file;
 mod terrain;
 
-pub(crate) use count::{MAX_HELD_TRIANGLES, parse_triangle_count};
+pub(crate) use count::parse_triangle_count;
 
 use crate::scene::{IndexedMesh, Transform};
 use std::path::{Path, PathBuf};

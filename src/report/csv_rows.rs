@@ -3,6 +3,11 @@
 //! path and a run on cascaded shadow maps hold lists (per frame, per cascade) that no cell holds
 //! well: their summaries are the [`PATH_COLUMNS`] instead, after every other column so that no
 //! column moves when a report has such runs.
+//!
+//! Names come from untrusted scene and plan files, and a spreadsheet runs a cell that starts with
+//! `=`, `+`, `-`, `@`, a tab or a carriage return as a formula: every text cell (and column name)
+//! that starts so gets a leading `'`, as OWASP advises against CSV injection. Numbers are written
+//! as they are (a negative number is a number, not a formula).
 
 use super::{Report, RunRecord};
 use serde_json::Value;
@@ -16,10 +21,18 @@ fn flatten(prefix: &str, value: &Value, out: &mut Vec<(String, String)>) {
                 flatten(&key, v, out);
             }
         }
-        Value::String(s) => out.push((prefix.to_string(), s.clone())),
+        Value::String(s) => out.push((prefix.to_string(), neutralised(s))),
         Value::Null => out.push((prefix.to_string(), String::new())),
         other => out.push((prefix.to_string(), other.to_string())),
     }
+}
+
+/// The first characters that make a spreadsheet take a cell for a formula.
+const FORMULA_STARTS: [char; 6] = ['=', '+', '-', '@', '\t', '\r'];
+
+/// `text` as a cell that no spreadsheet runs: with a leading `'` when it starts as a formula.
+fn neutralised(text: &str) -> String {
+    if text.starts_with(FORMULA_STARTS) { format!("'{text}") } else { text.to_string() }
 }
 
 /// The last columns, in every report: the summary of `temporal` (empty for a run of one frame)
@@ -67,7 +80,8 @@ pub fn report_csv(report: &Report) -> Result<String, csv::Error> {
         }
     }
     let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(columns.iter().map(String::as_str).chain(PATH_COLUMNS))?;
+    let header = columns.iter().map(|c| neutralised(c));
+    w.write_record(header.chain(PATH_COLUMNS.map(String::from)))?;
     for (row, run) in rows.iter().zip(&report.runs) {
         let cells = columns.iter().map(|c| row.iter().find(|(k, _)| k == c).map_or("", |(_, v)| v.as_str()));
         let path = path_cells(run);
@@ -135,6 +149,28 @@ mod tests {
         let text = report_csv(&Report { runs, ..Report::new() }).unwrap();
         let mut reader = csv::ReaderBuilder::new().has_headers(false).from_reader(text.as_bytes());
         reader.records().map(Result::unwrap).collect()
+    }
+
+    #[test]
+    fn text_that_starts_as_a_formula_is_quoted_and_numbers_stay_numbers() {
+        let mut r = run("=HYPERLINK(\"x\")");
+        r.scene = "+1".into();
+        r.camera = "@SUM(A1)".into();
+        r.light = "\tsun".into();
+        r.parameters.insert("-bias".into(), serde_json::json!(-0.5));
+        r.parameters.insert("tag".into(), serde_json::json!("-2"));
+        let rows = table(vec![r]);
+        let cell = |column: &str| {
+            let at = rows[0].iter().position(|c| c == column).unwrap_or_else(|| panic!("{column}"));
+            rows[1][at].to_string()
+        };
+        assert_eq!(cell("label"), "'=HYPERLINK(\"x\")");
+        assert_eq!(cell("scene"), "'+1");
+        assert_eq!(cell("camera"), "'@SUM(A1)");
+        assert_eq!(cell("light"), "'\tsun");
+        assert_eq!(cell("parameters.tag"), "'-2");
+        assert_eq!(cell("parameters.-bias"), "-0.5");
+        assert_eq!(cell("technique"), "none");
     }
 
     #[test]

@@ -120,8 +120,7 @@ impl Movie {
     /// a rerun draws it again.
     fn finish(self) -> std::io::Result<()> {
         self.png.finish().map_err(std::io::Error::other)?;
-        self.temp.persist(&self.path).map_err(|e| e.error)?;
-        Ok(())
+        crate::atomic_file::persist(self.temp, &self.path)
     }
 
     fn error(&self, what: String) -> std::io::Error {

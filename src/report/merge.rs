@@ -2,14 +2,18 @@
 //! the whole run would have written — report.json in schedule order (`schedule_order.rs`), the
 //! shards' figures copied, report.csv, plots and index.html rendered from the merged report —
 //! equal to it apart from timings. Shards of different schedules, a missing or repeated shard, a
-//! folder that is no shard, a run in a view of another shard and an unfinished shard are refused
-//! before anything is written.
+//! folder that is no shard, a run in a view of another shard, an unfinished shard and a shard
+//! missing a figure of its runs are refused before anything is written.
 
+use super::figure_sink::grid_file_name;
+use super::figures::{run_stem, view_stem};
 use super::schedule_order::put_in_schedule_order;
-use super::{Report, ReportWriter, load_report, write_report_outputs};
+use super::{Report, ReportWriter, RunRecord, load_report, write_report_outputs};
 use crate::atomic_file::write_atomic;
 use crate::plan::Shard;
+use crate::raster::DepthFormat;
 use crate::record::{ScheduleRecord, ShardRecord, ViewName};
+use crate::scene::ViewKey;
 use anyhow::{Context, Result, anyhow, bail};
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
@@ -34,6 +38,7 @@ pub fn merge_shards(dirs: &[PathBuf], out: &Path) -> Result<Report> {
             bail!("-o {}: the output folder is one of the shards; choose another", out.display());
         }
     }
+    check_figures(&shards)?;
     let report = merged_report(&shards);
     let mut writer = ReportWriter::create(out).with_context(|| format!("opening {}", out.display()))?;
     writer.replace_report(report.clone());
@@ -130,6 +135,52 @@ fn check_runs(s: &ShardFolder) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Every figure that each shard's report says it wrote is there. The figures option is part of
+/// the schedule identity that every shard shares, so when one shard holds figures every shard
+/// wrote them: each view's reference, each run's technique and error figures, each map's grid
+/// (`figure_sink.rs`).
+fn check_figures(shards: &[ShardFolder]) -> Result<()> {
+    if !shards.iter().any(|s| holds_figures(&s.dir)) {
+        return Ok(()); // run with --no-figures
+    }
+    for s in shards {
+        for (i, run) in s.report.runs.iter().enumerate() {
+            let Some(format) = DepthFormat::parse(&run.depth_format) else {
+                bail!("{}: runs[{i}].depth_format: {:?} is not a depth format", s.file, run.depth_format);
+            };
+            for name in figures_of_run(run, format) {
+                if !s.dir.join("figures").join(&name).is_file() {
+                    bail!(
+                        "{}: runs[{i}]: figures/{name} is missing from {}: the shard's figures are not whole \
+                         (run the shard again)",
+                        s.file,
+                        s.dir.display()
+                    );
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The figures written for `run` and its view and map.
+fn figures_of_run(run: &RunRecord, format: DepthFormat) -> [String; 4] {
+    let view = ViewKey::new(&run.scene, &run.camera, &run.light);
+    let stem = run_stem(run);
+    [
+        format!("{}.reference.png", view_stem(view)),
+        format!("{stem}.technique.png"),
+        format!("{stem}.error.png"),
+        grid_file_name(view, run.resolution, format),
+    ]
+}
+
+/// Whether `dir/figures` holds a figure.
+fn holds_figures(dir: &Path) -> bool {
+    std::fs::read_dir(dir.join("figures"))
+        .is_ok_and(|entries| entries.flatten().any(|e| e.path().extension().is_some_and(|x| x == "png")))
 }
 
 /// The first given shard's header, every shard's scenes (each scene once) and runs, in schedule order.

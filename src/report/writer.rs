@@ -11,6 +11,9 @@
 //! `ReportWriter::resume` reopens an interrupted folder instead (`run --resume`): its finished
 //! runs and figures stay, the new runs join them, and the report is kept in schedule order
 //! (`schedule_order.rs`).
+//!
+//! Both first lock the folder (`output_lock.rs`): a folder that another live process is writing
+//! is refused before anything in it is removed or written.
 
 use super::{Report, RunRecord, SceneRecord};
 use crate::atomic_file::{remove_stray_temp_files, write_atomic};
@@ -56,6 +59,7 @@ impl ReportWriter {
     /// the temporary files of killed runs are removed. The plan's schedule must have the
     /// identity of `report`'s, or the plan stops before anything is built.
     pub fn resume(dir: &Path, report: Report) -> std::io::Result<Self> {
+        crate::output_lock::lock_output_folder(dir)?;
         remove_stray_report_temp_files(dir)?;
         let identity = report.schedule.as_ref().map(|s| s.identity.clone()).unwrap_or_default();
         Ok(ReportWriter { report, tracks_schedule: true, resumed_identity: Some(identity), ..Self::new(dir) })
@@ -69,11 +73,11 @@ impl ReportWriter {
         self.report.shard = shard;
     }
 
-    /// Opens `dir` as the report folder of a new run: creates it, removes the temporary files of
-    /// killed runs, and returns a writer that removes the outputs of an earlier run just before it
-    /// first writes report.json (see the module comment).
+    /// Opens `dir` as the report folder of a new run: creates and locks it, removes the temporary
+    /// files of killed runs, and returns a writer that removes the outputs of an earlier run just
+    /// before it first writes report.json (see the module comment).
     pub fn create(dir: &Path) -> std::io::Result<Self> {
-        std::fs::create_dir_all(dir)?;
+        crate::output_lock::lock_output_folder(dir)?;
         remove_stray_report_temp_files(dir)?;
         Ok(ReportWriter { earlier_run_pending: true, ..Self::new(dir) })
     }

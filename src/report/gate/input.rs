@@ -1,6 +1,11 @@
 //! Reading reports, and the consistency a report must have before the gate trusts its numbers:
-//! counts within the evaluated pixels, some pixels evaluated, soft errors in [0, 1], each run once.
-//! Every problem names the file and the JSON path.
+//! counts within the evaluated pixels, rates that are those of the counts, some pixels evaluated,
+//! soft errors in [0, 1], each run once. Every problem names the file and the JSON path.
+//!
+//! Rates are compared exactly: a run's rates are written by `Counts::rates` and report.json
+//! stores each f64 as the shortest decimal that reads back as the same bits (serde_json with
+//! `float_roundtrip`), so recomputing them with `Counts::rates` gives the same bits again; any
+//! difference is an edit.
 
 use super::GateError;
 use super::identity::{RunIdentity, RunName};
@@ -110,6 +115,9 @@ fn run_problems(run: &RunRecord) -> Vec<String> {
         let what = if c.surface_mismatch == 0 { "evaluated" } else { "evaluated - surface_mismatch" };
         problems.push(format!(".counts: false_shadow + false_lit = {both} > {what} {}", c.scored()));
     }
+    if problems.is_empty() {
+        problems.extend(rate_problems(run));
+    }
     if let Some(soft) = &run.soft {
         for (field, v) in [
             ("mae", soft.mae),
@@ -135,6 +143,27 @@ fn run_problems(run: &RunRecord) -> Vec<String> {
         }
     }
     problems
+}
+
+/// Rates that are not those of the run's counts (see the module comment), each naming the field
+/// and the run.
+fn rate_problems(run: &RunRecord) -> Vec<String> {
+    let (written, counted) = (run.rates, run.counts.rates());
+    let fields = [
+        ("false_shadow", written.false_shadow, counted.false_shadow),
+        ("false_lit", written.false_lit, counted.false_lit),
+        ("error", written.error, counted.error),
+    ];
+    fields
+        .into_iter()
+        .filter(|(_, written, counted)| written != counted)
+        .map(|(field, written, counted)| {
+            format!(
+                ".rates.{field}: {written} is not the rate of the counts ({counted}) of {}",
+                RunName::of(run)
+            )
+        })
+        .collect()
 }
 
 /// A report with no run, or none that evaluated a pixel, has nothing to gate.
@@ -195,6 +224,23 @@ mod tests {
         let mut over = run("a", 100, 0, 0);
         over.counts.pixels = 99;
         assert_eq!(problems(vec![over]), vec!["r.json: runs[0].counts.evaluated: 100 > pixels 99"]);
+    }
+
+    #[test]
+    fn rates_that_are_not_those_of_the_counts_are_rejected() {
+        let mut edited = run("b", 700, 70, 7);
+        edited.rates.error = 0.01;
+        let p = problems(vec![run("a", 100, 0, 0), edited]);
+        assert_eq!(p.len(), 1, "{p:?}");
+        let expected =
+            format!("r.json: runs[1].rates.error: 0.01 is not the rate of the counts ({})", 77.0 / 700.0);
+        assert!(p[0].starts_with(&expected), "{p:?}");
+        assert!(p[0].contains("b/main/sun"), "{p:?}");
+        // A third that does not round-trip exactly still passes when written by `Counts::rates`.
+        let third = run("c", 3, 1, 0);
+        let text = serde_json::to_string(&Report { runs: vec![third], ..Report::new() }).unwrap();
+        let read = parse_report(&text).unwrap();
+        assert!(CheckedReport::new(read, "r.json").is_ok());
     }
 
     #[test]
