@@ -41,12 +41,12 @@ impl ExpectedSize {
     }
 
     /// Whether a header's `width` × `height` is this size; the error says "declares W×H,
-    /// expected W×H".
+    /// expected …W×H".
     pub fn check(self, width: u64, height: u64) -> Result<(), String> {
         let declares = format!("declares {width}×{height}");
         match self {
             ExpectedSize::View { width: w, height: h } if (width, height) != (w as u64, h as u64) => Err(
-                format!("{declares}, expected {w}×{h} ({width}×{height} pixels, but the view is {w}×{h})"),
+                format!("{declares}, expected the camera's {w}×{h}"),
             ),
             ExpectedSize::Map { resolution: r } if (width, height) != (r as u64, r as u64) => {
                 Err(format!("{declares}, expected {r}×{r} (the sidecar's `resolution`)"))
@@ -93,7 +93,7 @@ mod tests {
         assert!(view.check(32, 24).is_ok());
         assert_eq!(
             view.check(16, 16).unwrap_err(),
-            "declares 16×16, expected 32×24 (16×16 pixels, but the view is 32×24)"
+            "declares 16×16, expected the camera's 32×24"
         );
         assert!(ExpectedSize::Map { resolution: 8 }.check(8, 9).unwrap_err().contains("expected 8×8"));
         let any = ExpectedSize::ANY_CAMERA;

@@ -233,7 +233,7 @@ mod tests {
              camera image)"
         );
         let e = from_bytes("huge_header.png", None, false, ExpectedSize::View { width: 32, height: 24 });
-        assert!(e.unwrap_err().to_string().contains("declares 20000×20000, expected 32×24"));
+        assert!(e.unwrap_err().to_string().contains("declares 20000×20000, expected the camera's 32×24"));
         let e = from_bytes("truncated_offsets.exr", None, false, any).unwrap_err().to_string();
         assert!(
             e.contains("declares 64 chunks, whose offset table alone is more than the file's 293 bytes"),
@@ -241,7 +241,7 @@ mod tests {
         );
         let e =
             from_bytes("wide.exr", None, false, ExpectedSize::View { width: 32, height: 24 }).unwrap_err();
-        assert!(e.to_string().contains("declares 40×24, expected 32×24"));
+        assert!(e.to_string().contains("declares 40×24, expected the camera's 32×24"));
     }
 
     /// A PNG of 64 MB of zeros, compressed at deflate's best, is read; cut to 1000 bytes, its
