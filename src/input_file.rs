@@ -40,7 +40,8 @@ pub fn open_inside(folder: &Path, relative: &str) -> Result<InsideFile, String> 
         return Err(format!("{shown} is {}, not a regular file", file_kind(&metadata)));
     }
     let canonical = path.canonicalize().map_err(|e| format!("cannot resolve {shown}: {e}"))?;
-    let canonical_folder = folder.canonicalize().map_err(|e| format!("cannot resolve {}: {e}", folder.display()))?;
+    let canonical_folder =
+        folder.canonicalize().map_err(|e| format!("cannot resolve {}: {e}", folder.display()))?;
     if !canonical.starts_with(&canonical_folder) {
         return Err(format!(
             "{shown} leads out of the folder {} through a symbolic link: only files inside it are read",

@@ -35,12 +35,12 @@ extern crate self as shadowtruth;
 
 mod api;
 pub(crate) mod atomic_file;
-pub(crate) mod output_lock;
 mod cli;
 mod error;
 pub(crate) mod file_name;
 #[doc(hidden)]
 pub mod fuzzing;
+pub(crate) mod output_lock;
 #[doc(hidden)]
 pub mod gpu_pipeline {
     //! The command's GPU pipeline (`src/gpu/`), reachable for its cross-check against the CPU

@@ -224,7 +224,9 @@ fn mesh_paths_read_only_regular_files_inside_the_scene_folder() {
     write(&dir, "meshes/ground.obj", "v -5 0 -5\nv -5 0 5\nv 5 0 5\nf 1 2 3\n");
     write(root.path(), "outside.obj", "v -5 0 -5\nv -5 0 5\nv 5 0 5\nf 1 2 3\n");
     std::os::unix::fs::symlink(root.path().join("outside.obj"), dir.join("meshes/link.obj")).unwrap();
-    assert!(std::process::Command::new("mkfifo").arg(dir.join("meshes/pipe.obj")).status().unwrap().success());
+    assert!(
+        std::process::Command::new("mkfifo").arg(dir.join("meshes/pipe.obj")).status().unwrap().success()
+    );
     let outside = root.path().join("outside.obj").display().to_string();
     for (mesh, needle) in [
         ("meshes/pipe.obj", "a FIFO, not a regular file"),

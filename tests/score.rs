@@ -502,7 +502,10 @@ fn a_wrong_size_image_is_refused_before_its_pixels_are_allocated() {
             read_visibility_from(ImageSource::File(path), &ReadOptions::default(), view)
         });
         let e = result.unwrap_err().to_string();
-        assert!(e.contains(&format!("declares {side}×{side}, expected the camera's {WIDTH}×{HEIGHT}")), "{e}");
+        assert!(
+            e.contains(&format!("declares {side}×{side}, expected the camera's {WIDTH}×{HEIGHT}")),
+            "{e}"
+        );
         assert!(peak < 1 << 20, "{}: {peak} bytes held before the size was refused", path.display());
     }
     // The right size is read, holding little more than its final image (4 bytes a pixel).

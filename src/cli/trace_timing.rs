@@ -113,7 +113,8 @@ pub(super) fn ratio_line(ours_with_gbuffer: &OurTiming, theirs: &TraceTiming) ->
 /// The timing at `threads` in the other tracer's `--timing` output saved at `path`.
 pub(super) fn read_other_timing(path: &Path, threads: usize) -> Result<TraceTiming> {
     // A saved timing is a few lines; a megabyte is far more than any tracer prints.
-    let text = crate::input_file::read_named_text(path, 1 << 20).map_err(|e| anyhow::anyhow!("--embree-timing: {e}"))?;
+    let text = crate::input_file::read_named_text(path, 1 << 20)
+        .map_err(|e| anyhow::anyhow!("--embree-timing: {e}"))?;
     let timings: Vec<TraceTiming> = text.lines().filter_map(parse_timing_line).collect();
     if timings.is_empty() {
         bail!(

@@ -12,8 +12,10 @@ pub use image_reader::*;
 use crate::scene::{Scene, load_scene_str_within, parse_obj};
 use std::path::{Component, Path, PathBuf};
 
-mod tune_options; pub use tune_options::*;
-mod gltf_reader; pub use gltf_reader::*;
+mod tune_options;
+pub use tune_options::*;
+mod gltf_reader;
+pub use gltf_reader::*;
 
 /// The folder that fuzzed scenes resolve their mesh paths in: a few small OBJ files under
 /// `meshes/`, named like the bundled scenes' meshes (fuzz/scene_dir/).

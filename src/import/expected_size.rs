@@ -45,9 +45,9 @@ impl ExpectedSize {
     pub fn check(self, width: u64, height: u64) -> Result<(), String> {
         let declares = format!("declares {width}×{height}");
         match self {
-            ExpectedSize::View { width: w, height: h } if (width, height) != (w as u64, h as u64) => Err(
-                format!("{declares}, expected the camera's {w}×{h}"),
-            ),
+            ExpectedSize::View { width: w, height: h } if (width, height) != (w as u64, h as u64) => {
+                Err(format!("{declares}, expected the camera's {w}×{h}"))
+            }
             ExpectedSize::Map { resolution: r } if (width, height) != (r as u64, r as u64) => {
                 Err(format!("{declares}, expected {r}×{r} (the sidecar's `resolution`)"))
             }
@@ -91,10 +91,7 @@ mod tests {
     fn sizes_are_checked_against_the_expected_one_or_the_bound() {
         let view = ExpectedSize::View { width: 32, height: 24 };
         assert!(view.check(32, 24).is_ok());
-        assert_eq!(
-            view.check(16, 16).unwrap_err(),
-            "declares 16×16, expected the camera's 32×24"
-        );
+        assert_eq!(view.check(16, 16).unwrap_err(), "declares 16×16, expected the camera's 32×24");
         assert!(ExpectedSize::Map { resolution: 8 }.check(8, 9).unwrap_err().contains("expected 8×8"));
         let any = ExpectedSize::ANY_CAMERA;
         assert!(any.check(16384, 4096).is_ok());

@@ -23,12 +23,14 @@ mod view_key;
 pub use camera::{Camera, Film, FilmRow};
 pub use cascade_settings::{CascadeFit, CascadeSettings, MAX_CASCADES, SplitScheme};
 pub use error::{Problem, SceneError};
+pub(crate) use format::{
+    MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE, MAX_INSTANCED_TRIANGLES, MAX_INSTANCES, MAX_SCENE_TRIANGLES,
+};
 pub use instance::{Instance, SharedMesh, box_corners, is_degenerate, world_vertex};
 pub use light::{Light, LightKind, LightSize, NoLightSize};
 pub(crate) use load::load_scene_str_within;
-pub(crate) use format::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE, MAX_INSTANCED_TRIANGLES, MAX_INSTANCES, MAX_SCENE_TRIANGLES};
-pub(crate) use load_gltf::load_gltf_within;
 pub use load::{load_scene, load_scene_str};
+pub(crate) use load_gltf::load_gltf_within;
 pub use mesh_cache::{MESH_CACHE_DIR, MIN_CACHED_BYTES, mesh_cache_path};
 pub(crate) use obj::parse_obj;
 pub use path::{CameraPath, Interpolation, Keyframes, LightPath, frame_times, union_span};

@@ -26,7 +26,11 @@ pub(crate) fn read_obj(folder: &Path, relative: &str) -> Result<IndexedMesh, Vec
         return Ok(mesh);
     }
     if inside.len_bytes > MAX_OBJ_BYTES {
-        return Err(vec![format!("mesh {} is {} bytes, more than the {MAX_OBJ_BYTES} read", path.display(), inside.len_bytes)]);
+        return Err(vec![format!(
+            "mesh {} is {} bytes, more than the {MAX_OBJ_BYTES} read",
+            path.display(),
+            inside.len_bytes
+        )]);
     }
     let mut bytes = Vec::with_capacity(inside.len_bytes as usize);
     std::io::Read::read_to_end(&mut std::io::Read::take(inside.file, MAX_OBJ_BYTES), &mut bytes)
