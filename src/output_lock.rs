@@ -88,13 +88,7 @@ fn take_lock(dir: &Path, path: &Path) -> std::io::Result<File> {
     for _ in 0..LOCK_ATTEMPTS {
         // A releaser may have removed the folder it had created.
         std::fs::create_dir_all(dir).map_err(|e| named(dir, "cannot create the folder", e))?;
-        let mut file = std::fs::OpenOptions::new()
-            .read(true)
-            .write(true)
-            .create(true)
-            .truncate(false)
-            .open(path)
-            .map_err(|e| named(path, "cannot open the lock file", e))?;
+        let mut file = open_lock_file(path).map_err(|e| named(path, "cannot open the lock file", e))?;
         match FileExt::try_lock(&file) {
             Ok(()) => {}
             Err(fs4::TryLockError::WouldBlock) => return Err(held_elsewhere(dir, &mut file)),
@@ -109,6 +103,21 @@ fn take_lock(dir: &Path, path: &Path) -> std::io::Result<File> {
         return Ok(file);
     }
     Err(named(path, "the lock file kept being replaced", std::io::Error::other("try again")))
+}
+
+/// Opens (or creates) a lock file for reading and writing, never through a symbolic link: a
+/// folder that arrived from elsewhere may hold a lock file that links to a file of the user's,
+/// which the PID written into it would overwrite. Anything but a regular file is refused.
+pub(crate) fn open_lock_file(path: &Path) -> std::io::Result<File> {
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true).write(true).create(true).truncate(false);
+    #[cfg(unix)]
+    std::os::unix::fs::OpenOptionsExt::custom_flags(&mut options, libc::O_NOFOLLOW | libc::O_NONBLOCK);
+    let file = options.open(path)?;
+    if !file.metadata()?.is_file() {
+        return Err(std::io::Error::other("not a regular file"));
+    }
+    Ok(file)
 }
 
 /// Whether `path` still names the open `file` (same device and inode).
@@ -152,6 +161,27 @@ fn named(path: &Path, what: &str, e: std::io::Error) -> std::io::Error {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A lock file that links elsewhere is refused and what it links to stays as it was.
+    #[cfg(unix)]
+    #[test]
+    fn a_lock_file_that_is_a_link_is_never_written_through() {
+        let dir = tempfile::tempdir().unwrap();
+        let theirs = dir.path().join("theirs.txt");
+        std::fs::write(&theirs, b"keep me").unwrap();
+        let out = dir.path().join("out");
+        std::fs::create_dir(&out).unwrap();
+        std::os::unix::fs::symlink(&theirs, out.join(LOCK_FILE_NAME)).unwrap();
+        assert!(lock_output_folder(&out).is_err());
+        assert!(open_lock_file(&out.join(LOCK_FILE_NAME)).is_err());
+        assert_eq!(std::fs::read(&theirs).unwrap(), b"keep me");
+        // A dangling link creates nothing where it points.
+        let dangling = dir.path().join("dangling");
+        std::fs::create_dir(&dangling).unwrap();
+        std::os::unix::fs::symlink(dir.path().join("nowhere"), dangling.join(LOCK_FILE_NAME)).unwrap();
+        assert!(open_lock_file(&dangling.join(LOCK_FILE_NAME)).is_err());
+        assert!(!dir.path().join("nowhere").exists());
+    }
 
     #[test]
     fn a_folder_locked_by_another_open_file_is_refused_with_its_pid() {

@@ -101,6 +101,30 @@ fn buffer_paths_that_leave_the_folder_are_refused_before_opening() {
     }
 }
 
+/// An embedded buffer is held to `byteLength` as a file is: a `data:` URI of more base64 digits
+/// than its declared bytes take is refused before it is decoded; one of exactly those loads.
+#[test]
+fn a_data_uri_longer_than_its_byte_length_is_refused() {
+    const DIGITS: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let base64 = |bytes: &[u8]| -> String {
+        let mut out = String::new();
+        for chunk in bytes.chunks(3) {
+            let n = chunk.iter().enumerate().fold(0u32, |n, (i, &b)| n | (b as u32) << (16 - 8 * i));
+            for k in 0..=chunk.len() {
+                out.push(DIGITS[(n >> (18 - 6 * k) & 63) as usize] as char);
+            }
+        }
+        out
+    };
+    let folders = Folders::new();
+    let uri = format!("data:application/octet-stream;base64,{}", base64(&triangle_bytes()));
+    assert!(folders.load(&uri, 36).is_ok(), "the triangle's own 36 bytes load");
+    let padded = [triangle_bytes(), vec![0; 300]].concat();
+    let long_uri = format!("data:application/octet-stream;base64,{}", base64(&padded));
+    let message = folders.refused(&long_uri, 36, "buffers[0].uri");
+    assert!(message.contains("hold more than the 36 bytes of byteLength"), "{message}");
+}
+
 #[test]
 fn a_buffer_file_shorter_than_declared_is_refused_by_its_length() {
     let folders = Folders::new();

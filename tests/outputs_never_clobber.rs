@@ -61,8 +61,8 @@ fn hold_cache_manifest(dir: &Path) -> std::fs::File {
     file
 }
 
-/// `run` into `dir/out` through the cache `dir/refs`, started, and waited on until it has written
-/// its first report.json: it then holds the folder, and cannot end while the cache's manifest is
+/// `run` into `dir/out` through the cache `dir/refs`, started, and waited on until its report.json
+/// holds its scene: it then holds the folder, and cannot end while the cache's manifest is
 /// held (it records its reference there before its runs).
 fn start_blocked_run(dir: &Path) -> Child {
     let mut child = binary()
@@ -72,7 +72,15 @@ fn start_blocked_run(dir: &Path) -> Child {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    while !dir.join("out/report.json").exists() {
+    // report.json is written when the plan is known and again when the scene is built; the next
+    // write waits for the cache's manifest.
+    let scene_recorded = || {
+        std::fs::read(dir.join("out/report.json"))
+            .ok()
+            .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok())
+            .is_some_and(|r| r["scenes"].as_array().is_some_and(|s| !s.is_empty()))
+    };
+    while !scene_recorded() {
         if let Some(status) = child.try_wait().unwrap() {
             let mut stderr = String::new();
             std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut stderr).unwrap();
@@ -264,4 +272,22 @@ fn csv_cells_that_start_as_formulas_are_neutralised_and_numbers_stay_numbers() {
     assert_eq!(cell("counts.false_shadow"), "191");
     // The untouched run keeps its names as they are.
     assert_eq!(rows[0][header.iter().position(|c| c == "scene").unwrap()].to_string(), "good");
+}
+
+/// A report folder whose `figures/` links elsewhere is refused before anything is written or
+/// removed: the run would otherwise write its figures there, and remove the earlier ones.
+#[cfg(unix)]
+#[test]
+fn a_report_folder_whose_figures_link_elsewhere_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    write_one_view_suite(dir.path());
+    let theirs = dir.path().join("pictures");
+    std::fs::create_dir(&theirs).unwrap();
+    std::fs::write(theirs.join("holiday.png"), b"not ours").unwrap();
+    std::fs::create_dir(dir.path().join("out")).unwrap();
+    std::os::unix::fs::symlink(&theirs, dir.path().join("out/figures")).unwrap();
+    let stderr = refused(&[&RUN_INTO_OUT[..], &["--no-cache"]].concat(), dir.path());
+    assert!(stderr.contains("figures is a symbolic link"), "{stderr}");
+    assert_eq!(std::fs::read_dir(&theirs).unwrap().count(), 1, "nothing written there");
+    assert_eq!(std::fs::read(theirs.join("holiday.png")).unwrap(), b"not ours");
 }

@@ -458,7 +458,9 @@ fn load_imported(plan: &Plan, traced: &TracedView) -> Result<Vec<Imported>, Plan
     let mut out = Vec::new();
     for spec in &plan.techniques {
         let TechniqueSpec::External(params) = spec else { continue };
-        let params = params.for_view(&traced.scene.name, &traced.camera.name, &traced.light.name);
+        let params = params
+            .for_view(&traced.scene.name, &traced.camera.name, &traced.light.name)
+            .map_err(|e| PlanError::Invalid(format!("{}: {e}", traced.scene.source.display())))?;
         let sw = Stopwatch::start();
         let visibility = read_external(&params, traced).map_err(PlanError::Import)?;
         out.push(Imported { spec: TechniqueSpec::External(params), visibility, read_ms: sw.ms() });

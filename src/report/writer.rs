@@ -60,6 +60,7 @@ impl ReportWriter {
     /// identity of `report`'s, or the plan stops before anything is built.
     pub fn resume(dir: &Path, report: Report) -> std::io::Result<Self> {
         crate::output_lock::lock_output_folder(dir)?;
+        refuse_linked_subfolders(dir)?;
         remove_stray_report_temp_files(dir)?;
         let identity = report.schedule.as_ref().map(|s| s.identity.clone()).unwrap_or_default();
         Ok(ReportWriter { report, tracks_schedule: true, resumed_identity: Some(identity), ..Self::new(dir) })
@@ -78,6 +79,7 @@ impl ReportWriter {
     /// before it first writes report.json (see the module comment).
     pub fn create(dir: &Path) -> std::io::Result<Self> {
         crate::output_lock::lock_output_folder(dir)?;
+        refuse_linked_subfolders(dir)?;
         remove_stray_report_temp_files(dir)?;
         Ok(ReportWriter { earlier_run_pending: true, ..Self::new(dir) })
     }
@@ -167,6 +169,25 @@ impl Sink for ReportWriter {
     }
 }
 
+/// A report folder's `figures/` and `plots/` must be folders of its own: one that is a link (or
+/// anything but a folder) would have the run write, and remove earlier figures, elsewhere.
+fn refuse_linked_subfolders(dir: &Path) -> std::io::Result<()> {
+    for (folder, _) in EARLIER_RUN_FOLDERS {
+        let path = dir.join(folder);
+        match std::fs::symlink_metadata(&path) {
+            Ok(meta) if !meta.is_dir() => {
+                let what = if meta.file_type().is_symlink() { "a symbolic link" } else { "not a folder" };
+                return Err(std::io::Error::other(format!(
+                    "{} is {what}: a report folder's {folder}/ must be a folder of its own",
+                    path.display()
+                )));
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
 /// Removes the temporary files that killed runs left in a report folder, its figures and plots.
 pub fn remove_stray_report_temp_files(dir: &Path) -> std::io::Result<()> {
     remove_stray_temp_files(dir)?;
@@ -204,13 +225,16 @@ fn holds_a_report(dir: &Path) -> bool {
 
 /// Removes the files of `dir` with one of `extensions`, then `dir` itself if that empties it.
 fn remove_files_with_extensions(dir: &Path, extensions: &[&str]) -> std::io::Result<()> {
-    let entries = match std::fs::read_dir(dir) {
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
-        entries => entries?,
-    };
-    for entry in entries {
-        let path = entry?.path();
-        if path.extension().is_some_and(|x| extensions.iter().any(|e| x == *e)) && path.is_file() {
+    // Never through a link: a `figures` that links elsewhere is not this tool's folder.
+    if !std::fs::symlink_metadata(dir).is_ok_and(|m| m.is_dir()) {
+        return Ok(());
+    }
+    for entry in std::fs::read_dir(dir)? {
+        let entry = entry?;
+        let path = entry.path();
+        // The entry's own type: a link named `x.png` is removed as a link, never followed.
+        let is_file = entry.file_type()?.is_file();
+        if is_file && path.extension().is_some_and(|x| extensions.iter().any(|e| x == *e)) {
             remove_if_present(&path)?;
         }
     }

@@ -38,15 +38,32 @@ pub struct ExternalParams {
 }
 
 impl ExternalParams {
-    /// The files of one view: each placeholder replaced by the view's name.
-    pub fn for_view(&self, scene: &str, camera: &str, light: &str) -> ExternalParams {
+    /// The files of one view: each placeholder replaced by the view's name. The names come from
+    /// a scene file, so a name that a file's path would read as more than one plain file-name
+    /// part (`/`, `\`, NUL, `.`, `..`, nothing) is an error naming it, when a placeholder takes it:
+    /// a scene's names never choose which folder a file is read from.
+    pub fn for_view(&self, scene: &str, camera: &str, light: &str) -> Result<ExternalParams, String> {
+        let uses = |placeholder: &str| {
+            self.visibility.contains(placeholder)
+                || self.depth.as_deref().is_some_and(|d| d.contains(placeholder))
+        };
+        for (placeholder, what, name) in
+            [("{scene}", "scene", scene), ("{camera}", "camera", camera), ("{light}", "light", light)]
+        {
+            if uses(placeholder) && !is_plain_file_name_part(name) {
+                return Err(format!(
+                    "the {what} name {name:?} cannot fill {placeholder} in an external technique's file: \
+                     only names without `/`, `\\` or NUL, other than `.` and `..`, make file names"
+                ));
+            }
+        }
         let fill =
             |s: &str| s.replace("{scene}", scene).replace("{camera}", camera).replace("{light}", light);
-        ExternalParams {
+        Ok(ExternalParams {
             visibility: fill(&self.visibility),
             depth: self.depth.as_deref().map(fill),
             ..self.clone()
-        }
+        })
     }
 
     /// The files with relative names taken relative to `base` (a plan file's folder).
@@ -144,6 +161,11 @@ impl TechniqueParams for ExternalParams {
     }
 }
 
+/// Whether `name` stays one plain part when put into a path.
+fn is_plain_file_name_part(name: &str) -> bool {
+    !name.is_empty() && name != "." && name != ".." && !name.contains(['/', '\\', '\0'])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -163,7 +185,13 @@ mod tests {
     fn placeholders_are_filled_per_view_and_unknown_ones_refused() {
         let p = params("renders/{scene}.{camera}.{light}.exr");
         assert!(p.validate().is_ok());
-        assert_eq!(p.for_view("s", "c", "l").visibility, "renders/s.c.l.exr");
+        assert_eq!(p.for_view("s", "c", "l").unwrap().visibility, "renders/s.c.l.exr");
+        for hostile in ["../../x", "/abs", "a\\b", "", ".", "..", "a\0b"] {
+            assert!(p.for_view("s", hostile, "l").is_err(), "{hostile:?}");
+        }
+        // A placeholder the files do not use takes any name.
+        let fixed = ExternalParams { visibility: "renders/fixed.exr".into(), ..p.clone() };
+        assert!(fixed.for_view("s", "../../x", "l").is_ok());
         let e = params("renders/{view}.exr").validate().unwrap_err();
         assert_eq!(e.field, Some("visibility"));
         let mut p = params("v.exr");

@@ -337,11 +337,9 @@ impl ReferenceCache {
     /// The manifest lock file, exclusively locked (the lock is released when it drops).
     fn lock_manifest(&self) -> std::io::Result<std::fs::File> {
         std::fs::create_dir_all(&self.dir)?;
-        let file = std::fs::OpenOptions::new()
-            .create(true)
-            .truncate(false)
-            .write(true)
-            .open(self.dir.join(MANIFEST_LOCK_FILE))?;
+        let path = self.dir.join(MANIFEST_LOCK_FILE);
+        let file = crate::output_lock::open_lock_file(&path)
+            .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", path.display())))?;
         fs4::FileExt::lock(&file)?;
         Ok(file)
     }

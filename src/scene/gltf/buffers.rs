@@ -70,6 +70,13 @@ fn check_declared_total(document: &gltf::Document) -> Result<(), Vec<GltfProblem
 /// An embedded buffer, or a file inside the glTF's folder.
 fn from_uri(uri: &str, folder: &Path, declared: u64) -> Result<Vec<u8>, String> {
     if uri.starts_with("data:") {
+        // Held to `byteLength` before decoding, as a file is: base64 takes 4 digits for 3 bytes.
+        let digits = uri.split_once(',').map_or(0, |(_, data)| data.trim_end_matches('=').len() as u64);
+        if digits > declared.div_ceil(3) * 4 {
+            return Err(format!(
+                "embedded buffer: {digits} base64 digits hold more than the {declared} bytes of byteLength"
+            ));
+        }
         return decode_data_uri(uri).map_err(|e| format!("embedded buffer: {e}"));
     }
     if let Some((scheme, _)) = uri.split_once(':')

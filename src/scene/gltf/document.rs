@@ -22,13 +22,36 @@ pub(super) fn read(path: &Path) -> Result<Vec<u8>, Vec<GltfProblem>> {
 
 /// The parsed and validated document of a glTF file's bytes, with its GLB binary chunk, if any.
 pub(super) fn parse(bytes: &[u8]) -> Result<gltf::Gltf, Vec<GltfProblem>> {
-    match gltf::Gltf::from_slice(bytes) {
-        Ok(gltf) => Ok(gltf),
-        Err(gltf::Error::Validation(list)) => {
-            Err(list.into_iter().map(|(at, e)| GltfProblem::new(at.to_string(), describe(&e))).collect())
-        }
-        Err(e) => Err(vec![unreadable(e)]),
+    let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| vec![unreadable(e)])?;
+    let root = gltf.document.as_json();
+    let mut problems = positions_out_of_bounds(root);
+    if problems.is_empty() {
+        use gltf::json::validation::Validate;
+        root.validate(root, gltf::json::Path::new, &mut |at, e| {
+            problems.push(GltfProblem::new(at().to_string(), describe(&e)))
+        });
     }
+    if problems.is_empty() { Ok(gltf) } else { Err(problems) }
+}
+
+/// Primitives whose `POSITION` names an accessor that does not exist. The crate's validation
+/// (gltf-json 1.4) indexes the accessors with that index unchecked, and so panics, before it
+/// reports the index: it runs only once these are ruled out.
+fn positions_out_of_bounds(root: &gltf::json::Root) -> Vec<GltfProblem> {
+    use gltf::json::mesh::Semantic;
+    use gltf::json::validation::Checked;
+    let mut problems = Vec::new();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            if let Some(index) = primitive.attributes.get(&Checked::Valid(Semantic::Positions))
+                && index.value() >= root.accessors.len()
+            {
+                let at = format!("meshes[{m}].primitives[{p}].attributes.POSITION");
+                problems.push(GltfProblem::new(at, describe(&Invalid::IndexOutOfBounds)));
+            }
+        }
+    }
+    problems
 }
 
 fn unreadable(e: gltf::Error) -> GltfProblem {
