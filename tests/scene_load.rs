@@ -227,9 +227,11 @@ fn mesh_paths_read_only_regular_files_inside_the_scene_folder() {
     assert!(
         std::process::Command::new("mkfifo").arg(dir.join("meshes/pipe.obj")).status().unwrap().success()
     );
+    std::os::unix::fs::symlink("/dev/zero", dir.join("meshes/zero.obj")).unwrap();
     let outside = root.path().join("outside.obj").display().to_string();
     for (mesh, needle) in [
         ("meshes/pipe.obj", "a FIFO, not a regular file"),
+        ("meshes/zero.obj", "a character device, not a regular file"),
         ("meshes/link.obj", "through a symbolic link"),
         ("../outside.obj", "leaves the folder"),
         (outside.as_str(), "is an absolute path"),

@@ -138,7 +138,13 @@ fn decode<R: std::io::BufRead + std::io::Seek + Send>(
 
 /// The file at `path` opened, when it is a regular file (no FIFO or device), with its length.
 fn open_regular_file(path: &Path) -> Result<(std::fs::File, u64)> {
-    let missing = || import_error(path, "no such file");
+    // An image's length is checked against its header, so it must be a regular file.
+    let missing = || match std::fs::metadata(path) {
+        Ok(_) => {
+            import_error(path, "not a regular file (a FIFO, device or folder): images are read from files")
+        }
+        Err(_) => import_error(path, "no such file"),
+    };
     if !path.is_file() {
         return Err(missing());
     }

@@ -71,20 +71,24 @@ pub fn read_shadow_map(map: impl AsRef<Path>, sidecar: impl AsRef<Path>) -> Resu
     }
     let json = json.map_err(|message| error(sidecar, message))?;
     resolution(&json).map_err(|message| error(sidecar, message))?;
+    // Matrices are f32: a number that f32 cannot hold (it would become ±inf, or 0) is refused,
+    // never changed silently.
     let number = |v: &Value, at: &str| {
         v.as_f64()
             .filter(|x| x.is_finite())
-            .ok_or_else(|| error(sidecar, format!("{at}: expected a finite number")))
+            .filter(|&x| (x as f32).is_finite() && ((x as f32) != 0.0 || x == 0.0))
+            .map(|x| x as f32)
+            .ok_or_else(|| error(sidecar, format!("{at}: expected a finite number that f32 can hold")))
     };
     let mut rows = [[0f32; 4]; 4];
     for (r, row) in rows.iter_mut().enumerate() {
         for (c, cell) in row.iter_mut().enumerate() {
             let at = format!("clip_from_world[{r}][{c}]");
-            *cell = number(&json["clip_from_world"][r][c], &at)? as f32;
+            *cell = number(&json["clip_from_world"][r][c], &at)?;
         }
     }
     let clip_from_world = Mat4::from_cols_array_2d(&rows).transpose();
-    let (near, far) = (number(&json["near"], "near")? as f32, number(&json["far"], "far")? as f32);
+    let (near, far) = (number(&json["near"], "near")?, number(&json["far"], "far")?);
     let layer = DepthLayer { resolution: image.width, depth: image.values };
     Ok(ImportedShadowMap {
         layer,

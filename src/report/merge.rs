@@ -202,6 +202,10 @@ fn merged_report(shards: &[ShardFolder]) -> Report {
 }
 
 /// Copies the shard's figures (PNG) into `out/figures/`, each written atomically.
+/// The largest figure copied: a figure, or a run's animation over its frames, is a compressed
+/// indexed PNG; a gigabyte is sixteen frames of the largest camera stored raw.
+const MAX_FIGURE_BYTES: u64 = 1 << 30;
+
 fn copy_figures(dir: &Path, out: &Path) -> Result<()> {
     let from = dir.join("figures");
     let entries = match std::fs::read_dir(&from) {
@@ -211,9 +215,12 @@ fn copy_figures(dir: &Path, out: &Path) -> Result<()> {
     let to = out.join("figures");
     std::fs::create_dir_all(&to).with_context(|| format!("creating {}", to.display()))?;
     for entry in entries {
-        let path = entry.with_context(|| format!("reading {}", from.display()))?.path();
-        if path.is_file() && path.extension().is_some_and(|x| x == "png") {
-            let bytes = std::fs::read(&path).with_context(|| format!("reading {}", path.display()))?;
+        let entry = entry.with_context(|| format!("reading {}", from.display()))?;
+        let path = entry.path();
+        // A shard's own figures only: regular files, never followed links, of a figure's size.
+        let is_file = entry.file_type().is_ok_and(|t| t.is_file());
+        if is_file && path.extension().is_some_and(|x| x == "png") {
+            let bytes = crate::input_file::read_named(&path, MAX_FIGURE_BYTES).map_err(anyhow::Error::msg)?;
             let target = to.join(path.file_name().expect("a file has a name"));
             write_atomic(&target, &bytes).with_context(|| format!("writing {}", target.display()))?;
         }

@@ -67,7 +67,9 @@ pub(super) fn read_cached(obj: &Path, key: SourceKey) -> Option<IndexedMesh> {
 /// the OBJ at least 2 for each (`v 0 0 0` is 8 bytes; each further index ` 9` of a polygon's
 /// `f` line adds a triangle).
 fn max_cache_bytes(key: SourceKey) -> u64 {
-    HEADER_BYTES as u64 + key.bytes.saturating_mul(6)
+    // Nor more than a mesh of a scene's most triangles, each with three vertices of its own.
+    let most = (VERTEX_BYTES * 3 + TRIANGLE_BYTES) as u64 * crate::scene::MAX_SCENE_TRIANGLES;
+    HEADER_BYTES as u64 + key.bytes.saturating_mul(6).min(most)
 }
 
 /// Stores `mesh` as the cache of `obj`; a cache that cannot be written is only a missed

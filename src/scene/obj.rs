@@ -21,16 +21,16 @@ const MAX_OBJ_BYTES: u64 = 4 << 30;
 pub(crate) fn read_obj(folder: &Path, relative: &str) -> Result<IndexedMesh, Vec<String>> {
     let inside = crate::input_file::open_inside(folder, relative).map_err(|m| vec![m])?;
     let path = inside.path.as_path();
-    let key = SourceKey::of(path);
-    if let Some(mesh) = key.and_then(|k| read_cached(path, k)) {
-        return Ok(mesh);
-    }
     if inside.len_bytes > MAX_OBJ_BYTES {
         return Err(vec![format!(
             "mesh {} is {} bytes, more than the {MAX_OBJ_BYTES} read",
             path.display(),
             inside.len_bytes
         )]);
+    }
+    let key = SourceKey::of(path);
+    if let Some(mesh) = key.and_then(|k| read_cached(path, k)) {
+        return Ok(mesh);
     }
     let mut bytes = Vec::with_capacity(inside.len_bytes as usize);
     std::io::Read::read_to_end(&mut std::io::Read::take(inside.file, MAX_OBJ_BYTES), &mut bytes)

@@ -14,18 +14,19 @@ use serde_json::Value;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+/// The largest report read: a run's record takes a few kilobytes and a plan expands to at most
+/// 100 000 runs (`DEFAULT_MAX_RUNS`); a gigabyte holds some 300 000.
+const MAX_REPORT_BYTES: u64 = 1 << 30;
+
 /// Reads a report: a `report.json` file, or a folder holding one. Returns the report and the
 /// file it was read from.
 pub fn load_report(path: &Path) -> Result<(Report, PathBuf), GateError> {
     let file = if path.is_dir() { path.join("report.json") } else { path.to_path_buf() };
     let origin = file.display().to_string();
-    let text = std::fs::read_to_string(&file).map_err(|e| {
-        if e.kind() == std::io::ErrorKind::NotFound {
-            GateError::one(format!("{origin}: no such report"))
-        } else {
-            GateError::one(format!("{origin}: cannot read: {e}"))
-        }
-    })?;
+    if !file.exists() {
+        return Err(GateError::one(format!("{origin}: no such report")));
+    }
+    let text = crate::input_file::read_named_text(&file, MAX_REPORT_BYTES).map_err(GateError::one)?;
     let report = parse_report(&text).map_err(|e| GateError::one(format!("{origin}: {e}")))?;
     Ok((report, file))
 }

@@ -341,8 +341,8 @@ fn rule_from_spec(spec: RuleSpec) -> Rule {
 /// Reads and parses a rules file.
 pub fn load_rules(path: &Path) -> Result<Rules, GateError> {
     let origin = path.display().to_string();
-    let text =
-        std::fs::read_to_string(path).map_err(|e| GateError::one(format!("{origin}: cannot read: {e}")))?;
+    // Rules are a few lines each; 16 MiB holds more rules than any report has runs to check.
+    let text = crate::input_file::read_named_text(path, 16 << 20).map_err(GateError::one)?;
     parse_rules(&text, &origin)
 }
 
