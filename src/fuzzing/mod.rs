@@ -170,7 +170,9 @@ fn check_scene(scene: &Scene) {
     }
     assert_eq!(next as usize, scene.triangle_count());
     let (lo, hi) = scene.bounds();
-    assert!(lo.cmple(hi).all());
+    // Empty exactly when no triangle has an area where it is placed: an instanced triangle whose
+    // world form rounds to a degenerate one is skipped, here as by the tracer.
+    assert_eq!(lo.cmple(hi).all(), scene.triangles().next().is_some(), "bounds and triangles disagree");
     let _ = scene.geometry_digest();
 }
 
