@@ -139,8 +139,8 @@ fn is_stream(kind: &std::fs::FileType) -> bool {
     }
 }
 
-/// What a file of this type is, for messages.
-fn kind_name(kind: &std::fs::FileType) -> &'static str {
+/// What a file of this type is, for messages (of outputs here, of inputs in `input_file.rs`).
+pub(crate) fn kind_name(kind: &std::fs::FileType) -> &'static str {
     #[cfg(unix)]
     {
         use std::os::unix::fs::FileTypeExt;

@@ -37,7 +37,10 @@ pub fn open_inside(folder: &Path, relative: &str) -> Result<InsideFile, String> 
     let shown = path.display();
     let metadata = std::fs::metadata(&path).map_err(|e| format!("cannot read {shown}: {e}"))?;
     if !metadata.is_file() {
-        return Err(format!("{shown} is {}, not a regular file", file_kind(&metadata)));
+        return Err(format!(
+            "{shown} is {}, not a regular file",
+            crate::atomic_file::kind_name(&metadata.file_type())
+        ));
     }
     let canonical = path.canonicalize().map_err(|e| format!("cannot resolve {shown}: {e}"))?;
     let canonical_folder =
@@ -52,7 +55,10 @@ pub fn open_inside(folder: &Path, relative: &str) -> Result<InsideFile, String> 
     // The file checked again as opened: it may have been replaced since the check above.
     let opened = file.metadata().map_err(|e| format!("cannot read {shown}: {e}"))?;
     if !opened.is_file() {
-        return Err(format!("{shown} is {}, not a regular file", file_kind(&opened)));
+        return Err(format!(
+            "{shown} is {}, not a regular file",
+            crate::atomic_file::kind_name(&opened.file_type())
+        ));
     }
     Ok(InsideFile { path, file, len_bytes: opened.len() })
 }
@@ -130,31 +136,6 @@ fn lexically_inside(relative: &str) -> Result<PathBuf, String> {
         return Err(format!("\"{relative}\" names the folder itself, not a file in it"));
     }
     Ok(out)
-}
-
-/// What a file that is not a regular file is, in words.
-fn file_kind(metadata: &std::fs::Metadata) -> &'static str {
-    let kind = metadata.file_type();
-    if kind.is_dir() {
-        return "a folder";
-    }
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        if kind.is_fifo() {
-            return "a FIFO";
-        }
-        if kind.is_char_device() {
-            return "a character device";
-        }
-        if kind.is_block_device() {
-            return "a block device";
-        }
-        if kind.is_socket() {
-            return "a socket";
-        }
-    }
-    "not a regular file"
 }
 
 #[cfg(test)]
