@@ -19,7 +19,7 @@ pub fn gltf_reader(data: &[u8]) {
     load(data, "fuzz.gltf");
     if !data.starts_with(b"glTF") {
         let bin: Vec<u8> = TRIANGLE_POSITIONS.iter().flat_map(|x| x.to_le_bytes()).collect();
-        load(&glb(data, &bin), "fuzz.glb");
+        load(&crate::view_export::glb_container(data, &bin), "fuzz.glb");
     }
 }
 
@@ -74,26 +74,6 @@ fn glb_json(data: &[u8]) -> Option<&[u8]> {
     data.get(20..).map(|rest| &rest[..length.min(rest.len())])
 }
 
-/// A GLB container (glTF 2.0 binary): the header, then `json` as the JSON chunk padded with
-/// spaces and `bin` as the BIN chunk padded with zeros, each to a multiple of 4 bytes.
-fn glb(json: &[u8], bin: &[u8]) -> Vec<u8> {
-    let padded = |len: usize| len.div_ceil(4) * 4;
-    let (json_len, bin_len) = (padded(json.len()), padded(bin.len()));
-    let total = 12 + 8 + json_len + 8 + bin_len;
-    let mut out = Vec::with_capacity(total);
-    for word in [u32::from_le_bytes(*b"glTF"), 2, total as u32, json_len as u32, u32::from_le_bytes(*b"JSON")]
-    {
-        out.extend_from_slice(&word.to_le_bytes());
-    }
-    out.extend_from_slice(json);
-    out.resize(20 + json_len, b' ');
-    out.extend_from_slice(&(bin_len as u32).to_le_bytes());
-    out.extend_from_slice(b"BIN\0");
-    out.extend_from_slice(bin);
-    out.resize(total, 0);
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -104,7 +84,7 @@ mod tests {
         assert!(!uris_stay_inside(br#"{"buffers": [{"uri": "/dev/zero"}]}"#));
         assert!(!uris_stay_inside(br#"{"buffers": [{"uri": "..%2F..%2Fx"}]}"#));
         assert!(!uris_stay_inside(br#"{"buffers": [{"uri": "\u00252e\u00252e/x"}]}"#));
-        let wrapped = glb(br#"{"buffers": [{"uri": "../x"}]}"#, &[]);
+        let wrapped = crate::view_export::glb_container(br#"{"buffers": [{"uri": "../x"}]}"#, &[]);
         assert!(!uris_stay_inside(glb_json(&wrapped).unwrap()));
         assert_eq!(glb_json(&wrapped).unwrap().len() % 4, 0);
     }

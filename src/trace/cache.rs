@@ -35,7 +35,7 @@ use crate::scene::{Camera, Light, LightKind, LightSize, Scene, ViewKey};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
-use std::io::{Cursor, Read};
+use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
 /// The manifest's format: v2 keys cannot collide and entries record their file's SHA-256.
@@ -44,6 +44,9 @@ pub const MANIFEST_FORMAT: &str = "shadowtruth/references/v2";
 /// The file whose exclusive lock guards the manifest's read-modify-write (never removed: removing
 /// a lock file lets two runs lock two different files).
 pub const MANIFEST_LOCK_FILE: &str = ".manifest.lock";
+
+/// The manifest's file in the cache folder.
+const MANIFEST_FILE: &str = "manifest.json";
 
 /// The largest manifest read (a larger one is ignored, as a broken one is): some 100 000
 /// entries.
@@ -193,20 +196,10 @@ fn sha256_hex(bytes: &[u8]) -> String {
     crate::scene::hex(&Sha256::digest(bytes))
 }
 
-/// The bytes of `path` when it is a regular file (not a FIFO, device or link, which could block
-/// or lead elsewhere) of at most `max_bytes`; None otherwise.
-fn read_regular_file(path: &Path, max_bytes: u64) -> Option<Vec<u8>> {
-    let is_small_file = |m: std::fs::Metadata| m.is_file() && m.len() <= max_bytes;
-    if !is_small_file(std::fs::symlink_metadata(path).ok()?) {
-        return None;
-    }
-    let file = std::fs::File::open(path).ok()?;
-    if !is_small_file(file.metadata().ok()?) {
-        return None;
-    }
-    let mut bytes = Vec::new();
-    file.take(max_bytes + 1).read_to_end(&mut bytes).ok()?;
-    (bytes.len() as u64 <= max_bytes).then_some(bytes)
+/// The bytes of `rel` in the cache folder when it is a regular file inside it (not a FIFO or
+/// device, which could block, nor a link out of the folder) of at most `max_bytes`.
+fn read_cached_file(dir: &Path, rel: &str, max_bytes: u64) -> Option<Vec<u8>> {
+    crate::input_file::read_inside(dir, rel, max_bytes).ok().map(|(_, bytes)| bytes)
 }
 
 /// The most bytes a cached file of `entry`'s size may take: its pixels' bytes uncompressed
@@ -238,13 +231,13 @@ impl ReferenceCache {
     }
 
     fn manifest_path(&self) -> PathBuf {
-        self.dir.join("manifest.json")
+        self.dir.join(MANIFEST_FILE)
     }
 
     /// The manifest as it is on disk; an empty one when there is none, or it is unreadable, too
     /// large or of another format.
     fn read_manifest(&self) -> Manifest {
-        read_regular_file(&self.manifest_path(), MAX_MANIFEST_BYTES)
+        read_cached_file(&self.dir, MANIFEST_FILE, MAX_MANIFEST_BYTES)
             .and_then(|b| serde_json::from_slice::<Manifest>(&b).ok())
             .filter(|m| m.format == MANIFEST_FORMAT)
             .unwrap_or_else(|| Manifest { format: MANIFEST_FORMAT.into(), entries: BTreeMap::new() })
@@ -267,7 +260,7 @@ impl ReferenceCache {
         if entry.mask != rel {
             return None;
         }
-        let bytes = read_regular_file(&self.dir.join(rel), max_file_bytes(entry, bytes_per_pixel)?)?;
+        let bytes = read_cached_file(&self.dir, rel, max_file_bytes(entry, bytes_per_pixel)?)?;
         (sha256_hex(&bytes) == entry.sha256).then_some(bytes)
     }
 

@@ -211,7 +211,7 @@ pub(crate) fn cone_angles(cone_deg: f32) -> (f32, f32) {
 
 /// The GLB container: header (magic, version 2, total length), the JSON chunk padded with spaces
 /// and the BIN chunk padded with zeros, each to a multiple of 4 bytes.
-fn glb_container(json: &[u8], bin: &[u8]) -> Vec<u8> {
+pub(crate) fn glb_container(json: &[u8], bin: &[u8]) -> Vec<u8> {
     let padded = |len: usize| len.div_ceil(4) * 4;
     let (json_len, bin_len) = (padded(json.len()), padded(bin.len()));
     let total = 12 + 8 + json_len + 8 + bin_len;

@@ -5,6 +5,7 @@
 
 mod gbuffer_exr;
 mod glb;
+pub(crate) use glb::glb_container;
 mod matrices;
 
 use crate::atomic_file::write_atomic;
