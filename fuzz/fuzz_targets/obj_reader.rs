@@ -2,4 +2,4 @@
 
 use libfuzzer_sys::fuzz_target;
 
-fuzz_target!(|data: &[u8]| shadowtruth::fuzzing::obj_reader(data));
+fuzz_target!(|data: &[u8]| shadowtruth_cli::fuzzing::obj_reader(data));

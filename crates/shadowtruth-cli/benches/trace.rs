@@ -1,0 +1,87 @@
+//! Tracer benchmarks on the bundled OBJ scene (rocks, 8k triangles, 1024×768): BVH build,
+//! G-buffer (primary rays), hard reference (shadow rays) and the area-light reference (4×4 shadow
+//! rays per pixel towards a sun of 2° angular diameter; throughput in shadow rays). And primary
+//! and shadow rays on an outdoor scene of 200K triangles (`generate forest`: terrain and trees
+//! with thin trunks, under the sun), the rays `reference --timing` times (primary rays prepared
+//! before the clock, as it times them), with the G-buffer and the coverage and area-light
+//! references per sample beside them.
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use shadowtruth::scene::{LightKind, load_scene};
+use shadowtruth::trace::{
+    GBuffer, SceneBvh, primary_directions, primary_hits, trace_area_light_reference,
+    trace_coverage_reference, trace_hard_reference,
+};
+use std::path::Path;
+use std::process::Command;
+
+fn trace(c: &mut Criterion) {
+    let scene =
+        load_scene(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/rocks.json")).expect("scene");
+    let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
+    let bvh = SceneBvh::build(&scene);
+    let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
+
+    let mut g = c.benchmark_group("trace/rocks");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(scene.flat_triangles.len() as u64));
+    g.bench_function("bvh_build", |b| b.iter(|| SceneBvh::build(&scene)));
+    g.throughput(Throughput::Elements(gbuffer.pixel_count() as u64));
+    g.bench_function("gbuffer", |b| b.iter(|| GBuffer::trace(&scene, &bvh, camera, light)));
+    g.throughput(Throughput::Elements(gbuffer.evaluated.len() as u64));
+    g.bench_function("hard_reference", |b| b.iter(|| trace_hard_reference(&scene, &bvh, &gbuffer, light)));
+    let mut sun = light.clone();
+    let LightKind::Directional { angular_diameter_deg, .. } = &mut sun.kind else {
+        panic!("rocks has a sun")
+    };
+    *angular_diameter_deg = Some(2.0);
+    let grid = 4;
+    g.throughput(Throughput::Elements(gbuffer.evaluated.len() as u64 * (grid * grid) as u64));
+    g.bench_function("area_light_reference_4x4", |b| {
+        b.iter(|| trace_area_light_reference(&scene, &bvh, &gbuffer, &sun, grid).expect("the sun has a size"))
+    });
+    g.finish();
+}
+
+/// The generated 200K-triangle forest, written afresh (the generator is deterministic).
+fn forest_scene() -> shadowtruth::Scene {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("forest200k");
+    let status = Command::new(env!("CARGO_BIN_EXE_shadowtruth"))
+        .args(["generate", "forest", "--triangles", "200K", "--image", "1024,768", "-o"])
+        .arg(&dir)
+        .status()
+        .expect("run shadowtruth generate");
+    assert!(status.success(), "shadowtruth generate forest failed");
+    load_scene(&dir.join("scene.json")).expect("the generated forest loads")
+}
+
+fn trace_outdoor(c: &mut Criterion) {
+    let scene = forest_scene();
+    let camera = &scene.cameras[0];
+    let sun = scene.lights.iter().find(|l| l.name == "sun").expect("the forest has a sun");
+    let bvh = SceneBvh::build(&scene);
+    let gbuffer = GBuffer::trace(&scene, &bvh, camera, sun);
+
+    let mut g = c.benchmark_group("trace/forest200k");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(gbuffer.pixel_count() as u64));
+    let directions = primary_directions(camera);
+    g.bench_function("primary_rays", |b| b.iter(|| primary_hits(&bvh, camera, &directions)));
+    g.bench_function("gbuffer", |b| b.iter(|| GBuffer::trace(&scene, &bvh, camera, sun)));
+    g.throughput(Throughput::Elements(gbuffer.evaluated.len() as u64));
+    g.bench_function("shadow_rays", |b| b.iter(|| trace_hard_reference(&scene, &bvh, &gbuffer, sun)));
+    // The soft references per sample, beside the hard rate: 2×2 sub-pixel samples (a primary
+    // ray and at most one shadow ray each) and 2×2 shadow rays towards the sun's disk.
+    let grid = 2;
+    g.throughput(Throughput::Elements(gbuffer.evaluated.len() as u64 * (grid * grid) as u64));
+    g.bench_function("coverage_2x2", |b| {
+        b.iter(|| trace_coverage_reference(&scene, &bvh, &gbuffer, camera, sun, grid))
+    });
+    g.bench_function("area_light_2x2", |b| {
+        b.iter(|| trace_area_light_reference(&scene, &bvh, &gbuffer, sun, grid).expect("the sun has a size"))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, trace, trace_outdoor);
+criterion_main!(benches);

@@ -1,0 +1,114 @@
+//! The papers suite: each paper's experiments (`ehm_fig12.rs`, `ehm_pcf.rs`, `pagot.rs`,
+//! `weiskopf.rs`) run in turn. Each writes the runs of the paper's set-up into the ordinary
+//! report (through the plan executor, with their figures), measures its claims on that set-up and
+//! on the others of its sensitivity grid (`measure.rs`), and returns the claims.
+
+use super::claims::Claim;
+use super::{ehm_fig12, ehm_pcf, pagot, weiskopf};
+use crate::plan::{
+    DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_MAX_RUNS, Event, Plan, PlanError, Sink, emit,
+    execute,
+};
+use shadowtruth::raster::DepthFormat;
+use shadowtruth::technique::TechniqueSpec;
+use shadowtruth::trace::ReferenceCache;
+use std::path::{Path, PathBuf};
+
+/// How much of the suite to run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PapersOptions {
+    /// The paper's set-ups at their resolutions, but a smaller sensitivity grid (one other
+    /// set-up per claim): for tests.
+    pub quick: bool,
+}
+
+/// What every paper's experiments write into and read from.
+pub(super) struct Suite<'a, 's> {
+    /// Holds `papers/*.json`.
+    pub scenes_dir: PathBuf,
+    /// The report folder.
+    pub dir: PathBuf,
+    /// The reference cache, or one for this run only: references are traced once per run and
+    /// shared by the report's runs and the claims.
+    pub cache: &'a ReferenceCache,
+    /// Where the set-ups' runs go: the report, its figures, progress.
+    pub sinks: &'a mut [&'s mut dyn Sink],
+    pub options: PapersOptions,
+}
+
+impl Suite<'_, '_> {
+    /// Runs the paper's set-up into the report: its records and figures.
+    pub fn report(&mut self, plan: &Plan) -> Result<(), PlanError> {
+        execute(plan, Some(self.cache), self.sinks)
+    }
+
+    pub fn stage(&mut self, what: &str) -> Result<(), PlanError> {
+        emit(self.sinks, &Event::Stage(&format!("papers: {what}")))
+    }
+
+    /// `all` in full runs; in quick runs the first (the paper's set-up) and the second only.
+    pub fn grid<T>(&self, mut all: Vec<T>) -> Vec<T> {
+        if self.options.quick {
+            all.truncate(2);
+        }
+        all
+    }
+
+    pub fn scene(&self, file: &str) -> PathBuf {
+        self.scenes_dir.join("papers").join(file)
+    }
+}
+
+/// A plan of `techniques` × `resolutions` on `cameras` and one light of `scene` (one repeat:
+/// the timings that claims read are measured by the claims themselves).
+pub(super) fn plan_of(
+    scene: &Path,
+    cameras: &[&str],
+    light: &str,
+    techniques: Vec<TechniqueSpec>,
+    resolutions: &[u32],
+) -> Plan {
+    Plan {
+        source: None,
+        scenes: vec![scene.to_path_buf()],
+        cameras: Some(cameras.iter().map(|c| c.to_string()).collect()),
+        lights: Some(vec![light.to_string()]),
+        techniques,
+        resolutions: resolutions.to_vec(),
+        depth_formats: vec![DepthFormat::F32],
+        repeats: 1,
+        figures: true,
+        zoom: None,
+        coverage_grid: DEFAULT_COVERAGE_GRID,
+        area_light_grid: DEFAULT_AREA_LIGHT_GRID,
+        max_runs: DEFAULT_MAX_RUNS,
+        shadow_map: None,
+        pipeline: crate::plan::Pipeline::Cpu,
+        frames: 1,
+    }
+}
+
+/// Runs the whole suite into the report folder `dir` through `sinks` (report.json, figures,
+/// progress) and returns the claims (written by the caller as `claims.json`). `scenes_dir`
+/// holds `papers/island.json`, `papers/casters.json` and `papers/l_above.json`.
+pub fn run_papers(
+    scenes_dir: &Path,
+    dir: &Path,
+    cache: Option<&ReferenceCache>,
+    sinks: &mut [&mut dyn Sink],
+    options: PapersOptions,
+) -> Result<Vec<Claim>, PlanError> {
+    // Without a cache (--no-cache), one for this run only: nothing is read from or written to
+    // the persistent one.
+    let run_dir =
+        tempfile::tempdir().map_err(|source| PlanError::Io { path: std::env::temp_dir(), source })?;
+    let run_cache = ReferenceCache::new(run_dir.path());
+    let cache = cache.unwrap_or(&run_cache);
+    let mut suite =
+        Suite { scenes_dir: scenes_dir.to_path_buf(), dir: dir.to_path_buf(), cache, sinks, options };
+    let mut claims = ehm_fig12::claims(&mut suite)?;
+    claims.extend(ehm_pcf::claims(&mut suite)?);
+    claims.extend(pagot::claims(&mut suite)?);
+    claims.extend(weiskopf::claims(&mut suite)?);
+    Ok(claims)
+}

@@ -1,0 +1,73 @@
+//! What one shadow-map resolution of a view builds before any technique runs: the light view
+//! (or the light's cascades), the light-map position of every evaluated pixel (for the
+//! attribution) and the shading order. Shared by every depth format and technique.
+
+use super::cascaded_map::CascadedMap;
+use super::execute::MapSetting;
+use super::{Plan, PlanError};
+use glam::Vec3;
+use shadowtruth::metrics::LightUv;
+use shadowtruth::raster::{DepthFormat, LightView};
+use shadowtruth::scene::{Camera, Light};
+use shadowtruth::technique::ShadeOrder;
+use shadowtruth::trace::GBuffer;
+
+pub(crate) struct MapSetup {
+    /// The map (the first cascade's, for a light with cascades).
+    view: LightView,
+    light_uv: LightUv,
+    /// The one map's shading order; cascades hold their own.
+    order: Option<ShadeOrder>,
+    cascaded: Option<CascadedMap>,
+    resolution: u32,
+}
+
+impl MapSetup {
+    /// The set-up of `light` seen by `camera` at `resolution`, over the pixels of `gbuffer`;
+    /// `first_camera` fixes a path's default cascade distance.
+    pub fn new(
+        plan: &Plan,
+        (gbuffer, camera, first_camera): (&GBuffer, &Camera, &Camera),
+        light: &Light,
+        bounds: (Vec3, Vec3),
+        resolution: u32,
+    ) -> Result<Self, PlanError> {
+        let cascaded = light
+            .cascades
+            .is_some()
+            .then(|| CascadedMap::new(light, camera, first_camera, bounds, resolution, gbuffer));
+        let view = match (&plan.shadow_map, &cascaded) {
+            (Some(map_file), _) => map_file.light_view(light, bounds).map_err(PlanError::Import)?,
+            (None, Some(c)) => c.cascades.views[0].clone(),
+            (None, None) => LightView::new(light, bounds, resolution),
+        };
+        let light_uv = match &cascaded {
+            Some(c) => c.light_uv(gbuffer, resolution),
+            None => LightUv::new(gbuffer, &view),
+        };
+        let order = cascaded.is_none().then(|| ShadeOrder::new(gbuffer, &view));
+        Ok(MapSetup { view, light_uv, order, cascaded, resolution })
+    }
+
+    /// The setting of one depth format.
+    pub fn setting(&self, format: DepthFormat, scene_bounds: (Vec3, Vec3)) -> MapSetting<'_> {
+        MapSetting {
+            view: &self.view,
+            light_uv: &self.light_uv,
+            order: self.order.as_ref(),
+            cascaded: self.cascaded.as_ref(),
+            resolution: self.resolution,
+            format,
+            scene_bounds,
+        }
+    }
+
+    /// The light views the maps are drawn from (each cascade's, or the one): equal views draw
+    /// equal maps.
+    pub fn views(&self) -> Vec<LightView> {
+        match &self.cascaded {
+            Some(c) => c.cascades.views.clone(),
+            None => vec![self.view.clone()],
+        }
+    }
+}

@@ -1,0 +1,87 @@
+//! What a plan names. The default plan is every single-depth technique at a few settings over
+//! resolutions 512 to 4096.
+
+use shadowtruth::raster::DepthFormat;
+use shadowtruth::technique::TechniqueSpec;
+use std::path::PathBuf;
+
+#[derive(Clone, Debug)]
+pub struct Plan {
+    /// The plan file, named in errors about what it selects (None for a plan built in code).
+    pub source: Option<PathBuf>,
+    pub scenes: Vec<PathBuf>,
+    /// Camera names to run (None: every camera of each scene).
+    pub cameras: Option<Vec<String>>,
+    /// Light names to run (None: every light of each scene).
+    pub lights: Option<Vec<String>>,
+    pub techniques: Vec<TechniqueSpec>,
+    pub resolutions: Vec<u32>,
+    pub depth_formats: Vec<DepthFormat>,
+    /// Timings are medians over this many builds and shading passes.
+    pub repeats: usize,
+    /// Write figures (PNG) under the report folder's `figures/`.
+    pub figures: bool,
+    /// A region (x, y, width, height in camera pixels) also written enlarged for every run.
+    pub zoom: Option<[u32; 4]>,
+    /// The coverage reference traces this many × this many sub-pixel rays per pixel.
+    pub coverage_grid: u32,
+    /// The area-light reference traces this many × this many light samples per pixel.
+    pub area_light_grid: u32,
+    /// A plan expanding to more runs than this is refused before anything is built.
+    pub max_runs: u64,
+    /// Another renderer's shadow map (`score --shadow-map`): every technique reads it instead of
+    /// layers rasterized here, at its resolution and through its clip_from_world.
+    pub shadow_map: Option<shadowtruth::import::ImportedShadowMap>,
+    /// Where the shadow maps are drawn and the techniques shaded.
+    pub pipeline: Pipeline,
+    /// Frames evaluated along each view's camera and light paths (docs/temporal.md); 1 scores
+    /// the paths' first key only.
+    pub frames: usize,
+}
+
+/// Where a plan's shadow maps are drawn and its techniques shaded: the CPU rasterizer and
+/// techniques, or a Vulkan device (`src/gpu/`, for the techniques it implements).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Pipeline {
+    #[default]
+    Cpu,
+    Gpu,
+}
+
+impl Pipeline {
+    pub fn parse(name: &str) -> Option<Self> {
+        match name {
+            "cpu" => Some(Pipeline::Cpu),
+            "gpu" => Some(Pipeline::Gpu),
+            _ => None,
+        }
+    }
+}
+
+/// Sub-pixel grid of the coverage reference (4×4).
+pub const DEFAULT_COVERAGE_GRID: u32 = 4;
+/// Light-sample grid of the area-light reference (8×8).
+pub const DEFAULT_AREA_LIGHT_GRID: u32 = 8;
+/// Largest N of the N×N sample grid of a fractional reference (4096 samples per pixel), in a
+/// plan and on the command line.
+pub const MAX_REFERENCE_GRID: u32 = 64;
+
+/// Most frames along a path, in a plan and on the command line.
+pub const MAX_FRAMES: usize = 10_000;
+
+/// Largest number of timing repeats, in a plan and on the command line.
+pub const MAX_REPEATS: usize = 1000;
+
+/// The default plan file, built into the binary so that `run` works from anywhere.
+pub const DEFAULT_PLAN_JSON: &str = include_str!("../../../../plans/default.json");
+
+impl Plan {
+    /// The default plan (`plans/default.json`) over `scenes`.
+    pub fn default_for(scenes: Vec<PathBuf>) -> Self {
+        let mut plan = super::parse_plan(DEFAULT_PLAN_JSON, std::path::Path::new("plans/default.json"))
+            .expect("plans/default.json is valid");
+        plan.source = None;
+        plan.scenes = scenes;
+        plan
+    }
+}

@@ -1,0 +1,125 @@
+//! What `tune` builds once and what each evaluation shades: per view (scene, camera, light) the
+//! G-buffer and the references; per resolution the light view or the light's cascades and the
+//! shading order (`plan`'s `MapSetup`); per
+//! layer needs the depth layers, kept while the tuned setting does not change them. An
+//! evaluation of a setting on one scene is then one shading pass and one scoring per view and
+//! resolution.
+
+use crate::plan::{BinnedView, MapSetup, Plan, PlanError, ViewReferences, build_layers_timed, load_selected};
+use glam::Vec3;
+use shadowtruth::metrics::{Counts, add_false_counts};
+use shadowtruth::raster::{DepthFormat, LightView};
+use shadowtruth::scene::Scene;
+use shadowtruth::technique::{BuiltLayers, LayerNeeds, TechniqueSpec};
+use shadowtruth::trace::{GBuffer, ReferenceCache, SceneBvh};
+
+/// Layer sets kept per map: the tuned setting's and one more, so that a parameter that changes
+/// the layers (a raster bias) does not keep every set it tried.
+const KEPT_LAYER_SETS: usize = 2;
+
+/// Every view of every scene of a plan, traced, with its maps set up.
+pub struct TuneViews {
+    pub scenes: Vec<SceneViews>,
+    format: DepthFormat,
+}
+
+pub struct SceneViews {
+    pub name: String,
+    scene: Scene,
+    bounds: (Vec3, Vec3),
+    views: Vec<View>,
+}
+
+struct View {
+    gbuffer: GBuffer,
+    references: ViewReferences,
+    maps: Vec<Map>,
+}
+
+/// One shadow-map resolution of a view: its map or cascades, and the layers kept for them (one
+/// per map of the set-up).
+struct Map {
+    setup: MapSetup,
+    layers: Vec<(LayerNeeds, Vec<BuiltLayers>)>,
+}
+
+impl TuneViews {
+    /// Traces every view of `plan` (its references from `cache` when given), calling `stage`
+    /// with what is under way. Each scene's BVH is dropped once its views are traced.
+    pub fn build(
+        plan: &Plan,
+        cache: Option<&ReferenceCache>,
+        stage: &mut dyn FnMut(&str),
+    ) -> Result<Self, PlanError> {
+        let format = *plan.depth_formats.first().unwrap_or(&DepthFormat::F32);
+        let mut scenes = Vec::new();
+        for selected in load_selected(plan)? {
+            let scene = selected.scene;
+            stage(&format!("{}: building the BVH", scene.name));
+            let bvh = SceneBvh::build(&scene);
+            let bounds = scene.bounds();
+            let mut views = Vec::new();
+            for (ci, li) in selected.pairs {
+                let (camera, light) = (&scene.cameras[ci], &scene.lights[li]);
+                stage(&format!("{}/{}/{}: G-buffer and reference", scene.name, camera.name, light.name));
+                let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
+                let references = ViewReferences::new(plan, cache, &scene, &bvh, &gbuffer, camera, light)?;
+                let maps = plan
+                    .resolutions
+                    .iter()
+                    .map(|&resolution| {
+                        let setup =
+                            MapSetup::new(plan, (&gbuffer, camera, camera), light, bounds, resolution)?;
+                        Ok(Map { setup, layers: Vec::new() })
+                    })
+                    .collect::<Result<_, PlanError>>()?;
+                views.push(View { gbuffer, references, maps });
+            }
+            scenes.push(SceneViews { name: scene.name.clone(), scene, bounds, views });
+        }
+        Ok(TuneViews { scenes, format })
+    }
+
+    /// The counts of `spec` on every view and resolution of scene `index`, summed.
+    pub fn counts(&mut self, index: usize, spec: &TechniqueSpec) -> Counts {
+        let technique = spec.build().expect("tune shades built-in techniques only");
+        let needs = technique.layer_needs();
+        let format = self.format;
+        let s = &mut self.scenes[index];
+        let mut total = Counts::default();
+        for view in &mut s.views {
+            let (reference, _, _) = view.references.for_kind(spec.reference_kind());
+            for map in &mut view.maps {
+                let setting = map.setup.setting(format, s.bounds);
+                let layers = layers_for(&s.scene, &setting.views(), &mut map.layers, format, &needs);
+                let visibility = setting.shade(technique.as_ref(), &setting.contexts(&s.scene, layers));
+                total.evaluated += view.gbuffer.evaluated.len() as u64;
+                add_false_counts(&mut total, &view.gbuffer, reference, &visibility);
+            }
+        }
+        total
+    }
+}
+
+/// The layers for `needs` of each of `views`: kept from an earlier evaluation, or rasterized now.
+fn layers_for<'m>(
+    scene: &Scene,
+    views: &[&LightView],
+    kept: &'m mut Vec<(LayerNeeds, Vec<BuiltLayers>)>,
+    format: DepthFormat,
+    needs: &LayerNeeds,
+) -> &'m [BuiltLayers] {
+    match kept.iter().position(|(n, _)| n == needs) {
+        Some(i) => &kept[i].1,
+        None => {
+            let build =
+                |view: &&LightView| build_layers_timed(&BinnedView::new(scene, view), format, needs, 1).0;
+            let built = views.iter().map(build).collect();
+            if kept.len() == KEPT_LAYER_SETS {
+                kept.remove(0);
+            }
+            kept.push((*needs, built));
+            &kept.last().expect("just pushed").1
+        }
+    }
+}

@@ -1,0 +1,270 @@
+//! The shadow map rendered by the device's rasterizer: Depth32Float, the light view's
+//! `clip_from_world`, closed objects culled as `RasterSettings.culling` says (open ones never),
+//! glPolygonOffset as the hardware depth bias (`DepthBiasState`).
+
+use super::readback::read_f32_texture;
+use super::{GpuDevice, GpuError};
+use shadowtruth::raster::{Culling, DepthFormat, DepthLayer, LightView, RasterSettings};
+use shadowtruth::scene::Scene;
+use wgpu::util::DeviceExt;
+
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// A shadow map on the device: an N×N Depth32Float texture, row 0 at the top of the map (largest
+/// v), as `DepthLayer`.
+pub struct GpuDepthMap {
+    pub(crate) texture: wgpu::Texture,
+    pub resolution: u32,
+}
+
+impl GpuDepthMap {
+    /// Rasterizes every triangle of `scene` into the light's N×N map.
+    pub fn render(
+        gpu: &GpuDevice,
+        scene: &Scene,
+        view: &LightView,
+        settings: &RasterSettings,
+    ) -> Result<Self, GpuError> {
+        let bias = depth_bias(settings)?;
+        let map = GpuDepthMap::empty(gpu, view.resolution)?;
+        let module = gpu.device.create_shader_module(wgpu::include_wgsl!("depth.wgsl"));
+        let (closed, open) = casters(scene);
+        let closed_cull = match settings.culling {
+            Culling::None => None,
+            Culling::BackFacesOfClosed => Some(wgpu::Face::Back),
+            Culling::FrontFacesOfClosed => Some(wgpu::Face::Front),
+        };
+        // One explicit layout: the bind group must fit both pipelines (automatic layouts of two
+        // pipelines are never compatible).
+        let bind_layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("light"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
+        let layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("casters"),
+            bind_group_layouts: &[Some(&bind_layout)],
+            immediate_size: 0,
+        });
+        let pipelines = [closed_cull, None].map(|cull| caster_pipeline(gpu, &module, &layout, cull, bias));
+        let uniform = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("light"),
+            contents: bytemuck::cast_slice(&view.clip_from_world.to_cols_array()),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("light"),
+            layout: &bind_layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() }],
+        });
+        let buffers = [&closed, &open].map(|vertices| {
+            gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("casters"),
+                // A zero-sized vertex buffer is invalid: an empty list draws nothing anyway.
+                contents: bytemuck::cast_slice(if vertices.is_empty() { &[[0.0f32; 3]] } else { vertices }),
+                usage: wgpu::BufferUsages::VERTEX,
+            })
+        });
+        let attachment = map.texture.create_view(&Default::default());
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_render_pass(&depth_pass(&attachment, wgpu::LoadOp::Clear(1.0)));
+            for ((pipeline, buffer), vertices) in pipelines.iter().zip(&buffers).zip([&closed, &open]) {
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &bind_group, &[]);
+                pass.set_vertex_buffer(0, buffer.slice(..));
+                pass.draw(0..vertices.len() as u32, 0..1);
+            }
+        }
+        gpu.queue.submit([encoder.finish()]);
+        Ok(map)
+    }
+
+    /// A depth map holding `layer`'s depths exactly (for shading a layer the CPU rasterized).
+    pub fn upload(gpu: &GpuDevice, layer: &DepthLayer) -> Result<Self, GpuError> {
+        let n = layer.resolution;
+        let map = GpuDepthMap::empty(gpu, n)?;
+        // Depth textures cannot be copied into: the layer goes to an R32Float texture and a
+        // full-screen pass writes it out as fragment depth.
+        let source = gpu.device.create_texture_with_data(
+            &gpu.queue,
+            &wgpu::TextureDescriptor {
+                label: Some("layer"),
+                size: wgpu::Extent3d { width: n, height: n, depth_or_array_layers: 1 },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::R32Float,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            bytemuck::cast_slice(&layer.depth),
+        );
+        let module = gpu.device.create_shader_module(wgpu::include_wgsl!("depth.wgsl"));
+        let pipeline = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("upload"),
+            layout: None,
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("fullscreen"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(depth_state(wgpu::CompareFunction::Always, wgpu::DepthBiasState::default())),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("upload"),
+                compilation_options: Default::default(),
+                targets: &[],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let source_view = source.create_view(&Default::default());
+        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("upload"),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::TextureView(&source_view),
+            }],
+        });
+        let attachment = map.texture.create_view(&Default::default());
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_render_pass(&depth_pass(&attachment, wgpu::LoadOp::Clear(1.0)));
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.draw(0..3, 0..1);
+        }
+        gpu.queue.submit([encoder.finish()]);
+        Ok(map)
+    }
+
+    /// The map's depths, as the CPU rasterizer stores an f32 layer.
+    pub fn read_back(&self, gpu: &GpuDevice) -> Result<DepthLayer, GpuError> {
+        let n = self.resolution;
+        let depth = read_f32_texture(gpu, &self.texture, wgpu::TextureAspect::DepthOnly, n, n)?;
+        Ok(DepthLayer { resolution: n, depth })
+    }
+
+    fn empty(gpu: &GpuDevice, resolution: u32) -> Result<Self, GpuError> {
+        if resolution == 0 || resolution > gpu.max_texture_side() {
+            return Err(GpuError(format!(
+                "a {resolution}² shadow map does not fit the GPU (its textures go up to {}²)",
+                gpu.max_texture_side()
+            )));
+        }
+        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("shadow map"),
+            size: wgpu::Extent3d { width: resolution, height: resolution, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: DEPTH_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        Ok(GpuDepthMap { texture, resolution })
+    }
+}
+
+/// glPolygonOffset(factor, units) as the device's depth bias: the same `factor·m + units·r`
+/// (Vulkan "Depth Bias"; r of a float buffer is 2^(e − 23) from the primitive's largest depth,
+/// as `DepthFormat::F32`), with `units` a whole number since the device takes an integer.
+fn depth_bias(settings: &RasterSettings) -> Result<wgpu::DepthBiasState, GpuError> {
+    if settings.format != DepthFormat::F32 {
+        return Err(GpuError(format!(
+            "the GPU pipeline renders f32 depth maps only, not {}",
+            settings.format.name()
+        )));
+    }
+    let units = settings.slope_units;
+    if units.fract() != 0.0 || units.abs() > i32::MAX as f32 {
+        return Err(GpuError(format!("the GPU's depth bias takes whole units, not {units}")));
+    }
+    Ok(wgpu::DepthBiasState { constant: units as i32, slope_scale: settings.slope_factor, clamp: 0.0 })
+}
+
+/// World-space vertices of the triangles of closed objects and of the others, three per triangle.
+fn casters(scene: &Scene) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
+    let (mut closed, mut open) = (Vec::new(), Vec::new());
+    for (id, tri) in scene.triangles() {
+        let is_closed = scene.is_closed(id);
+        let list = if is_closed { &mut closed } else { &mut open };
+        list.extend(tri.iter().map(|p| p.to_array()));
+    }
+    (closed, open)
+}
+
+fn depth_state(compare: wgpu::CompareFunction, bias: wgpu::DepthBiasState) -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: DEPTH_FORMAT,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(compare),
+        stencil: Default::default(),
+        bias,
+    }
+}
+
+fn depth_pass<'a>(
+    attachment: &'a wgpu::TextureView,
+    load: wgpu::LoadOp<f32>,
+) -> wgpu::RenderPassDescriptor<'a> {
+    wgpu::RenderPassDescriptor {
+        label: Some("shadow map"),
+        color_attachments: &[],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: attachment,
+            depth_ops: Some(wgpu::Operations { load, store: wgpu::StoreOp::Store }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    }
+}
+
+/// The caster pipeline: counter-clockwise in (u, v) is a front face, as the CPU rasterizer's
+/// facing (docs/conventions.md, "Rasterizer"); the nearest fragment wins.
+fn caster_pipeline(
+    gpu: &GpuDevice,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    cull_mode: Option<wgpu::Face>,
+    bias: wgpu::DepthBiasState,
+) -> wgpu::RenderPipeline {
+    gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("casters"),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("caster"),
+            compilation_options: Default::default(),
+            buffers: &[Some(wgpu::VertexBufferLayout {
+                array_stride: 12,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+            })],
+        },
+        primitive: wgpu::PrimitiveState { front_face: wgpu::FrontFace::Ccw, cull_mode, ..Default::default() },
+        depth_stencil: Some(depth_state(wgpu::CompareFunction::Less, bias)),
+        multisample: Default::default(),
+        fragment: None,
+        multiview_mask: None,
+        cache: None,
+    })
+}

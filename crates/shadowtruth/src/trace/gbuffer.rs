@@ -1,0 +1,281 @@
+//! The G-buffer of one (camera, light): per pixel the primary hit of the pixel-centre ray and its
+//! class. The reference and every technique evaluate exactly these surface points.
+
+use super::bvh::{Hit, SceneBvh};
+use super::shadow_ray::{SurfacePoint, position_error};
+use super::watertight::barycentric_point;
+use crate::scene::{Camera, Film, Light, LightKind, Scene};
+use glam::{DVec3, Vec3};
+use rayon::prelude::*;
+
+/// What a pixel shows, as far as shadows are concerned.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[repr(u8)]
+pub enum PixelClass {
+    /// The pixel-centre ray hits nothing.
+    Background,
+    /// The surface, with its normal turned towards the camera, has N·L ≤ 0: in attached shadow.
+    FacingAway,
+    /// Outside the spot light's cone or depth range.
+    OutsideLight,
+    /// Scored: lit or shadowed by occluders only.
+    Evaluated,
+}
+
+/// Per-pixel surface data in row-major order (row 0 at the top).
+pub struct GBuffer {
+    pub width: u32,
+    pub height: u32,
+    pub class: Vec<PixelClass>,
+    /// Surface point, from the hit triangle's vertices and barycentrics. Its rounding-error
+    /// bound is a function of it and the triangle, computed where a shadow ray needs it rather
+    /// than stored (at 4096² that is 192 MiB).
+    pub position: Vec<Vec3>,
+    /// Unit geometric normal, turned towards the camera.
+    pub normal: Vec<Vec3>,
+    /// Scene triangle id (u32::MAX for background).
+    pub triangle: Vec<u32>,
+    /// Object id (u32::MAX for background).
+    pub object: Vec<u32>,
+    /// Indices of the evaluated pixels, ascending: the loop every technique runs over.
+    pub evaluated: Vec<u32>,
+}
+
+impl GBuffer {
+    pub fn pixel_count(&self) -> usize {
+        self.class.len()
+    }
+
+    pub fn count(&self, class: PixelClass) -> usize {
+        self.class.iter().filter(|&&c| c == class).count()
+    }
+
+    /// The surface point of pixel `i` of a G-buffer traced in `scene`, as the shadow test takes
+    /// it: the same error bound as the primary hit computed.
+    pub fn surface_point(&self, scene: &Scene, i: usize) -> SurfacePoint {
+        let (position, triangle) = (self.position[i], self.triangle[i]);
+        SurfacePoint {
+            position,
+            error: position_error(position, &scene.triangle(triangle)),
+            normal: self.normal[i],
+            triangle,
+        }
+    }
+}
+
+/// A light as per-point questions need it, its constants (a normalized direction, a cone's
+/// cosine) computed once rather than at every pixel.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum LightSight {
+    Directional { towards: DVec3 },
+    Spot { position: DVec3, axis: DVec3, cos_half: f64, near: f64, far: f64 },
+}
+
+impl LightSight {
+    pub(super) fn of(light: &Light) -> Self {
+        match &light.kind {
+            LightKind::Directional { direction, .. } => {
+                LightSight::Directional { towards: -direction.as_dvec3().normalize() }
+            }
+            LightKind::Spot { position, direction, cone_deg, near, far, .. } => LightSight::Spot {
+                position: position.as_dvec3(),
+                axis: direction.as_dvec3().normalize(),
+                cos_half: (0.5 * (*cone_deg as f64).to_radians()).cos(),
+                near: *near as f64,
+                far: *far as f64,
+            },
+        }
+    }
+
+    /// Unit vector from `p` towards the light, in f64.
+    #[inline]
+    pub(super) fn towards(&self, p: DVec3) -> DVec3 {
+        match *self {
+            LightSight::Directional { towards } => towards,
+            LightSight::Spot { position, .. } => (position - p).normalize(),
+        }
+    }
+
+    /// Whether the light reaches `p`: a spot light strictly inside its cone, within [near, far]
+    /// along its axis.
+    #[inline]
+    pub(super) fn reaches(&self, p: DVec3) -> bool {
+        match *self {
+            LightSight::Directional { .. } => true,
+            LightSight::Spot { position, axis, cos_half, near, far } => {
+                let offset = p - position;
+                let along = offset.dot(axis);
+                offset.normalize().dot(axis) > cos_half && along >= near && along <= far
+            }
+        }
+    }
+}
+
+/// The surface seen along one primary ray, classified for a light.
+pub(super) struct SurfaceSample {
+    pub class: PixelClass,
+    /// From the hit triangle's vertices and barycentrics (not origin + t·dir), with its
+    /// error bound; the normal is the geometric one, turned towards the ray's origin.
+    pub point: SurfacePoint,
+}
+
+/// The surface point of a primary ray's closest hit, and its class. Shared by the G-buffer
+/// (pixel-centre rays) and the pixel-coverage reference (sub-pixel rays).
+pub(super) fn surface_sample(hit: &Hit, dir: Vec3, light: &LightSight) -> SurfaceSample {
+    let verts = &hit.vertices;
+    let p = barycentric_point(verts, hit.barycentric);
+    let (v0, v1, v2) = (verts[0].as_dvec3(), verts[1].as_dvec3(), verts[2].as_dvec3());
+    let mut ng = (v1 - v0).cross(v2 - v0).normalize();
+    if ng.dot(dir.as_dvec3()) > 0.0 {
+        ng = -ng;
+    }
+    let p32 = p.as_vec3();
+    let l = light.towards(p32.as_dvec3());
+    let class = if ng.dot(l) <= 0.0 {
+        PixelClass::FacingAway
+    } else if !light.reaches(p32.as_dvec3()) {
+        PixelClass::OutsideLight
+    } else {
+        PixelClass::Evaluated
+    };
+    let point = SurfacePoint {
+        position: p32,
+        error: position_error(p32, verts),
+        normal: ng.as_vec3(),
+        triangle: hit.triangle,
+    };
+    SurfaceSample { class, point }
+}
+
+impl GBuffer {
+    /// Traces the pixel-centre ray of every pixel of `camera` and classifies it for `light`.
+    pub fn trace(scene: &Scene, bvh: &SceneBvh, camera: &Camera, light: &Light) -> GBuffer {
+        let (w, h) = (camera.width, camera.height);
+        let n = camera.pixel_count();
+        let film = camera.film();
+        let columns = film.columns();
+        let sight = LightSight::of(light);
+        let mut class = filled(PixelClass::Background, n);
+        let mut position = filled(Vec3::ZERO, n);
+        let mut normal = filled(Vec3::ZERO, n);
+        let mut triangle = filled(u32::MAX, n);
+        let mut object = filled(u32::MAX, n);
+        class
+            .par_chunks_mut(w as usize)
+            .zip(position.par_chunks_mut(w as usize))
+            .zip(normal.par_chunks_mut(w as usize))
+            .zip(triangle.par_chunks_mut(w as usize))
+            .zip(object.par_chunks_mut(w as usize))
+            .enumerate()
+            .for_each_init(
+                || (bvh.scratch(), vec![Vec3::ZERO; w as usize], vec![None; w as usize]),
+                |(scratch, dirs, hits), (y, ((((cls, pos), nrm), tri), obj))| {
+                    row_directions(&film, &columns, y, dirs);
+                    bvh.closest_hits(scratch, camera.position, dirs, hits);
+                    for (x, hit) in hits.iter().enumerate() {
+                        let Some(hit) = hit else { continue };
+                        let sample = surface_sample(hit, dirs[x], &sight);
+                        let p = sample.point;
+                        cls[x] = sample.class;
+                        pos[x] = p.position;
+                        nrm[x] = p.normal;
+                        tri[x] = p.triangle;
+                        obj[x] = scene.object_of(p.triangle);
+                    }
+                },
+            );
+        let evaluated = (0..n as u32).filter(|&i| class[i as usize] == PixelClass::Evaluated).collect();
+        GBuffer { width: w, height: h, class, position, normal, triangle, object, evaluated }
+    }
+}
+
+/// The pixel-centre ray directions of `camera`, row by row: the G-buffer's rays.
+pub fn primary_directions(camera: &Camera) -> Vec<Vec3> {
+    let (film, w) = (camera.film(), camera.width as usize);
+    let columns = film.columns();
+    let mut directions = filled(Vec3::ZERO, camera.pixel_count());
+    directions.par_chunks_mut(w).enumerate().for_each(|(y, dirs)| row_directions(&film, &columns, y, dirs));
+    directions
+}
+
+/// The pixel-centre directions of row `y`.
+fn row_directions(film: &Film, columns: &[f64], y: usize, directions: &mut [Vec3]) {
+    let row = film.row(y as u32);
+    for (x, dir) in directions.iter_mut().enumerate() {
+        *dir = row.direction(columns, x as u32);
+    }
+}
+
+/// A primary ray's closest hit as `primary_hits` writes it: what a tracer's hit record holds
+/// (the Embree tool's too), without the vertices `Hit` carries for the G-buffer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PrimaryHit {
+    /// Scene triangle id, u32::MAX where the ray hits nothing.
+    pub triangle: u32,
+    pub t: f32,
+    pub barycentric: [f32; 3],
+}
+
+impl PrimaryHit {
+    const MISS: PrimaryHit = PrimaryHit { triangle: u32::MAX, t: f32::INFINITY, barycentric: [0.0; 3] };
+}
+
+/// The closest hits of rays from the camera along `directions` (`primary_directions`), walked
+/// row by row as the G-buffer walks them, without the surface work the G-buffer adds: the
+/// tracer's own share of primary rays, which `reference --timing` times.
+pub fn primary_hits(bvh: &SceneBvh, camera: &Camera, directions: &[Vec3]) -> Vec<PrimaryHit> {
+    let w = camera.width as usize;
+    let mut records = filled(PrimaryHit::MISS, directions.len());
+    records.par_chunks_mut(w).zip(directions.par_chunks(w)).for_each_init(
+        || (bvh.scratch(), vec![None; w]),
+        |(scratch, hits), (records, dirs)| {
+            bvh.closest_hits(scratch, camera.position, dirs, hits);
+            for (record, hit) in records.iter_mut().zip(hits.iter()) {
+                if let Some(h) = hit {
+                    *record = PrimaryHit { triangle: h.triangle, t: h.t, barycentric: h.barycentric };
+                }
+            }
+        },
+    );
+    records
+}
+
+/// `n` copies of `value`, written by every thread: at 4096² a G-buffer array is up to 192 MiB,
+/// which one thread takes a while to fill before the tracing starts.
+fn filled<T: Copy + Send + Sync>(value: T, n: usize) -> Vec<T> {
+    let mut v = Vec::with_capacity(n);
+    v.par_extend(rayon::iter::repeat_n(value, n));
+    v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::load_scene;
+    use std::path::Path;
+
+    /// The rays `reference --timing` times as primary rays are the G-buffer's, with the same
+    /// hits: the same triangle per pixel, and the same surface point from its barycentrics.
+    #[test]
+    fn primary_hits_are_the_gbuffer_hits() {
+        for name in ["rocks", "spot"] {
+            let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../scenes/{name}.json"));
+            let scene = load_scene(&path).expect("bundled scene");
+            let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
+            let bvh = SceneBvh::build(&scene);
+            let g = GBuffer::trace(&scene, &bvh, camera, light);
+            let records = primary_hits(&bvh, camera, &primary_directions(camera));
+            assert_eq!(records.len(), g.pixel_count());
+            let mut hits = 0;
+            for (i, r) in records.iter().enumerate() {
+                assert_eq!(r.triangle, g.triangle[i], "{name}: pixel {i}");
+                if r.triangle != u32::MAX {
+                    let p = barycentric_point(&scene.triangle(r.triangle), r.barycentric).as_vec3();
+                    assert_eq!(p.to_array().map(f32::to_bits), g.position[i].to_array().map(f32::to_bits));
+                    hits += 1;
+                }
+            }
+            assert!(hits > records.len() / 2, "{name}: the view must mostly hit ({hits})");
+        }
+    }
+}
