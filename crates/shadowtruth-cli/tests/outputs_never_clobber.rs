@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 
 /// The lock file that the reference cache's writers take to record a reference
-/// (`src/trace/cache.rs`, `MANIFEST_LOCK_FILE`): held here, it keeps a run from finishing.
+/// (`src/trace/reference/cache.rs`, `MANIFEST_LOCK_FILE`): held here, it keeps a run from finishing.
 const MANIFEST_LOCK_FILE: &str = ".manifest.lock";
 
 /// The lock file of a folder being written (`src/output_lock.rs`, `LOCK_FILE_NAME`).

@@ -1,5 +1,5 @@
 //! Each obvhs 0.4 trap named in docs/conventions.md ("obvhs traps") and at the top of
-//! src/trace/bvh.rs, pinned: the test fails if our tracer falls into it.
+//! src/trace/bvh/scene_bvh.rs, pinned: the test fails if our tracer falls into it.
 //! Where it is cheap, a control shows that obvhs's own path does fall into it on the same input,
 //! so that the test is known to exercise the trap.
 

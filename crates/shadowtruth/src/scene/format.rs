@@ -55,7 +55,7 @@ pub(crate) struct ObjectDesc {
     pub closed: bool,
     pub transform: Option<Transform>,
     /// `instances`: one transform per placement of the geometry, stored once and traced
-    /// through a two-level BVH (src/trace/instances.rs). Empty when the field is absent;
+    /// through a two-level BVH (src/trace/bvh/instances.rs). Empty when the field is absent;
     /// `transform` is then the one placement.
     pub instances: Vec<Transform>,
 }

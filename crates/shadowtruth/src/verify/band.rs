@@ -33,7 +33,7 @@ pub struct Frame {
 }
 
 /// f32's unit roundoff and Higham's γ(n), written here again rather than taken from
-/// `trace/watertight.rs`: the adjudicator shares no arithmetic with the tracer it checks.
+/// `trace/bvh/watertight.rs`: the adjudicator shares no arithmetic with the tracer it checks.
 const U: f64 = f32::EPSILON as f64 * 0.5;
 
 fn gamma(n: f64) -> f64 {

@@ -73,7 +73,7 @@ impl Decision {
 
 /// Converts `bvh2` (one triangle per leaf, as PLOC builds it) to a CWBVH with children ordered
 /// by octant, equal to obvhs's `bvh2_to_cwbvh(bvh2, 3, true, false)`.
-pub(super) fn bvh2_to_cwbvh(bvh2: &Bvh2) -> CwBvh {
+pub(in crate::trace) fn bvh2_to_cwbvh(bvh2: &Bvh2) -> CwBvh {
     if bvh2.nodes.is_empty() {
         return CwBvh::default();
     }

@@ -1,10 +1,11 @@
 //! The G-buffer of one (camera, light): per pixel the primary hit of the pixel-centre ray and its
 //! class. The reference and every technique evaluate exactly these surface points.
 
-use super::bvh::{Hit, SceneBvh};
-use super::shadow_ray::{SurfacePoint, position_error};
-use super::watertight::barycentric_point;
 use crate::scene::{Camera, Film, Light, LightKind, Scene};
+use crate::trace::bvh::hit::Hit;
+use crate::trace::bvh::scene_bvh::SceneBvh;
+use crate::trace::bvh::shadow_ray::{SurfacePoint, position_error};
+use crate::trace::bvh::watertight::barycentric_point;
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
@@ -66,13 +67,13 @@ impl GBuffer {
 /// A light as per-point questions need it, its constants (a normalized direction, a cone's
 /// cosine) computed once rather than at every pixel.
 #[derive(Clone, Copy, Debug)]
-pub(super) enum LightSight {
+pub(in crate::trace) enum LightSight {
     Directional { towards: DVec3 },
     Spot { position: DVec3, axis: DVec3, cos_half: f64, near: f64, far: f64 },
 }
 
 impl LightSight {
-    pub(super) fn of(light: &Light) -> Self {
+    pub(in crate::trace) fn of(light: &Light) -> Self {
         match &light.kind {
             LightKind::Directional { direction, .. } => {
                 LightSight::Directional { towards: -direction.as_dvec3().normalize() }
@@ -89,7 +90,7 @@ impl LightSight {
 
     /// Unit vector from `p` towards the light, in f64.
     #[inline]
-    pub(super) fn towards(&self, p: DVec3) -> DVec3 {
+    pub(in crate::trace) fn towards(&self, p: DVec3) -> DVec3 {
         match *self {
             LightSight::Directional { towards } => towards,
             LightSight::Spot { position, .. } => (position - p).normalize(),
@@ -99,7 +100,7 @@ impl LightSight {
     /// Whether the light reaches `p`: a spot light strictly inside its cone, within [near, far]
     /// along its axis.
     #[inline]
-    pub(super) fn reaches(&self, p: DVec3) -> bool {
+    pub(in crate::trace) fn reaches(&self, p: DVec3) -> bool {
         match *self {
             LightSight::Directional { .. } => true,
             LightSight::Spot { position, axis, cos_half, near, far } => {
@@ -112,7 +113,7 @@ impl LightSight {
 }
 
 /// The surface seen along one primary ray, classified for a light.
-pub(super) struct SurfaceSample {
+pub(in crate::trace) struct SurfaceSample {
     pub class: PixelClass,
     /// From the hit triangle's vertices and barycentrics (not origin + t·dir), with its
     /// error bound; the normal is the geometric one, turned towards the ray's origin.
@@ -121,7 +122,7 @@ pub(super) struct SurfaceSample {
 
 /// The surface point of a primary ray's closest hit, and its class. Shared by the G-buffer
 /// (pixel-centre rays) and the pixel-coverage reference (sub-pixel rays).
-pub(super) fn surface_sample(hit: &Hit, dir: Vec3, light: &LightSight) -> SurfaceSample {
+pub(in crate::trace) fn surface_sample(hit: &Hit, dir: Vec3, light: &LightSight) -> SurfaceSample {
     let verts = &hit.vertices;
     let p = barycentric_point(verts, hit.barycentric);
     let (v0, v1, v2) = (verts[0].as_dvec3(), verts[1].as_dvec3(), verts[2].as_dvec3());

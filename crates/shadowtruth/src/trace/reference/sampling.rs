@@ -3,7 +3,7 @@
 //! samples are the same bits whatever thread traces it; the concentric square-to-disk map; an
 //! orthonormal frame around a direction.
 
-use super::splitmix::{mix64, unit_f64};
+use crate::trace::splitmix::{mix64, unit_f64};
 use glam::DVec3;
 
 /// The centre of stratum `k` (row-major) of a `grid`×`grid` split of the unit square.

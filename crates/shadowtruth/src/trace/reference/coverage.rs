@@ -9,12 +9,12 @@
 //! of its surfaces); sub-samples on surfaces facing away from the light or outside a spot
 //! light's cone count as shadowed.
 
-use super::bvh::{RAYS_PER_BATCH, SceneBvh};
 use super::gbuffer::{GBuffer, LightSight, PixelClass, surface_sample};
-use super::reference::{hard_visible, shadow_ray_to_centre};
+use super::hard::{hard_visible, shadow_ray_to_centre};
 use super::sampling::stratum_centre;
 use super::soft_reference::{Estimate, SoftReference, trace_evaluated};
 use crate::scene::{Camera, Light, Scene};
+use crate::trace::bvh::scene_bvh::{RAYS_PER_BATCH, SceneBvh};
 use glam::Vec3;
 
 /// Traces the coverage reference on an n×n sub-pixel grid (`grid` = n ≥ 1).

@@ -16,12 +16,12 @@
 //! that of N independent samples; stratification makes the true error smaller, so it is an
 //! upper bound that falls as 1/√N on penumbra pixels.
 
-use super::bvh::SceneBvh;
 use super::gbuffer::GBuffer;
 use super::sampling::{concentric_disk, jittered_stratum, orthonormal_frame};
-use super::shadow_ray::ShadowRay;
 use super::soft_reference::{Estimate, SoftReference, trace_evaluated};
 use crate::scene::{Light, LightKind, Scene};
+use crate::trace::bvh::scene_bvh::SceneBvh;
+use crate::trace::bvh::shadow_ray::ShadowRay;
 use glam::DVec3;
 
 /// Why an area-light reference cannot be traced.

@@ -28,10 +28,11 @@
 //! or the new one, never a half-written one. Temporary files that killed runs left in the
 //! folders written are removed on the way (`atomic_file::remove_stray_temp_files`).
 
+use super::area_light::AreaLightError;
 use super::soft_reference::{SoftKind, SoftReference};
-use super::{AreaLightError, TRACER_VERSION};
 use crate::atomic_file::{encode_gray_png, remove_stray_temp_files, write_atomic};
 use crate::scene::{Camera, Light, LightKind, LightSize, Scene, ViewKey};
+use crate::trace::TRACER_VERSION;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
@@ -401,22 +402,23 @@ impl ReferenceCache {
     pub fn hard_reference(
         &self,
         scene: &Scene,
-        bvh: &super::SceneBvh,
-        gbuffer: &super::GBuffer,
+        bvh: &crate::trace::SceneBvh,
+        gbuffer: &crate::trace::GBuffer,
         camera: &Camera,
         light: &Light,
-    ) -> std::io::Result<(super::HardReference, bool)> {
+    ) -> std::io::Result<(crate::trace::HardReference, bool)> {
         let view = ViewKey::from_view(scene, camera, light);
         let digest = reference_digest(scene, camera, light);
         if let Some(cached) = self.load(view, &digest)
             && (cached.width, cached.height) == (gbuffer.width, gbuffer.height)
         {
-            let reference = super::HardReference::from_mask_codes(cached.width, cached.height, &cached.codes);
+            let reference =
+                crate::trace::HardReference::from_mask_codes(cached.width, cached.height, &cached.codes);
             if reference.mask_codes(gbuffer) == cached.codes {
                 return Ok((reference, true));
             }
         }
-        let reference = super::trace_hard_reference(scene, bvh, gbuffer, light);
+        let reference = crate::trace::trace_hard_reference(scene, bvh, gbuffer, light);
         let codes = reference.mask_codes(gbuffer);
         self.store(view, &digest, gbuffer.width, gbuffer.height, &codes)?;
         Ok((reference, false))
@@ -430,14 +432,14 @@ impl ReferenceCache {
     pub fn coverage_reference(
         &self,
         scene: &Scene,
-        bvh: &super::SceneBvh,
-        gbuffer: &super::GBuffer,
+        bvh: &crate::trace::SceneBvh,
+        gbuffer: &crate::trace::GBuffer,
         camera: &Camera,
         light: &Light,
         grid: u32,
     ) -> std::io::Result<(SoftReference, bool)> {
         self.soft_reference(scene, gbuffer, camera, light, SoftKind::Coverage, grid, || {
-            Ok(super::trace_coverage_reference(scene, bvh, gbuffer, camera, light, grid))
+            Ok(crate::trace::trace_coverage_reference(scene, bvh, gbuffer, camera, light, grid))
         })
     }
 
@@ -449,16 +451,16 @@ impl ReferenceCache {
     pub fn area_light_reference(
         &self,
         scene: &Scene,
-        bvh: &super::SceneBvh,
-        gbuffer: &super::GBuffer,
+        bvh: &crate::trace::SceneBvh,
+        gbuffer: &crate::trace::GBuffer,
         camera: &Camera,
         light: &Light,
         grid: u32,
     ) -> std::io::Result<(SoftReference, bool)> {
         let invalid = |e: AreaLightError| std::io::Error::new(std::io::ErrorKind::InvalidInput, e);
-        super::validate_area_light(light, grid).map_err(invalid)?;
+        crate::trace::validate_area_light(light, grid).map_err(invalid)?;
         self.soft_reference(scene, gbuffer, camera, light, SoftKind::AreaLight, grid, || {
-            super::trace_area_light_reference(scene, bvh, gbuffer, light, grid).map_err(invalid)
+            crate::trace::trace_area_light_reference(scene, bvh, gbuffer, light, grid).map_err(invalid)
         })
     }
 
@@ -466,7 +468,7 @@ impl ReferenceCache {
     fn soft_reference(
         &self,
         scene: &Scene,
-        gbuffer: &super::GBuffer,
+        gbuffer: &crate::trace::GBuffer,
         camera: &Camera,
         light: &Light,
         kind: SoftKind,

@@ -9,12 +9,13 @@
 //! every triangle that the flat tree would have reached, and the answers are those of the
 //! flattened scene (tests/instancing.rs).
 
-use super::bvh::{
-    ANY_ORDER, Hit, NEAREST_FIRST, NodeRay, SceneBvh, TraversalScratch, WalkState, build_cwbvh, tree_depth,
-    walk,
-};
+use super::flat_tree::{FlatTree, build_cwbvh};
+use super::hit::Hit;
+use super::node_test::NodeRay;
+use super::scratch::TraversalScratch;
+use super::walk::{ANY_ORDER, NEAREST_FIRST, WalkState, walk};
 use super::watertight::WatertightRay;
-use super::wide_bvh::WideBvh;
+use super::wide_bvh::{WideBvh, tree_depth};
 use crate::scene::{Scene, SharedMesh, box_corners, is_degenerate, world_vertex};
 use glam::{DAffine3, DVec3, Vec3, Vec3A};
 use obvhs::aabb::Aabb;
@@ -23,7 +24,7 @@ use obvhs::aabb::Aabb;
 /// the f32 roundings it must cover (2^-24 each), far below anything that costs time.
 const SLACK: f64 = 1.0 / (1u64 << 18) as f64;
 
-pub(super) struct InstanceLevel {
+pub(in crate::trace) struct InstanceLevel {
     top: WideBvh,
     top_depth: usize,
     /// The placement of each top-level primitive, in the top tree's order.
@@ -49,13 +50,13 @@ struct Placement {
 /// The tree of one shared mesh, over its vertices rounded to f32 in its own space, with the
 /// f64 vertices of each triangle in the tree's order.
 struct MeshTree {
-    tree: SceneBvh,
+    tree: FlatTree,
     local_triangles: Vec<[DVec3; 3]>,
     local_ids: Vec<u32>,
 }
 
 impl InstanceLevel {
-    pub(super) fn build(scene: &Scene) -> Option<Self> {
+    pub(in crate::trace) fn build(scene: &Scene) -> Option<Self> {
         if scene.instances.is_empty() {
             return None;
         }
@@ -77,13 +78,13 @@ impl InstanceLevel {
     }
 
     /// The deepest top tree and the deepest mesh tree, for the walk stacks.
-    pub(super) fn depths(&self) -> (usize, usize) {
+    pub(in crate::trace) fn depths(&self) -> (usize, usize) {
         (self.top_depth, self.meshes.iter().map(|m| m.tree.depth).max().unwrap_or(0))
     }
 
     /// Replaces `best` by a nearer hit on an instanced triangle with t ∈ [tmin, tmax], where
     /// `tmax` is the caller's bound or `best`'s distance, whichever is nearer.
-    pub(super) fn closest_hit(
+    pub(in crate::trace) fn closest_hit(
         &self,
         scratch: &mut TraversalScratch,
         ray: &WatertightRay,
@@ -120,7 +121,7 @@ impl InstanceLevel {
 
     /// An instanced triangle other than `skip` hit within [tmin, tmax]; with `beyond_error`,
     /// only a hit whose distance is certainly positive counts (the shadow-ray test).
-    pub(super) fn any_hit(
+    pub(in crate::trace) fn any_hit(
         &self,
         scratch: &mut TraversalScratch,
         ray: &WatertightRay,
@@ -169,7 +170,7 @@ impl MeshTree {
     fn build(mesh: &SharedMesh) -> Self {
         let local = |t: &[u32; 3]| t.map(|i| mesh.positions[i as usize]);
         let rounded: Vec<[Vec3; 3]> = mesh.triangles.iter().map(|t| local(t).map(|p| p.as_vec3())).collect();
-        let mut tree = SceneBvh::build_from_triangles(&rounded);
+        let mut tree = FlatTree::build(&rounded);
         drop(rounded);
         // The walk tests world triangles: the f32 local copies were for the build only.
         tree.triangles = Vec::new();

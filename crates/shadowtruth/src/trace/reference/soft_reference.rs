@@ -3,9 +3,10 @@
 //! with the sample count in a `samples` header attribute. f32 samples in a lossless EXR read
 //! back bit for bit.
 
-use super::bvh::{SceneBvh, TraversalScratch};
 use super::gbuffer::{GBuffer, PixelClass};
-use super::shadow_batch::RowShadows;
+use crate::trace::bvh::scene_bvh::SceneBvh;
+use crate::trace::bvh::scratch::TraversalScratch;
+use crate::trace::bvh::shadow_batch::RowShadows;
 use exr::prelude::*;
 use rayon::prelude::*;
 use std::io::Cursor;
@@ -48,7 +49,7 @@ pub struct SoftReference {
 /// is √(p(1 − p)/(m − 1)); 0 for a single sample (no spread to estimate). This is the error of
 /// independent samples: stratification only lowers the true error, so it is an upper bound that
 /// falls as 1/√m where p stays fixed (a penumbra pixel).
-pub(super) fn mean_and_std_error(hits: u32, m: u32) -> (f32, f32) {
+pub(in crate::trace) fn mean_and_std_error(hits: u32, m: u32) -> (f32, f32) {
     debug_assert!(m > 0 && hits <= m);
     let p = hits as f64 / m as f64;
     let se = if m > 1 { (p * (1.0 - p) / (m - 1) as f64).sqrt() } else { 0.0 };
@@ -57,7 +58,7 @@ pub(super) fn mean_and_std_error(hits: u32, m: u32) -> (f32, f32) {
 
 /// How a pixel's estimate follows from its shadow rays (`trace_evaluated`).
 #[derive(Clone, Copy, Debug)]
-pub(super) enum Estimate {
+pub(in crate::trace) enum Estimate {
     /// The mean of `samples` 0/1 samples, of which the pixel's unoccluded rays are the 1s.
     Mean { samples: u32 },
     /// Known without its rays: (visibility, standard error).
@@ -70,7 +71,7 @@ pub(super) enum Estimate {
 /// row's rays are traced together, eight at a time across its pixels, and rows run in parallel
 /// with one traversal scratch per worker; each ray's answer is its own, so the bits depend
 /// neither on the thread count nor on how rays are batched.
-pub(super) fn trace_evaluated(
+pub(in crate::trace) fn trace_evaluated(
     bvh: &SceneBvh,
     gbuffer: &GBuffer,
     samples: u32,

@@ -16,29 +16,29 @@ use rayon::prelude::*;
 /// Empty slots hold an inverted box (+∞ below, −∞ above), which every ray misses.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
-pub(super) struct WideNode {
+pub(in crate::trace) struct WideNode {
     /// `lo[axis][child]`: each child's minimum plane along an axis.
-    pub(super) lo: [[f32; 8]; 3],
+    pub(in crate::trace) lo: [[f32; 8]; 3],
     /// `hi[axis][child]`: each child's maximum plane along an axis.
-    pub(super) hi: [[f32; 8]; 3],
-    pub(super) child: [ChildRef; 8],
+    pub(in crate::trace) hi: [[f32; 8]; 3],
+    pub(in crate::trace) child: [ChildRef; 8],
 }
 
 /// Where a child leads: an inner node, or a leaf's run of primitives in tree order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[repr(transparent)]
-pub(super) struct ChildRef(u32);
+pub(in crate::trace) struct ChildRef(u32);
 
 /// The leaf flag of a `ChildRef`; below it, the leaf's first primitive (shifted by 2) and its
 /// count less one (2 bits: a leaf holds at most four).
 const LEAF: u32 = 1 << 31;
 /// The most primitives a tree may have: a leaf's first primitive has 29 bits.
-pub(super) const MAX_PRIMITIVES: usize = 1 << 29;
+pub(in crate::trace) const MAX_PRIMITIVES: usize = 1 << 29;
 
 impl ChildRef {
-    pub(super) const ROOT: ChildRef = ChildRef(0);
+    pub(in crate::trace) const ROOT: ChildRef = ChildRef(0);
     /// An empty slot: node 0 is the root, which is no node's child.
-    pub(super) const EMPTY: ChildRef = ChildRef(0);
+    pub(in crate::trace) const EMPTY: ChildRef = ChildRef(0);
 
     fn node(index: u32) -> Self {
         debug_assert!(index < LEAF);
@@ -51,19 +51,19 @@ impl ChildRef {
     }
 
     #[inline(always)]
-    pub(super) fn is_leaf(self) -> bool {
+    pub(in crate::trace) fn is_leaf(self) -> bool {
         self.0 & LEAF != 0
     }
 
     /// The node's index (an inner child only).
     #[inline(always)]
-    pub(super) fn index(self) -> usize {
+    pub(in crate::trace) fn index(self) -> usize {
         self.0 as usize
     }
 
     /// The leaf's primitives, in tree order (a leaf child only).
     #[inline(always)]
-    pub(super) fn primitives(self) -> std::ops::Range<usize> {
+    pub(in crate::trace) fn primitives(self) -> std::ops::Range<usize> {
         let first = ((self.0 & !LEAF) >> 2) as usize;
         first..first + (self.0 & 3) as usize + 1
     }
@@ -71,14 +71,17 @@ impl ChildRef {
 
 /// A tree of `WideNode`s; node 0 is the root. Empty for a scene without primitives.
 #[derive(Default)]
-pub(super) struct WideBvh {
-    pub(super) nodes: Vec<WideNode>,
+pub(in crate::trace) struct WideBvh {
+    pub(in crate::trace) nodes: Vec<WideNode>,
 }
 
 impl WideBvh {
     /// The tree of `cwbvh`, with each child's box the exact union of `bounds(i)` over the
     /// primitives `i` (in tree order) beneath it.
-    pub(super) fn from_cwbvh(cwbvh: &CwBvh, bounds: impl Fn(usize) -> (Vec3A, Vec3A) + Sync) -> Self {
+    pub(in crate::trace) fn from_cwbvh(
+        cwbvh: &CwBvh,
+        bounds: impl Fn(usize) -> (Vec3A, Vec3A) + Sync,
+    ) -> Self {
         assert!(
             cwbvh.primitive_indices.len() <= MAX_PRIMITIVES,
             "a tree holds at most {MAX_PRIMITIVES} primitives, not {}",
@@ -123,7 +126,7 @@ impl WideBvh {
 
     /// The root's box (all of the tree's primitives), or `None` for an empty tree.
     #[cfg(test)]
-    pub(super) fn bounds(&self) -> Option<(Vec3A, Vec3A)> {
+    pub(in crate::trace) fn bounds(&self) -> Option<(Vec3A, Vec3A)> {
         self.nodes.first().map(WideNode::bounds)
     }
 }
@@ -162,7 +165,7 @@ impl WideNode {
 }
 
 /// Depth of a tree in nodes (root = 1), by walking it.
-pub(super) fn tree_depth(tree: &WideBvh) -> usize {
+pub(in crate::trace) fn tree_depth(tree: &WideBvh) -> usize {
     if tree.nodes.is_empty() {
         return 0;
     }

@@ -3,13 +3,14 @@
 //! light samples or sub-pixel surfaces (`RowShadows`) in the soft references, so that a pixel
 //! with fewer rays than a batch does not trace a batch of its own.
 
-use super::bvh::{RAYS_PER_BATCH, SceneBvh, TraversalScratch};
+use super::scene_bvh::{RAYS_PER_BATCH, SceneBvh};
+use super::scratch::TraversalScratch;
 use super::shadow_ray::ShadowRay;
 use glam::Vec3;
 
 /// Up to `RAYS_PER_BATCH` shadow rays, each with its caller's tag (a pixel's column, or
 /// nothing), waiting to be traced.
-pub(super) struct ShadowBatch {
+pub(in crate::trace) struct ShadowBatch {
     tags: [usize; RAYS_PER_BATCH],
     rays: [ShadowRay; RAYS_PER_BATCH],
     len: usize,
@@ -20,13 +21,13 @@ const UNUSED_RAY: ShadowRay =
     ShadowRay { origin: Vec3::ZERO, direction: Vec3::X, tmax: 0.0, skip_triangle: u32::MAX };
 
 impl ShadowBatch {
-    pub(super) fn new() -> Self {
+    pub(in crate::trace) fn new() -> Self {
         ShadowBatch { tags: [0; RAYS_PER_BATCH], rays: [UNUSED_RAY; RAYS_PER_BATCH], len: 0 }
     }
 
     /// Adds `ray`; once the batch is full, traces it and calls `visible(tag, lit)` for each ray.
     #[inline]
-    pub(super) fn push(
+    pub(in crate::trace) fn push(
         &mut self,
         bvh: &SceneBvh,
         scratch: &mut TraversalScratch,
@@ -43,7 +44,7 @@ impl ShadowBatch {
     }
 
     /// Traces the rays waiting, calls `visible(tag, lit)` for each, and empties the batch.
-    pub(super) fn finish(
+    pub(in crate::trace) fn finish(
         &mut self,
         bvh: &SceneBvh,
         scratch: &mut TraversalScratch,
@@ -62,36 +63,42 @@ impl ShadowBatch {
 
 /// A row's shadow rays, each under its pixel's column, traced `RAYS_PER_BATCH` at a time
 /// across the row's pixels, with each column's count of unoccluded rays.
-pub(super) struct RowShadows {
+pub(in crate::trace) struct RowShadows {
     batch: ShadowBatch,
     lit: Vec<u32>,
 }
 
 impl RowShadows {
-    pub(super) fn new(width: usize) -> Self {
+    pub(in crate::trace) fn new(width: usize) -> Self {
         RowShadows { batch: ShadowBatch::new(), lit: vec![0; width] }
     }
 
     /// Adds the shadow ray of the pixel in column `x`.
     #[inline]
-    pub(super) fn push(&mut self, bvh: &SceneBvh, scratch: &mut TraversalScratch, x: usize, ray: ShadowRay) {
+    pub(in crate::trace) fn push(
+        &mut self,
+        bvh: &SceneBvh,
+        scratch: &mut TraversalScratch,
+        x: usize,
+        ray: ShadowRay,
+    ) {
         let lit = &mut self.lit;
         self.batch.push(bvh, scratch, x, ray, |x, visible| lit[x] += visible as u32);
     }
 
     /// Traces the rays still waiting: every count is final.
-    pub(super) fn finish(&mut self, bvh: &SceneBvh, scratch: &mut TraversalScratch) {
+    pub(in crate::trace) fn finish(&mut self, bvh: &SceneBvh, scratch: &mut TraversalScratch) {
         let lit = &mut self.lit;
         self.batch.finish(bvh, scratch, |x, visible| lit[x] += visible as u32);
     }
 
     /// The unoccluded rays of column `x` (after `finish`).
-    pub(super) fn lit(&self, x: usize) -> u32 {
+    pub(in crate::trace) fn lit(&self, x: usize) -> u32 {
         self.lit[x]
     }
 
     /// Zero counts for the next row (after `finish`).
-    pub(super) fn clear(&mut self) {
+    pub(in crate::trace) fn clear(&mut self) {
         self.lit.fill(0);
     }
 }

@@ -15,11 +15,11 @@ use glam::{DVec3, Vec3A};
 pub struct WatertightRay {
     pub origin: Vec3A,
     pub direction: Vec3A,
-    pub(super) kx: usize,
-    pub(super) ky: usize,
-    pub(super) kz: usize,
-    pub(super) sx: f32,
-    pub(super) sy: f32,
+    pub(in crate::trace) kx: usize,
+    pub(in crate::trace) ky: usize,
+    pub(in crate::trace) kz: usize,
+    pub(in crate::trace) sx: f32,
+    pub(in crate::trace) sy: f32,
     sz: f32,
 }
 

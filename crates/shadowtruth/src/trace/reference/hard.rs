@@ -2,11 +2,12 @@
 //! meets no triangle other than the ones that contain the point (docs/reference.md). The shadow
 //! ray cannot hit its own surface (shadow_ray.rs); no scene-dependent epsilon enters.
 
-use super::bvh::{SceneBvh, TraversalScratch};
 use super::gbuffer::{GBuffer, LightSight, PixelClass};
-use super::shadow_batch::ShadowBatch;
-use super::shadow_ray::{ShadowRay, SurfacePoint};
 use crate::scene::{Light, Scene};
+use crate::trace::bvh::scene_bvh::SceneBvh;
+use crate::trace::bvh::scratch::TraversalScratch;
+use crate::trace::bvh::shadow_batch::ShadowBatch;
+use crate::trace::bvh::shadow_ray::{ShadowRay, SurfacePoint};
 use rayon::prelude::*;
 
 /// The grey levels of a reference mask PNG (docs/conventions.md, "Reference mask PNG").
@@ -62,7 +63,7 @@ pub fn hard_shadow_ray(point: &SurfacePoint, light: &Light) -> ShadowRay {
 }
 
 /// `hard_shadow_ray` for a light prepared once per trace.
-pub(super) fn shadow_ray_to_centre(point: &SurfacePoint, light: &LightSight) -> ShadowRay {
+pub(in crate::trace) fn shadow_ray_to_centre(point: &SurfacePoint, light: &LightSight) -> ShadowRay {
     match *light {
         LightSight::Directional { towards } => ShadowRay::along(point, towards),
         LightSight::Spot { position, .. } => ShadowRay::to_point(point, position),
@@ -71,7 +72,7 @@ pub(super) fn shadow_ray_to_centre(point: &SurfacePoint, light: &LightSight) -> 
 
 /// Whether the segment from a surface point to the light's centre meets no other triangle, for
 /// one point (the hard reference traces its rays in batches, `ShadowBatch`).
-pub(super) fn hard_visible(
+pub(in crate::trace) fn hard_visible(
     bvh: &SceneBvh,
     scratch: &mut TraversalScratch,
     point: &SurfacePoint,

@@ -11,13 +11,13 @@ use super::node_test::{self, NodeHits, NodeRay};
 use super::wide_bvh::{ChildRef, WideBvh, WideNode};
 
 /// `walk::<NEAREST_FIRST>`: children in the order the ray enters them (closest hits).
-pub(super) const NEAREST_FIRST: bool = true;
+pub(in crate::trace) const NEAREST_FIRST: bool = true;
 /// `walk::<ANY_ORDER>`: children in node order (any hit ends the walk).
-pub(super) const ANY_ORDER: bool = false;
+pub(in crate::trace) const ANY_ORDER: bool = false;
 
 /// The state of one walk down one tree: its stack of children still to visit (with the distance
 /// at which the ray may enter each, for nearest-first walks).
-pub(super) struct WalkState {
+pub(in crate::trace) struct WalkState {
     nearest: Box<[(ChildRef, f32)]>,
     any: Box<[ChildRef]>,
 }
@@ -26,7 +26,7 @@ impl WalkState {
     /// Stacks that a walk of a tree `depth` nodes deep never outgrows: each node on the way down
     /// leaves at most seven children behind, and (nearest first) its eighth is pushed before one
     /// is popped.
-    pub(super) fn new(depth: usize) -> Self {
+    pub(in crate::trace) fn new(depth: usize) -> Self {
         WalkState {
             nearest: vec![(ChildRef::ROOT, 0.0); 7 * depth + 1].into_boxed_slice(),
             any: vec![ChildRef::ROOT; 7 * depth + 1].into_boxed_slice(),
@@ -40,7 +40,7 @@ impl WalkState {
 /// by returning true. Where the processor has AVX2 and the ray moves along every axis, the node
 /// test takes eight children at once (node_test.rs); its answers and the order are the same.
 #[inline(always)]
-pub(super) fn walk<const NEAREST: bool>(
+pub(in crate::trace) fn walk<const NEAREST: bool>(
     tree: &WideBvh,
     state: &mut WalkState,
     ray: &NodeRay,

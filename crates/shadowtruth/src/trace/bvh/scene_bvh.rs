@@ -14,71 +14,31 @@
 //!   sized to the tree's depth;
 //! - `Triangle::compute_barycentric` is wrong: barycentrics come from the watertight test.
 
-use super::cwbvh_convert::bvh2_to_cwbvh;
+use super::flat_tree::FlatTree;
+use super::hit::Hit;
 use super::instances::InstanceLevel;
 use super::node_test;
-pub(super) use super::node_test::NodeRay;
+use super::node_test::NodeRay;
 #[cfg(target_arch = "x86_64")]
 use super::packet::{LANES, Packet, walk_packet};
+use super::scratch::TraversalScratch;
 use super::shadow_ray::ShadowRay;
-pub(super) use super::walk::{ANY_ORDER, NEAREST_FIRST, WalkState, walk};
+use super::walk::{ANY_ORDER, NEAREST_FIRST, WalkState, walk};
 use super::watertight::WatertightRay;
-pub(super) use super::wide_bvh::tree_depth;
 use super::wide_bvh::{ChildRef, WideBvh};
 use crate::scene::Scene;
-use bytemuck::TransparentWrapper;
 use glam::{Vec3, Vec3A};
-use obvhs::BvhBuildParams;
-use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
-use obvhs::cwbvh::CwBvh;
-use obvhs::ploc::PlocBuilder;
-use obvhs::{Boundable, aabb::Aabb};
-use rayon::prelude::*;
 
 /// The BVH of a scene: its flat triangles in traversal order, and its instanced meshes
-/// behind a second level (src/trace/instances.rs).
+/// behind a second level (src/trace/bvh/instances.rs).
 pub struct SceneBvh {
-    pub(super) tree: WideBvh,
+    pub(in crate::trace) tree: WideBvh,
     /// Triangles in BVH order: `triangles[i]` is scene triangle `scene_ids[i]`.
-    pub(super) triangles: Vec<[Vec3A; 3]>,
-    pub(super) scene_ids: Vec<u32>,
+    pub(in crate::trace) triangles: Vec<[Vec3A; 3]>,
+    pub(in crate::trace) scene_ids: Vec<u32>,
     /// Deepest level of the tree: the traversal stack never holds more entries.
-    pub(super) depth: usize,
+    pub(in crate::trace) depth: usize,
     instances: Option<InstanceLevel>,
-}
-
-/// A closest hit: the scene triangle, the distance along the unit direction, barycentrics.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Hit {
-    pub triangle: u32,
-    pub t: f32,
-    pub barycentric: [f32; 3],
-    /// The triangle's world vertices as the test took them (`Scene::triangle`), carried so that
-    /// the surface point is computed from the copy the walk just read rather than from another
-    /// random read of the scene's.
-    pub vertices: [Vec3; 3],
-}
-
-impl Hit {
-    /// Whether this hit replaces `best`: nearer, or as near with a lower scene triangle id, so
-    /// that the closest hit does not depend on the tree's shape.
-    #[inline]
-    pub(super) fn beats(&self, best: &Option<Hit>) -> bool {
-        match best {
-            Some(b) => self.t < b.t || (self.t == b.t && self.triangle < b.triangle),
-            None => true,
-        }
-    }
-}
-
-/// Per-thread traversal state, reused across rays (no allocation per ray): one walk state for
-/// the flat and top levels, one for an instance's mesh.
-pub struct TraversalScratch {
-    pub(super) outer: WalkState,
-    pub(super) inner: WalkState,
-    /// The stack of packet walks of the flat tree (packet.rs, x86_64 only).
-    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
-    packet: Box<[(ChildRef, u32, f32)]>,
 }
 
 impl SceneBvh {
@@ -89,30 +49,7 @@ impl SceneBvh {
     }
 
     pub fn build_from_triangles(tris: &[[Vec3; 3]]) -> Self {
-        if tris.is_empty() {
-            return SceneBvh {
-                tree: WideBvh::default(),
-                triangles: Vec::new(),
-                scene_ids: Vec::new(),
-                depth: 0,
-                instances: None,
-            };
-        }
-        let cwbvh = build_cwbvh(BoundedTriangle::wrap_slice(tris));
-        let triangles: Vec<[Vec3A; 3]> = cwbvh
-            .primitive_indices
-            .par_iter()
-            .map(|&i| {
-                let t = &tris[i as usize];
-                [t[0].into(), t[1].into(), t[2].into()]
-            })
-            .collect();
-        let tree = WideBvh::from_cwbvh(&cwbvh, |i| {
-            let [a, b, c] = triangles[i];
-            (a.min(b).min(c), a.max(b).max(c))
-        });
-        let scene_ids = cwbvh.primitive_indices;
-        let depth = tree_depth(&tree);
+        let FlatTree { tree, triangles, scene_ids, depth } = FlatTree::build(tris);
         SceneBvh { tree, triangles, scene_ids, depth, instances: None }
     }
 
@@ -385,43 +322,4 @@ impl SceneBvh {
         }
         true
     }
-}
-
-/// A scene triangle as obvhs bounds it: the builder reads the scene's own triangles, with no
-/// copy of them.
-#[derive(bytemuck::TransparentWrapper)]
-#[repr(transparent)]
-struct BoundedTriangle([Vec3; 3]);
-
-impl Boundable for BoundedTriangle {
-    #[inline]
-    fn aabb(&self) -> Aabb {
-        let [a, b, c] = self.0.map(Vec3A::from);
-        Aabb::new(a.min(b).min(c), a.max(b).max(c))
-    }
-}
-
-/// obvhs's `build_cwbvh_from_tris` without its debug validation, which panics on trees deeper
-/// than its traversal stack (ours is sized to the tree), over any primitives (the scene's
-/// triangles in place, or instance boxes), freeing each intermediate as soon as it is no longer
-/// read: the PLOC builder after the build, the parent links before the conversion, the binary
-/// tree after it. No spatial splits, so every primitive is referenced once and
-/// `primitive_indices` is a permutation. PLOC and reinsertion run on rayon's threads
-/// (obvhs's `parallel` feature); the tree's shape never changes a result (the closest hit breaks
-/// ties by scene id). Reinsertion keeps obvhs's medium ratio: on a generated 10M-triangle city it
-/// is a third of the build, but without it (or at 0.02) primary rays were up to 15 % slower
-/// (docs/scale.md).
-pub(super) fn build_cwbvh<T: Boundable>(primitives: &[T]) -> CwBvh {
-    let params = BvhBuildParams::medium_build();
-    let mut bvh2 = PlocBuilder::with_capacity(primitives.len()).build(
-        params.ploc_search_distance,
-        primitives,
-        (0..primitives.len() as u32).collect(),
-        params.sort_precision,
-        params.search_depth_threshold,
-    );
-    ReinsertionOptimizer::default().run(&mut bvh2, params.reinsertion_batch_ratio, None);
-    bvh2.parents = Vec::new();
-    bvh2.primitives_to_nodes = Vec::new();
-    bvh2_to_cwbvh(&bvh2)
 }

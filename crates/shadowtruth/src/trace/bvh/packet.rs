@@ -29,10 +29,10 @@ use glam::Vec3A;
 use std::arch::x86_64::*;
 
 /// Rays in a packet.
-pub(super) const LANES: usize = 8;
+pub(in crate::trace) const LANES: usize = 8;
 
 /// Eight rays as the packet walk needs them, lane by lane.
-pub(super) struct Packet {
+pub(in crate::trace) struct Packet {
     origin: [__m256; 3],
     inv_near: [__m256; 3],
     inv_far: [__m256; 3],
@@ -43,7 +43,7 @@ pub(super) struct Packet {
     /// Its shear factors, lane by lane.
     shear: [__m256; 2],
     /// Lanes that hold a ray (the others repeat the last).
-    pub(super) lanes: u32,
+    pub(in crate::trace) lanes: u32,
 }
 
 impl Packet {
@@ -52,7 +52,7 @@ impl Packet {
     /// time); lanes past the last ray repeat it.
     #[target_feature(enable = "avx2")]
     #[inline]
-    pub(super) fn new(rays: &[WatertightRay]) -> Option<Packet> {
+    pub(in crate::trace) fn new(rays: &[WatertightRay]) -> Option<Packet> {
         let first = rays.first()?;
         if rays.len() > LANES || rays.iter().any(|r| (r.kx, r.ky, r.kz) != (first.kx, first.ky, first.kz)) {
             return None;
@@ -196,7 +196,7 @@ impl Packet {
 /// first, children go in the order the lowest lane enters them.
 #[target_feature(enable = "avx2")]
 #[allow(clippy::too_many_arguments)]
-pub(super) fn walk_packet<const NEAREST: bool>(
+pub(in crate::trace) fn walk_packet<const NEAREST: bool>(
     nodes: &[WideNode],
     triangles: &[[Vec3A; 3]],
     stack: &mut [(ChildRef, u32, f32)],

@@ -24,21 +24,21 @@ use glam::Vec3A;
 
 /// Relative shrink and growth of the reciprocal direction: covers the three roundings of a slab
 /// distance (2⁻²⁴ each) with room to spare.
-pub(super) const SLACK: f32 = 4.0 * f32::EPSILON;
+pub(in crate::trace) const SLACK: f32 = 4.0 * f32::EPSILON;
 
 /// What the node test needs of a ray.
 pub(crate) struct NodeRay {
-    pub(super) origin: Vec3A,
+    pub(in crate::trace) origin: Vec3A,
     /// 1/d shrunk by `SLACK`: entry distances are never late.
-    pub(super) inv_near: Vec3A,
+    pub(in crate::trace) inv_near: Vec3A,
     /// 1/d grown by `SLACK`: exit distances are never early.
-    pub(super) inv_far: Vec3A,
+    pub(in crate::trace) inv_far: Vec3A,
     /// Whether the ray moves along each axis: a component so small that its (grown) reciprocal
     /// overflows counts as no motion, and keeps the children whose slab holds the origin.
     moves: [bool; 3],
     /// Whether the direction is negative along each axis: the ray then enters a slab at its
     /// maximum plane.
-    pub(super) negative: [bool; 3],
+    pub(in crate::trace) negative: [bool; 3],
 }
 
 impl NodeRay {
@@ -68,9 +68,9 @@ impl NodeRay {
 
 /// The children a ray may meet: bit c of `mask` for child c, and the distance at which it may
 /// enter each (meaningful where its bit is set).
-pub(super) struct NodeHits {
-    pub(super) mask: u32,
-    pub(super) enter: [f32; 8],
+pub(in crate::trace) struct NodeHits {
+    pub(in crate::trace) mask: u32,
+    pub(in crate::trace) enter: [f32; 8],
 }
 
 /// How far a box must grow outwards so that it holds every point within `margin` of it, with
@@ -84,7 +84,7 @@ fn widening(plane: F4, margin: f32) -> F4 {
 /// Conservative slab test of the eight children of `node` against [tmin, tmax], their boxes
 /// widened by `margin`. Four children at a time, on any processor.
 #[inline(always)]
-pub(super) fn intersect_node<const WIDEN: bool>(
+pub(in crate::trace) fn intersect_node<const WIDEN: bool>(
     node: &WideNode,
     ray: &NodeRay,
     tmin: f32,
@@ -131,7 +131,7 @@ pub fn node_test_name() -> &'static str {
 /// Whether the 8-lane test may run: the processor has AVX2, and `SHADOWTRUTH_NODE_TEST` is not
 /// `portable` (which keeps the portable form, for comparing the two). Decided once per process.
 #[cfg(target_arch = "x86_64")]
-pub(super) fn wide_available() -> bool {
+pub(in crate::trace) fn wide_available() -> bool {
     static WIDE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
     *WIDE.get_or_init(|| {
         let forced_portable = std::env::var("SHADOWTRUTH_NODE_TEST").is_ok_and(|v| v == "portable");
@@ -142,7 +142,7 @@ pub(super) fn wide_available() -> bool {
 /// A ray as the 8-lane test takes it: each operand broadcast once per walk, not once per node,
 /// and the byte offsets in a node of the planes it enters and leaves by along each axis.
 #[cfg(target_arch = "x86_64")]
-pub(super) struct WideRay {
+pub(in crate::trace) struct WideRay {
     origin: [std::arch::x86_64::__m256; 3],
     inv_near: [std::arch::x86_64::__m256; 3],
     inv_far: [std::arch::x86_64::__m256; 3],
@@ -155,7 +155,7 @@ pub(super) struct WideRay {
 impl WideRay {
     #[target_feature(enable = "avx2")]
     #[inline]
-    pub(super) fn new(ray: &NodeRay) -> Self {
+    pub(in crate::trace) fn new(ray: &NodeRay) -> Self {
         use std::arch::x86_64::_mm256_set1_ps;
         let (near_offset, far_offset) = plane_offsets(ray.negative);
         WideRay {
@@ -171,7 +171,7 @@ impl WideRay {
 
 /// Per axis, the byte offsets in a `WideNode` of the plane arrays a ray with these direction
 /// signs enters a slab by and leaves it by.
-pub(super) fn plane_offsets(negative: [bool; 3]) -> ([usize; 3], [usize; 3]) {
+pub(in crate::trace) fn plane_offsets(negative: [bool; 3]) -> ([usize; 3], [usize; 3]) {
     let lo = std::mem::offset_of!(WideNode, lo);
     let hi = std::mem::offset_of!(WideNode, hi);
     let plane = |axis: usize, max: bool| if max { hi } else { lo } + 32 * axis;
@@ -187,7 +187,7 @@ pub(super) fn plane_offsets(negative: [bool; 3]) -> ([usize; 3], [usize; 3]) {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[inline]
-pub(super) fn intersect_node_wide<const WIDEN: bool>(
+pub(in crate::trace) fn intersect_node_wide<const WIDEN: bool>(
     node: &WideNode,
     ray: &WideRay,
     tmin: f32,
@@ -229,8 +229,8 @@ pub(super) fn intersect_node_wide<const WIDEN: bool>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::trace::bvh::wide_bvh::ChildRef;
     use crate::trace::splitmix::SplitMix64;
-    use crate::trace::wide_bvh::ChildRef;
 
     /// A coordinate on a grid of 1/64 within ±64: sums and differences of two are exact in f32.
     fn grid(rng: &mut SplitMix64) -> f32 {

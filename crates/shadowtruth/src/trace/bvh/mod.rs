@@ -1,0 +1,28 @@
+//! The engine: one BVH per scene and the rays walked through it. obvhs builds the tree's shape
+//! (a CWBVH, converted by cwbvh_convert.rs); the walks run over our own 8-wide tree with exact
+//! f32 child boxes (wide_bvh.rs, walk.rs, eight rays at once in packet.rs), a conservative node
+//! test (node_test.rs, simd4.rs) and a watertight triangle test (watertight.rs); instanced meshes
+//! sit behind a second level (instances.rs). Shadow rays (shadow_ray.rs) are answered one at a
+//! time or a row at once (shadow_batch.rs).
+
+pub(in crate::trace) mod cwbvh_convert;
+pub(in crate::trace) mod flat_tree;
+pub(in crate::trace) mod hit;
+pub(in crate::trace) mod instances;
+pub(in crate::trace) mod node_test;
+pub(in crate::trace) mod packet;
+pub(in crate::trace) mod scene_bvh;
+pub(in crate::trace) mod scratch;
+pub(in crate::trace) mod shadow_batch;
+pub(in crate::trace) mod shadow_ray;
+pub(in crate::trace) mod simd4;
+pub(in crate::trace) mod walk;
+pub(in crate::trace) mod watertight;
+pub(in crate::trace) mod wide_bvh;
+
+pub use hit::Hit;
+pub use node_test::node_test_name;
+pub use scene_bvh::SceneBvh;
+pub use scratch::TraversalScratch;
+pub use shadow_ray::{ShadowRay, SurfacePoint, offset_ray_origin, position_error};
+pub use watertight::{RayTriangleHit, WatertightRay};
