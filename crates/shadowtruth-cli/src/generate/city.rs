@@ -3,8 +3,8 @@
 //! (the lattice's cell size is what sets the triangle count).
 
 use super::count::append_mesh;
+use super::generated::{GeneratedObject, GeneratedScene};
 use super::terrain::Terrain;
-use super::{GeneratedObject, GeneratedScene};
 use glam::DVec3;
 use shadowtruth::scene::IndexedMesh;
 use shadowtruth::trace::splitmix::SplitMix64;

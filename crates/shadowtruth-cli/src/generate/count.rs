@@ -1,6 +1,6 @@
 //! Triangle counts on the command line: `250000`, `250K`, `10M` (K = 10³, M = 10⁶).
 
-use super::MIN_TRIANGLES;
+use super::request::MIN_TRIANGLES;
 use shadowtruth::scene::IndexedMesh;
 
 /// The most triangles a generated scene may number: what a scene may place with its instances

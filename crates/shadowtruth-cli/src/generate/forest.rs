@@ -3,8 +3,8 @@
 //! cylinder and sphere, scaled and moved).
 
 use super::count::append_mesh;
+use super::generated::{GeneratedObject, GeneratedScene};
 use super::terrain::Terrain;
-use super::{GeneratedObject, GeneratedScene};
 use glam::DVec3;
 use shadowtruth::scene::{IndexedMesh, Shape, Transform};
 use shadowtruth::trace::splitmix::SplitMix64;

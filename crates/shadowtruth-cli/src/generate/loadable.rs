@@ -3,7 +3,8 @@
 //! and the scene built against them again, since its triangle count may differ from the request
 //! by the tolerance. Errors name the option at fault.
 
-use super::{GenerateOptions, GeneratedScene, SceneKind};
+use super::generated::GeneratedScene;
+use super::request::{GenerateOptions, SceneKind};
 use shadowtruth::scene::{
     MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE, MAX_INSTANCED_TRIANGLES, MAX_INSTANCES, MAX_SCENE_TRIANGLES,
 };

@@ -6,72 +6,22 @@
 mod city;
 mod count;
 mod forest;
+mod generated;
 mod loadable;
-pub(crate) use loadable::check_options;
 mod mesh_file;
+mod request;
 mod scene_file;
 mod terrain;
 
 pub(crate) use count::parse_triangle_count;
+pub(crate) use generated::GeneratedScene;
+pub(crate) use loadable::check_options;
+pub(crate) use request::{COUNT_TOLERANCE, GenerateOptions, MIN_COUNT_FOR_TOLERANCE, SceneKind};
 
-use shadowtruth::scene::{IndexedMesh, Transform};
 use std::path::{Path, PathBuf};
 
 /// The name of the scene file written into the output folder.
 pub(crate) const SCENE_FILE: &str = "scene.json";
-
-/// How far the generated triangle count may be from the request, as a fraction of it (for
-/// requests of at least `MIN_COUNT_FOR_TOLERANCE` triangles).
-pub(crate) const COUNT_TOLERANCE: f64 = 0.02;
-/// Below this request the tolerance is not promised: buildings and trees come in whole units.
-pub(crate) const MIN_COUNT_FOR_TOLERANCE: u64 = 20_000;
-/// The smallest request accepted: a terrain and a few casters.
-pub(crate) const MIN_TRIANGLES: u64 = 1_000;
-
-/// What kind of scene to generate.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub(crate) enum SceneKind {
-    /// Terrain and closed buildings of varied heights in blocks.
-    City,
-    /// Terrain and closed trees (trunk and crown).
-    Forest,
-}
-
-/// The request: kind, triangle count, seed and the camera's image size.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct GenerateOptions {
-    pub kind: SceneKind,
-    pub triangles: u64,
-    pub seed: u64,
-    pub width_px: u32,
-    pub height_px: u32,
-    /// A forest of one tree mesh placed at every tree by `instances` (src/scene/instance.rs).
-    pub instanced: bool,
-}
-
-/// One object of a generated scene: its name, mesh, whether it is a closed solid, and its
-/// placements when it is instanced (none: the mesh stands where it is).
-pub(crate) struct GeneratedObject {
-    pub name: &'static str,
-    pub mesh: IndexedMesh,
-    pub closed: bool,
-    pub instances: Vec<Transform>,
-}
-
-/// A generated scene before it is written: objects, the side of the square ground in metres,
-/// and the height of its tallest caster.
-pub(crate) struct GeneratedScene {
-    pub objects: Vec<GeneratedObject>,
-    pub ground_size_m: f64,
-    pub top_m: f64,
-}
-
-impl GeneratedScene {
-    /// Triangles numbered: every placement of an instanced mesh counts.
-    pub fn triangle_count(&self) -> u64 {
-        self.objects.iter().map(|o| o.mesh.triangles.len() as u64 * o.instances.len().max(1) as u64).sum()
-    }
-}
 
 /// Builds the scene of `options` in memory.
 pub(crate) fn generate(options: &GenerateOptions) -> GeneratedScene {

@@ -2,7 +2,8 @@
 //! a low sun and a spot light above the centre, placed from the ground's size and the tallest
 //! caster so that long shadows fall across the camera's view.
 
-use super::{GenerateOptions, GeneratedScene, SceneKind};
+use super::generated::GeneratedScene;
+use super::request::{GenerateOptions, SceneKind};
 use glam::DVec3;
 use std::fmt::Write as _;
 

@@ -12,6 +12,7 @@ use super::claims::{self, Claim, ClaimText, IslandNumbers, SetupResult, TRUNK_FO
 use super::figure12::write_figure12;
 use super::island::FEATURED_TRUNK;
 use super::measure::{LightMap, View, artefacts, artefacts_in, shade, spec};
+use super::names::EHM;
 use super::suite::{Suite, plan_of};
 use crate::plan::PlanError;
 use glam::Vec3;
@@ -32,8 +33,6 @@ const SETTING_KEYS: [&str; 3] = ["original_k_0.0001", "original_k_0.01", "enhanc
 const OPEN_SEA_M: f32 = 80.0;
 pub(super) const FIGURE12: &str = "figures/papers.figure12.png";
 
-pub(super) const EHM: &str =
-    "Ehm, Ederer, Klein & Nischwitz, Adaptive depth bias for soft shadows (WSCG 2015)";
 const SETUP: &str = "The island (scenes/papers/island.json): its sea as wide as its terrain, so that sceneScale, \
     which the paper defines as the scene's bounding-box diagonal, is the island's 17 m; the spot light 6 m up, so \
     that the front is well lit and the back grazed, as in Figure 12 (few errors on the front, projective aliasing \

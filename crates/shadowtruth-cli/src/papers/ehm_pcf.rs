@@ -9,8 +9,8 @@
 //! The sensitivity grid moves the resolution, K and the light (spot or directional).
 
 use super::claims::{self, Agreement, Claim, ClaimText, DIFFERENT_VISIBILITY, SetupResult};
-use super::ehm_fig12::EHM;
 use super::measure::{LightMap, View, light_of, shade_on_one_thread, spec};
+use super::names::{EHM, PLANE};
 use super::suite::{Suite, plan_of};
 use crate::plan::PlanError;
 use serde_json::json;
@@ -20,8 +20,6 @@ use shadowtruth::trace::SceneBvh;
 /// The paper's filter: 11×11 PCF; its K; the map resolution.
 const RESOLUTION: u32 = 2048;
 const K: f32 = 0.0001;
-/// The plane the casters' shadows fall on.
-pub(super) const PLANE: &str = "plane";
 /// The paper's GPU timings (Table 1, 11×11): receiver plane, adaptive, Δbias (ms).
 const THEIR_MS: [f64; 3] = [2.27, 5.75, 3.01];
 

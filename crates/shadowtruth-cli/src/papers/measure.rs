@@ -5,7 +5,7 @@
 
 use super::claims::Artefacts;
 use crate::plan::PlanError;
-use shadowtruth::metrics::{Counts, LightUv, Stopwatch, attribute, median_ms, score_hard};
+use shadowtruth::metrics::{Counts, LightUv, attribute, score_hard, timed_median};
 use shadowtruth::raster::{DepthFormat, LightView};
 use shadowtruth::scene::{Light, Scene};
 use shadowtruth::technique::{ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated};
@@ -127,20 +127,15 @@ pub(super) fn shade(
     );
     let mut ctx = ShadeContext::new(v.scene, &map.view, layers.as_layers());
     ctx.scene_scale = scene_scale.unwrap_or(ctx.scene_scale);
-    let mut times = Vec::new();
-    let mut visibility = Vec::new();
-    for _ in 0..repeats.max(1) {
-        let sw = Stopwatch::start();
-        visibility = shade_evaluated(technique.as_ref(), &map.order, &ctx);
-        times.push(sw.ms());
-    }
+    let (visibility, shade_ms) =
+        timed_median(repeats, || shade_evaluated(technique.as_ref(), &map.order, &ctx));
     let counts = score_hard(&v.gbuffer, &v.reference, &visibility).with_attribution(attribute(
         &v.gbuffer,
         &v.reference,
         &visibility,
         &map.uv,
     ));
-    let ns_per_pixel = median_ms(&times) * 1e6 / visibility.len().max(1) as f64;
+    let ns_per_pixel = shade_ms * 1e6 / visibility.len().max(1) as f64;
     Shaded { visibility, counts, ns_per_pixel }
 }
 

@@ -2,8 +2,9 @@
 //! that the scene can be rebuilt bit for bit), and each paper's experiments as measured numbers
 //! with a verdict and its sensitivity: Ehm et al.'s Figure 12 (`ehm_fig12.rs`, drawn by
 //! `figure12.rs`), Fig. 4 and Table 1 (`ehm_pcf.rs`), Pagot et al.'s Table 1 and Fig. 6
-//! (`pagot.rs`), Weiskopf & Ertl's Fig. 5 (`weiskopf.rs`). `suite.rs` runs them in turn,
-//! `measure.rs` holds what they share, `claims.rs` the rules.
+//! (`pagot.rs`), Weiskopf & Ertl's Fig. 5 (`weiskopf.rs`). `run.rs` runs them in turn, each
+//! given a `Suite` (`suite.rs`); `measure.rs` holds what they share, `names.rs` the names more
+//! than one uses, `claims.rs` the rules.
 
 pub mod claims;
 mod ehm_fig12;
@@ -11,11 +12,14 @@ mod ehm_pcf;
 mod figure12;
 pub mod island;
 mod measure;
+mod names;
 mod page;
 mod pagot;
+mod run;
 mod suite;
 mod weiskopf;
 
 pub use island::*;
 pub use page::claims_html;
-pub use suite::{PapersOptions, run_papers};
+pub use run::run_papers;
+pub use suite::PapersOptions;

@@ -11,8 +11,8 @@
 //! Table 1: PCF(k, n) takes at most n·k + 1 values.
 
 use super::claims::{self, Claim, ClaimText, EdgeNumbers, SetupResult};
-use super::ehm_pcf::PLANE;
 use super::measure::{LightMap, View, distinct_levels, interior_levels, light_of, shade, spec};
+use super::names::PLANE;
 use super::suite::{Suite, plan_of};
 use crate::plan::{DEFAULT_COVERAGE_GRID, PlanError};
 use serde_json::json;

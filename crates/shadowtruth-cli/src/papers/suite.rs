@@ -1,10 +1,7 @@
-//! The papers suite: each paper's experiments (`ehm_fig12.rs`, `ehm_pcf.rs`, `pagot.rs`,
-//! `weiskopf.rs`) run in turn. Each writes the runs of the paper's set-up into the ordinary
-//! report (through the plan executor, with their figures), measures its claims on that set-up and
-//! on the others of its sensitivity grid (`measure.rs`), and returns the claims.
+//! What each paper's experiments (`ehm_fig12.rs`, `ehm_pcf.rs`, `pagot.rs`, `weiskopf.rs`) are
+//! given: the report they write the runs of their set-up into (through the plan executor, with
+//! their figures), the reference cache, and the plan of a set-up. `run.rs` runs them in turn.
 
-use super::claims::Claim;
-use super::{ehm_fig12, ehm_pcf, pagot, weiskopf};
 use crate::plan::{
     DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_MAX_RUNS, Event, Plan, PlanError, Sink, emit,
     execute,
@@ -86,29 +83,4 @@ pub(super) fn plan_of(
         pipeline: crate::plan::Pipeline::Cpu,
         frames: 1,
     }
-}
-
-/// Runs the whole suite into the report folder `dir` through `sinks` (report.json, figures,
-/// progress) and returns the claims (written by the caller as `claims.json`). `scenes_dir`
-/// holds `papers/island.json`, `papers/casters.json` and `papers/l_above.json`.
-pub fn run_papers(
-    scenes_dir: &Path,
-    dir: &Path,
-    cache: Option<&ReferenceCache>,
-    sinks: &mut [&mut dyn Sink],
-    options: PapersOptions,
-) -> Result<Vec<Claim>, PlanError> {
-    // Without a cache (--no-cache), one for this run only: nothing is read from or written to
-    // the persistent one.
-    let run_dir =
-        tempfile::tempdir().map_err(|source| PlanError::Io { path: std::env::temp_dir(), source })?;
-    let run_cache = ReferenceCache::new(run_dir.path());
-    let cache = cache.unwrap_or(&run_cache);
-    let mut suite =
-        Suite { scenes_dir: scenes_dir.to_path_buf(), dir: dir.to_path_buf(), cache, sinks, options };
-    let mut claims = ehm_fig12::claims(&mut suite)?;
-    claims.extend(ehm_pcf::claims(&mut suite)?);
-    claims.extend(pagot::claims(&mut suite)?);
-    claims.extend(weiskopf::claims(&mut suite)?);
-    Ok(claims)
 }

@@ -3,9 +3,9 @@
 
 use super::search::SafeRange;
 use super::{EvaluatedPoint, Objective, SuiteAggregate, TuneRequest, TuneResult, Tuned};
-use crate::report::RunRecord;
 use serde::Serialize;
 use serde_json::{Map, Value};
+use shadowtruth::record::RunRecord;
 
 #[derive(Serialize)]
 pub struct TuneRecord {

@@ -2,7 +2,7 @@
 //! object in world space, the cameras, the lights as `KHR_lights_punctual`; a hand-built GLB
 //! container (12-byte header, a JSON chunk padded with spaces, a BIN chunk padded with zeros).
 
-use super::{num, nums};
+use super::json_number::{num, nums};
 use glam::{DMat3, DQuat, DVec3, Vec3};
 use serde_json::{Value, json};
 use shadowtruth::raster::LightView;

@@ -6,12 +6,14 @@
 mod gbuffer_exr;
 mod glb;
 pub(crate) use glb::glb_container;
+mod json_number;
 mod matrices;
 
 use anyhow::{Context, Result};
 use gbuffer_exr::{IDS_FILE, NORMAL_FILE, POSITION_FILE};
 use glam::Mat4;
 use glb::{GlbCamera, GlbLight};
+use json_number::{num, nums};
 use matrices::{ViewMatrices, camera_depth_range, camera_matrices, light_matrices};
 use serde_json::{Map, Value, json};
 use shadowtruth::atomic_file::write_atomic;
@@ -114,18 +116,6 @@ pub(crate) fn write_view_export(
     }
     write(GLB_FILE, &glb::scene_glb(scene, &cameras, &lights))?;
     Ok(files)
-}
-
-/// An f32 as the JSON number of its shortest decimal (which reads back as the same f32), not
-/// of its f64 widening.
-pub(super) fn num(x: f32) -> Value {
-    let shortest: f64 = x.to_string().parse().unwrap_or(x as f64);
-    let exact = if shortest as f32 == x || x.is_nan() { shortest } else { x as f64 };
-    serde_json::Number::from_f64(exact).map_or(Value::Null, Value::Number)
-}
-
-pub(super) fn nums(xs: &[f32]) -> Value {
-    Value::Array(xs.iter().map(|&x| num(x)).collect())
 }
 
 /// `{name}_row_major` and `{name}_column_major` of `m`.

@@ -1,9 +1,9 @@
 //! A glTF file as a whole scene (docs/gltf.md): named after the file's stem, every placement of
 //! every mesh an object, with the file's cameras and lights.
 
+use super::budget::{Budget, Limits};
 use super::format::MAX_SHAPE_TRIANGLES;
 use super::gltf::{GltfProblem, GltfScene, ImportOptions, import_gltf, import_gltf_bytes};
-use super::load::{Budget, Limits};
 use super::placement::{add_mesh_placements, number_instances};
 use super::{Scene, SceneError};
 use crate::json_input::Problems;

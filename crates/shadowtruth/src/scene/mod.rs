@@ -1,6 +1,7 @@
 //! Scenes: the `shadowtruth/scene/v1` file format, its validation, OBJ meshes, procedural shapes,
 //! cameras and lights. The output is a `Scene` of world-space triangles that every later stage reads.
 
+mod budget;
 mod camera;
 mod cascade_settings;
 mod error;

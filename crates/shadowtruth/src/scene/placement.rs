@@ -10,6 +10,10 @@ use crate::json_input::Problems;
 use glam::{DAffine3, DVec3, Vec3};
 use rayon::prelude::*;
 
+/// The refusal of a placement that carries a vertex of its mesh out of f32: flattened or
+/// instanced, the same words.
+const VERTEX_OUT_OF_RANGE: &str = "a vertex leaves the f32 range after the transform";
+
 /// One placement of a mesh: its world transform and the object it becomes.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Placement {
@@ -75,7 +79,7 @@ fn flatten(scene: &mut Scene, mesh: &IndexedMesh, placement: &Placement, problem
     let world: Vec<Vec3> =
         mesh.positions.par_iter().map(|&p| world_vertex(&placement.world_from_mesh, p)).collect();
     if world.par_iter().any(|v| !v.is_finite()) {
-        problems.report(&placement.path, "a vertex leaves the f32 range after the transform");
+        problems.report(&placement.path, VERTEX_OUT_OF_RANGE);
         return;
     }
     let first = scene.flat_triangles.len();
@@ -125,7 +129,7 @@ fn instance(scene: &mut Scene, mesh: IndexedMesh, placements: &[Placement], prob
         }
         // Every vertex lies in the box of the mesh's bounds, and rounding is monotonic.
         if !box_corners(lo, hi).iter().all(|&p| world_vertex(&placement.world_from_mesh, p).is_finite()) {
-            problems.report(&placement.path, "a vertex leaves the f32 range after the transform");
+            problems.report(&placement.path, VERTEX_OUT_OF_RANGE);
             continue;
         }
         let object = scene.objects.len() as u32;

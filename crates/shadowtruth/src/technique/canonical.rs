@@ -6,9 +6,9 @@
 //! struct's `build`), keeps the fields it was given that its technique does not read, and prints
 //! the fields sorted by name with numbers printed from their f64 values:
 //! `pcf(bias=constant,bias_depth=0.0,kernel=box,layers=nearest,size=3)`. Each parameter struct
-//! writes its fields ([`super::TechniqueParams::canonical_fields`]); this file prints them.
+//! writes its fields ([`super::TechniqueParams::canonical_fields`]); this file prints them
+//! (`TechniqueSpec::canonical`, in spec.rs, puts the two together).
 
-use super::TechniqueSpec;
 use serde::Serialize;
 use serde_json::Value;
 use std::collections::BTreeMap;
@@ -52,7 +52,7 @@ impl CanonicalFields {
     }
 
     /// `name(key=value,...)`, or `name` alone without fields.
-    fn render(self, name: &str) -> String {
+    pub(super) fn render(self, name: &str) -> String {
         if self.0.is_empty() {
             return name.to_string();
         }
@@ -67,20 +67,9 @@ fn canonical_number(value: f64) -> String {
     format!("{value:?}")
 }
 
-impl TechniqueSpec {
-    /// The technique and its parameters with every default filled in, sorted, numbers printed
-    /// from their f64 values: equal for two specs exactly when they are the same technique with
-    /// the same parameters, however each was written.
-    pub fn canonical(&self) -> String {
-        let mut fields = CanonicalFields::default();
-        self.params().canonical_fields(&mut fields);
-        fields.render(self.name())
-    }
-}
-
 /// JSON with object keys sorted, numbers printed from their f64 values and no spaces: one text
-/// for values that differ only in how they were printed. For parameters a [`TechniqueSpec`]
-/// cannot read.
+/// for values that differ only in how they were printed. For parameters a
+/// [`TechniqueSpec`](super::TechniqueSpec) cannot read.
 pub fn canonical_json(value: &Value) -> String {
     match value {
         Value::Null | Value::Bool(_) | Value::String(_) => value.to_string(),
@@ -103,6 +92,7 @@ pub fn canonical_json(value: &Value) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::technique::TechniqueSpec;
     use serde_json::json;
 
     fn spec(value: Value) -> TechniqueSpec {

@@ -7,7 +7,8 @@
 use super::adaptive::DEFAULT_K;
 use super::canonical::CanonicalFields;
 use super::params::{err, non_negative_opt};
-use super::{AdaptiveBias, EpsilonSpec, Kernel, POISSON_SIZES, TapBias, TechniqueSpecError};
+use super::tap_bias::TapBias;
+use super::{AdaptiveBias, EpsilonSpec, Kernel, POISSON_SIZES, TechniqueSpecError};
 use serde::{Deserialize, Serialize};
 
 /// PCF kernels (docs/formulas.md, "PCF kernels").

@@ -35,11 +35,6 @@ impl Kernel {
         }
     }
 
-    /// Whether the kernel's extent comes from `radius_texels`.
-    pub fn uses_radius(&self) -> bool {
-        matches!(self, Kernel::Poisson { .. } | Kernel::Jitter4x4 | Kernel::Grid { .. })
-    }
-
     /// Calls `tap(x, row, weight)` for every tap of a receiver at texel-space (`xs`, `ys`);
     /// texel indices are not clamped (the caller clamps to the edge, as a sampler would). The
     /// weights sum to 1. `seed` varies the jitter from receiver to receiver.

@@ -22,6 +22,7 @@ mod pcss;
 mod receiver_plane;
 mod shade;
 mod spec;
+mod tap_bias;
 
 pub use adaptive::{
     AdaptiveBias, AdaptiveParams, AdaptiveTest, Epsilon, EpsilonScale, EpsilonSpec, TangentPlane,
@@ -40,11 +41,12 @@ pub use mdsm::{MdsmParams, SelectSpec};
 pub use normal_offset::{FalloffSpec, NormalOffset, NormalOffsetParams, OffsetFalloff};
 pub use params::{ReferenceKind, TechniqueParams, TechniqueSpecError};
 pub use pcf::DEFAULT_BOX_SIZE as PCF_DEFAULT_BOX_SIZE;
-pub use pcf::{AffineDepth, LayerSpec, Pcf, PcfParams, TapBias, TapDepth, TapThreshold};
+pub use pcf::{AffineDepth, LayerSpec, Pcf, PcfParams, TapDepth, TapThreshold};
 pub use pcss::{Pcss, PcssParams};
 pub use receiver_plane::{ReceiverPlane, ReceiverPlaneParams, receiver_plane_slope};
 pub use shade::{ShadeContext, ShadeOrder, shade_evaluated};
 pub use spec::TechniqueSpec;
+pub use tap_bias::TapBias;
 
 use crate::raster::{Culling, DepthLayer, DepthPairLayer, DepthSelection, MultiDepthLayer};
 use glam::Vec3;

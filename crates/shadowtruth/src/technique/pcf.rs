@@ -28,26 +28,13 @@ use super::canonical::CanonicalFields;
 use super::filter_params::{KernelFields, TapBiasFields};
 use super::kernel::{Kernel, hash};
 use super::params::{err, non_negative, non_negative_opt};
+use super::tap_bias::TapBias;
 use super::{
     AdaptiveBias, DualDepth, EpsilonSpec, KernelSpec, LayerNeeds, Layers, Midpoint, ReferenceKind, Sample,
     SecondDepth, ShadeContext, TapBiasSpec, Technique, TechniqueParams, TechniqueSpecError,
     receiver_plane_slope,
 };
 use serde::{Deserialize, Serialize};
-
-/// How each tap's receiver depth is biased.
-pub enum TapBias {
-    Constant {
-        bias_depth: f32,
-    },
-    /// glPolygonOffset applied to the map (see `LayerNeeds`); the taps compare plainly.
-    SlopeScaled,
-    ReceiverPlane {
-        bias_depth: f32,
-    },
-    Adaptive(AdaptiveBias),
-    AdaptiveDelta(AdaptiveBias),
-}
 
 /// What a tap compares against, per texel.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -18,7 +18,8 @@ use super::canonical::CanonicalFields;
 use super::filter_params::TapBiasFields;
 use super::kernel::{Kernel, POISSON_SIZES};
 use super::params::err;
-use super::pcf::{TapBias, TapThreshold, filtered_visibility, receiver_seed, receiver_texel};
+use super::pcf::{TapThreshold, filtered_visibility, receiver_seed, receiver_texel};
+use super::tap_bias::TapBias;
 use super::{
     EpsilonSpec, LayerNeeds, ReferenceKind, Sample, ShadeContext, TapBiasSpec, Technique, TechniqueParams,
     TechniqueSpecError,

@@ -5,6 +5,7 @@
 //! the variant and the parameter struct, which lives in the technique's own file and does the
 //! rest through [`TechniqueParams`].
 
+use super::canonical::CanonicalFields;
 use super::{
     AdaptiveParams, ConstantParams, DualParams, ExternalParams, MdsmParams, MidpointParams, NoneParams,
     NormalOffsetParams, PcfParams, PcssParams, ReceiverPlaneParams, ReferenceKind, SecondDepthParams,
@@ -69,6 +70,17 @@ techniques! {
     "pcss" => Pcss(PcssParams),
     /// Another renderer's visibility buffer, read from an image file and scored as it is.
     "external" => External(ExternalParams),
+}
+
+impl TechniqueSpec {
+    /// The technique and its parameters with every default filled in, sorted, numbers printed
+    /// from their f64 values: equal for two specs exactly when they are the same technique with
+    /// the same parameters, however each was written.
+    pub fn canonical(&self) -> String {
+        let mut fields = CanonicalFields::default();
+        self.params().canonical_fields(&mut fields);
+        fields.render(self.name())
+    }
 }
 
 impl TechniqueSpec {

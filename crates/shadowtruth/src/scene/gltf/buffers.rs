@@ -5,8 +5,8 @@
 //! own), then at most `byteLength` bytes through `Read::take`. Problems name the buffer
 //! (`buffers[0].uri`) and the file, never the file's bytes.
 
-use super::GltfProblem;
 use super::data_uri::{decode_data_uri, percent_decode};
+use super::problem::GltfProblem;
 use crate::input_file::open_inside;
 use crate::scene::format::MAX_SCENE_TRIANGLES;
 use gltf::buffer::Source;

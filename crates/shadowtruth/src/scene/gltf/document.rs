@@ -1,8 +1,8 @@
 //! Opening a glTF file: the bytes (within a bound), the JSON (inside a GLB container or not) and
 //! the crate's validation, whose errors come with their JSON paths.
 
-use super::GltfProblem;
 use super::buffers::MAX_BUFFER_BYTES;
+use super::problem::GltfProblem;
 use gltf::json::validation::Error as Invalid;
 use std::path::Path;
 

@@ -2,7 +2,7 @@
 //! `closed`, a camera's `width` and `height`, a light node's `near`, `far`, `cone_deg` and size.
 //! Other tools' extras are ignored unless they use these keys with a wrong type.
 
-use super::GltfProblem;
+use super::problem::GltfProblem;
 use serde_json::{Map, Value};
 
 /// The extras object of one glTF object (empty when absent or not a JSON object).

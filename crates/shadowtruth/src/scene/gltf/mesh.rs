@@ -4,7 +4,8 @@
 //! rather than panics or short reads; triangle counts are known, and bounded, before any mesh is
 //! read.
 
-use super::{GltfProblem, PlacedMesh};
+use super::placed_mesh::PlacedMesh;
+use super::problem::GltfProblem;
 use crate::scene::placement::Placement;
 use crate::scene::shapes::IndexedMesh;
 use glam::DVec3;

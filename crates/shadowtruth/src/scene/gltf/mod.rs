@@ -13,36 +13,17 @@ mod extras;
 mod mesh;
 mod names;
 mod nodes;
+mod placed_mesh;
+mod problem;
 mod views;
 
-use super::placement::Placement;
-use super::shapes::IndexedMesh;
+pub(crate) use placed_mesh::PlacedMesh;
+pub(crate) use problem::GltfProblem;
+
 use super::{Camera, Light, box_corners};
 use glam::DVec3;
 use std::cell::OnceCell;
 use std::path::Path;
-
-/// A problem in a glTF file: its JSON path (`nodes[3].rotation`) and what is wrong.
-#[derive(Clone, Debug, PartialEq)]
-pub(crate) struct GltfProblem {
-    pub path: String,
-    pub message: String,
-}
-
-impl GltfProblem {
-    pub(crate) fn new(path: impl Into<String>, message: impl Into<String>) -> Self {
-        GltfProblem { path: path.into(), message: message.into() }
-    }
-}
-
-/// One glTF mesh (all its triangle primitives together) and every node that places it.
-#[derive(Clone, Debug)]
-pub(crate) struct PlacedMesh {
-    pub mesh: IndexedMesh,
-    /// `meshes[i]`.
-    pub path: String,
-    pub placements: Vec<Placement>,
-}
 
 /// What a glTF file holds for shadowtruth.
 #[derive(Clone, Debug, Default)]

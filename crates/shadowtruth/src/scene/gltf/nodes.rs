@@ -1,9 +1,9 @@
 //! The node hierarchy of the scene to show: world transforms (parent × child, in f64) and what
 //! each node carries: a mesh placement, a camera or a light.
 
-use super::GltfProblem;
 use super::extras::Extras;
 use super::names::UniqueNames;
+use super::problem::GltfProblem;
 use crate::json_input::as_bool;
 use crate::scene::placement::Placement;
 use glam::{DAffine3, DMat4, DQuat, DVec3, DVec4};

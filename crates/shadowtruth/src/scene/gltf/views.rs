@@ -2,10 +2,10 @@
 //! both look down their node's −z with +y up; the numbers glTF lacks come from view-export's
 //! `extras` when present, else from documented defaults.
 
-use super::GltfProblem;
 use super::extras::Extras;
 use super::names::UniqueNames;
 use super::nodes::NodeItem;
+use super::problem::GltfProblem;
 use crate::json_input::{as_positive, count, open_range};
 use crate::scene::format::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE};
 use crate::scene::{Camera, Light, LightKind, box_corners};

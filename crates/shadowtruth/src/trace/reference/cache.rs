@@ -338,11 +338,6 @@ impl ReferenceCache {
         Ok(file)
     }
 
-    /// The digest recorded for a soft reference, if any.
-    pub fn recorded_soft_digest(&self, view: ViewKey, kind: SoftKind, grid: u32) -> Option<String> {
-        self.read_manifest().entries.get(&soft_key(view, kind, grid)).map(|e| e.digest.clone())
-    }
-
     /// The path of a cached soft reference, relative to the cache folder:
     /// `<view stem>.KIND-NxN.exr` (`ViewKey::file_stem`).
     pub fn soft_path(view: ViewKey, kind: SoftKind, grid: u32) -> String {

@@ -1,0 +1,18 @@
+//! How a filter biases each tap's receiver depth: what the filters' parameters build
+//! (filter_params.rs) and what their taps compare with (pcf.rs).
+
+use super::adaptive::AdaptiveBias;
+
+/// How each tap's receiver depth is biased.
+pub enum TapBias {
+    Constant {
+        bias_depth: f32,
+    },
+    /// glPolygonOffset applied to the map (see `LayerNeeds`); the taps compare plainly.
+    SlopeScaled,
+    ReceiverPlane {
+        bias_depth: f32,
+    },
+    Adaptive(AdaptiveBias),
+    AdaptiveDelta(AdaptiveBias),
+}
