@@ -1,6 +1,7 @@
 //! The one error type of the library's entry points (`src/api.rs`): each module's own error
 //! converts into it, so an embedder matches on one enum.
 
+use crate::import::ImportError;
 use crate::scene::SceneError;
 use crate::technique::TechniqueSpecError;
 use crate::trace::AreaLightError;
@@ -33,3 +34,13 @@ pub enum Error {
 
 /// `Result` with the library's [`Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// An import's error as the entry points' one: its file problems are `Error::Import`.
+impl From<ImportError> for Error {
+    fn from(error: ImportError) -> Self {
+        match error {
+            ImportError::File { path, message } => Error::Import { path, message },
+            ImportError::Invalid(message) => Error::Invalid(message),
+        }
+    }
+}

@@ -471,7 +471,13 @@ fn load_imported(plan: &Plan, traced: &TracedView) -> Result<Vec<Imported>, Plan
 fn read_external(params: &ExternalParams, traced: &TracedView) -> Result<Vec<f32>, shadowtruth::Error> {
     // Both checked against the camera's size before a pixel is decoded.
     let (visibility, depth) = params.read_buffers(traced.camera)?;
-    evaluated_visibility(traced.gbuffer, traced.camera, &visibility, depth.as_ref(), params.depth_tolerance())
+    Ok(evaluated_visibility(
+        traced.gbuffer,
+        traced.camera,
+        &visibility,
+        depth.as_ref(),
+        params.depth_tolerance(),
+    )?)
 }
 
 /// A run's record scored against the reference its technique is judged by (timings and layer

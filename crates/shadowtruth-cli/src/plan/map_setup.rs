@@ -37,7 +37,9 @@ impl MapSetup {
             .is_some()
             .then(|| CascadedMap::new(light, camera, first_camera, bounds, resolution, gbuffer));
         let view = match (&plan.shadow_map, &cascaded) {
-            (Some(map_file), _) => map_file.light_view(light, bounds).map_err(PlanError::Import)?,
+            (Some(map_file), _) => {
+                map_file.light_view(light, bounds).map_err(|e| PlanError::Import(e.into()))?
+            }
             (None, Some(c)) => c.cascades.views[0].clone(),
             (None, None) => LightView::new(light, bounds, resolution),
         };

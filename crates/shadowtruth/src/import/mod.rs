@@ -21,6 +21,7 @@
 //! in `Counts::surface_mismatch`, when the renderer drew background there, or when its depth `d`
 //! differs from the reference's distance `t` by more than `tolerance · t + DEPTH_FLOOR_WORLD`.
 
+mod error;
 mod expected_size;
 mod exr_image;
 mod map_light;
@@ -29,6 +30,7 @@ mod read;
 mod shadow_map;
 mod surface;
 
+pub use error::ImportError;
 pub use expected_size::ExpectedSize;
 pub use read::{ImageSource, read_depth, read_depth_from, read_visibility, read_visibility_from};
 pub use shadow_map::{ImportedShadowMap, read_shadow_map};

@@ -2,16 +2,16 @@
 //! one f32 per pixel, row 0 at the top; from a file or from memory, through the same checks.
 //! Every header is checked before any pixel is decoded (`ExpectedSize`).
 
+use super::error::{ImportError, Result};
 use super::expected_size::ExpectedSize;
 use super::exr_image::{ChannelChoice, read_exr_channel};
 use super::png_image::read_png_first_channel;
 use super::{ImportedImage, ReadOptions};
-use crate::error::{Error, Result};
 use std::io::{BufReader, Cursor};
 use std::path::Path;
 
-fn import_error(path: &Path, message: impl Into<String>) -> Error {
-    Error::Import { path: path.to_path_buf(), message: message.into() }
+fn import_error(path: &Path, message: impl Into<String>) -> ImportError {
+    ImportError::File { path: path.to_path_buf(), message: message.into() }
 }
 
 /// Where an image's bytes are: a file, or memory (with the name its messages show, whose

@@ -4,10 +4,10 @@
 //! files `shadowtruth depth-map` writes (docs/conventions.md, "Imported buffers").
 
 use super::ReadOptions;
+use super::error::{ImportError, Result};
 use super::expected_size::ExpectedSize;
 use super::map_light::check_map_light;
 use super::read::{ImageSource, read_image};
-use crate::error::{Error, Result};
 use crate::raster::{DepthLayer, LightView, MAX_SHADOW_MAP_RESOLUTION};
 use crate::scene::Light;
 use glam::{Mat4, Vec3};
@@ -34,7 +34,7 @@ impl ImportedShadowMap {
     /// (src/import/map_light.rs): a map of another light is an error naming the sidecar's
     /// `clip_from_world`.
     pub fn light_view(&self, light: &Light, scene_bounds: (Vec3, Vec3)) -> Result<LightView> {
-        let sidecar_error = |message: String| Error::Import {
+        let sidecar_error = |message: String| ImportError::File {
             path: self.files.1.clone(),
             message: format!("clip_from_world: {message}"),
         };
@@ -55,7 +55,7 @@ impl ImportedShadowMap {
 /// map's `resolution`, which the EXR's header must then declare).
 pub fn read_shadow_map(map: impl AsRef<Path>, sidecar: impl AsRef<Path>) -> Result<ImportedShadowMap> {
     let (map, sidecar) = (map.as_ref(), sidecar.as_ref());
-    let error = |path: &Path, message: String| Error::Import { path: path.to_path_buf(), message };
+    let error = |path: &Path, message: String| ImportError::File { path: path.to_path_buf(), message };
     // The sidecar is read first for the size it declares, but its errors come after the map's.
     let json = read_sidecar(sidecar);
     let declared = json.as_ref().ok().and_then(|j| resolution(j).ok().flatten());

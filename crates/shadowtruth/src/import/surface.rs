@@ -1,8 +1,8 @@
 //! Which evaluated pixels of an imported buffer show the reference's surface, and the buffer's
 //! visibility on them.
 
+use super::error::{ImportError, Result};
 use super::{DEPTH_FLOOR_WORLD, ImportedImage};
-use crate::error::{Error, Result};
 use crate::scene::Camera;
 use crate::trace::GBuffer;
 
@@ -22,7 +22,7 @@ pub fn evaluated_visibility(
         if (image.width, image.height) != (gbuffer.width, gbuffer.height)
             || image.values.len() != gbuffer.pixel_count()
         {
-            return Err(Error::Import {
+            return Err(ImportError::File {
                 path: image.path.clone(),
                 message: format!(
                     "{}×{} pixels, but the view is {}×{}",
@@ -32,7 +32,7 @@ pub fn evaluated_visibility(
         }
     }
     if !(depth_tolerance.is_finite() && depth_tolerance >= 0.0) {
-        return Err(Error::Invalid(format!(
+        return Err(ImportError::Invalid(format!(
             "depth tolerance {depth_tolerance}: must be a finite number ≥ 0"
         )));
     }

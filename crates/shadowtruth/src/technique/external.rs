@@ -9,8 +9,8 @@ use super::canonical::CanonicalFields;
 use super::params::{err, non_negative};
 use super::{Technique, TechniqueParams, TechniqueSpecError};
 use crate::import::{
-    DEFAULT_DEPTH_TOLERANCE, ExpectedSize, ImageSource, ImportedImage, ReadOptions, read_depth_from,
-    read_visibility_from,
+    DEFAULT_DEPTH_TOLERANCE, ExpectedSize, ImageSource, ImportError, ImportedImage, ReadOptions,
+    read_depth_from, read_visibility_from,
 };
 use crate::scene::Camera;
 use serde::{Deserialize, Serialize};
@@ -86,7 +86,7 @@ impl ExternalParams {
     pub fn read_buffers(
         &self,
         camera: &Camera,
-    ) -> crate::error::Result<(ImportedImage, Option<ImportedImage>)> {
+    ) -> Result<(ImportedImage, Option<ImportedImage>), ImportError> {
         let expected = ExpectedSize::of_camera(camera);
         let visibility = read_visibility_from(file(&self.visibility), &self.read_options(), expected)?;
         let depth_options = ReadOptions { channel: None, flip_y: self.flip_y };
