@@ -527,7 +527,7 @@ fn procedural_shapes_are_limited_per_scene() {
 /// and `scenes/paths/` hold copies of the suite's meshes: they must stay the suite's bytes.
 #[test]
 fn bundled_mesh_copies_equal_the_suite_meshes() {
-    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
     for copy in ["papers/meshes/l_shape.obj", "paths/meshes/rocks.obj", "paths/meshes/rocks_terrain.obj"] {
         let original = scenes.join("meshes").join(Path::new(copy).file_name().unwrap());
         assert_eq!(fs::read(scenes.join(copy)).unwrap(), fs::read(&original).unwrap(), "{copy}");
