@@ -98,19 +98,17 @@ fn resolve(tree: &CrateTree, path: &[String], hops: usize) -> Option<Target> {
         if module.items.defined.contains(segment) {
             return Some(Target::Item { file: module.file.clone(), name: segment.clone() });
         }
-        let bound = module.items.uses.iter().filter(|u| !u.glob && u.binding.as_ref() == Some(segment));
-        for binding in bound {
+        let bound = module.items.uses.iter().find(|u| !u.glob && u.binding.as_ref() == Some(segment));
+        if let Some(binding) = bound {
             let Some(base) = absolute_path(tree, &module_path, &binding.segments, 0) else {
                 // Brought in from another crate: this file is where the crate gets it.
                 return Some(Target::Item { file: module.file.clone(), name: segment.clone() });
             };
             let target_path = [base.as_slice(), &path[i + 1..]].concat();
-            if let Some(target) = resolve(tree, &target_path, hops + 1) {
-                return Some(target);
-            }
             // Re-exported from a file that defines the name out of this parser's sight (inside a
             // macro's expansion): that file still is where it comes from.
-            return Some(Target::Item { file: deepest_module_file(tree, &base), name: segment.clone() });
+            let unseen = || Target::Item { file: deepest_module_file(tree, &base), name: segment.clone() };
+            return Some(resolve(tree, &target_path, hops + 1).unwrap_or_else(unseen));
         }
         let globs = module.items.uses.iter().filter(|u| u.glob);
         let through_globs = globs.filter_map(|glob| {

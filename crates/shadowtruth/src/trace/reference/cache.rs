@@ -28,11 +28,15 @@
 //! or the new one, never a half-written one. Temporary files that killed runs left in the
 //! folders written are removed on the way (`atomic_file::remove_stray_temp_files`).
 
-use super::area_light::AreaLightError;
+use super::area_light::{AreaLightError, trace_area_light_reference, validate_area_light};
+use super::coverage::trace_coverage_reference;
+use super::gbuffer::GBuffer;
+use super::hard::{HardReference, trace_hard_reference};
 use super::soft_reference::{SoftKind, SoftReference};
 use crate::atomic_file::{encode_gray_png, remove_stray_temp_files, write_atomic};
 use crate::scene::{Camera, Light, LightKind, LightSize, Scene, ViewKey};
 use crate::trace::TRACER_VERSION;
+use crate::trace::bvh::scene_bvh::SceneBvh;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
@@ -397,23 +401,22 @@ impl ReferenceCache {
     pub fn hard_reference(
         &self,
         scene: &Scene,
-        bvh: &crate::trace::SceneBvh,
-        gbuffer: &crate::trace::GBuffer,
+        bvh: &SceneBvh,
+        gbuffer: &GBuffer,
         camera: &Camera,
         light: &Light,
-    ) -> std::io::Result<(crate::trace::HardReference, bool)> {
+    ) -> std::io::Result<(HardReference, bool)> {
         let view = ViewKey::from_view(scene, camera, light);
         let digest = reference_digest(scene, camera, light);
         if let Some(cached) = self.load(view, &digest)
             && (cached.width, cached.height) == (gbuffer.width, gbuffer.height)
         {
-            let reference =
-                crate::trace::HardReference::from_mask_codes(cached.width, cached.height, &cached.codes);
+            let reference = HardReference::from_mask_codes(cached.width, cached.height, &cached.codes);
             if reference.mask_codes(gbuffer) == cached.codes {
                 return Ok((reference, true));
             }
         }
-        let reference = crate::trace::trace_hard_reference(scene, bvh, gbuffer, light);
+        let reference = trace_hard_reference(scene, bvh, gbuffer, light);
         let codes = reference.mask_codes(gbuffer);
         self.store(view, &digest, gbuffer.width, gbuffer.height, &codes)?;
         Ok((reference, false))
@@ -427,14 +430,14 @@ impl ReferenceCache {
     pub fn coverage_reference(
         &self,
         scene: &Scene,
-        bvh: &crate::trace::SceneBvh,
-        gbuffer: &crate::trace::GBuffer,
+        bvh: &SceneBvh,
+        gbuffer: &GBuffer,
         camera: &Camera,
         light: &Light,
         grid: u32,
     ) -> std::io::Result<(SoftReference, bool)> {
         self.soft_reference(scene, gbuffer, camera, light, SoftKind::Coverage, grid, || {
-            Ok(crate::trace::trace_coverage_reference(scene, bvh, gbuffer, camera, light, grid))
+            Ok(trace_coverage_reference(scene, bvh, gbuffer, camera, light, grid))
         })
     }
 
@@ -446,16 +449,16 @@ impl ReferenceCache {
     pub fn area_light_reference(
         &self,
         scene: &Scene,
-        bvh: &crate::trace::SceneBvh,
-        gbuffer: &crate::trace::GBuffer,
+        bvh: &SceneBvh,
+        gbuffer: &GBuffer,
         camera: &Camera,
         light: &Light,
         grid: u32,
     ) -> std::io::Result<(SoftReference, bool)> {
         let invalid = |e: AreaLightError| std::io::Error::new(std::io::ErrorKind::InvalidInput, e);
-        crate::trace::validate_area_light(light, grid).map_err(invalid)?;
+        validate_area_light(light, grid).map_err(invalid)?;
         self.soft_reference(scene, gbuffer, camera, light, SoftKind::AreaLight, grid, || {
-            crate::trace::trace_area_light_reference(scene, bvh, gbuffer, light, grid).map_err(invalid)
+            trace_area_light_reference(scene, bvh, gbuffer, light, grid).map_err(invalid)
         })
     }
 
@@ -463,7 +466,7 @@ impl ReferenceCache {
     fn soft_reference(
         &self,
         scene: &Scene,
-        gbuffer: &crate::trace::GBuffer,
+        gbuffer: &GBuffer,
         camera: &Camera,
         light: &Light,
         kind: SoftKind,
