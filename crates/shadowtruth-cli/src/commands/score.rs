@@ -2,7 +2,8 @@
 //! through the plan's schedule (one `external` technique), into a report folder like `run`'s; or
 //! its shadow map, read by a built-in technique in place of the layers rasterized here.
 
-use super::{set_threads, write_plan_report};
+use super::args::{set_threads, threads_parser};
+use super::plan_report::write_plan_report;
 use crate::plan::{DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_MAX_RUNS, Plan};
 use anyhow::{Result, anyhow};
 use clap::Args;
@@ -76,8 +77,8 @@ pub(super) struct ScoreArgs {
     /// Skip the PNG figures.
     #[arg(long)]
     no_figures: bool,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
+    /// Worker threads, 1 to 1024 (default: all cores).
+    #[arg(long, value_parser = threads_parser())]
     threads: Option<usize>,
     /// No progress bar and no table.
     #[arg(short, long)]
