@@ -4,11 +4,11 @@
 
 use super::args::{set_threads, threads_parser};
 use super::plan_report::write_plan_report;
-use crate::plan::{DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_MAX_RUNS, Plan};
+use crate::plan::Plan;
 use anyhow::{Result, anyhow};
 use clap::Args;
 use shadowtruth::import::{ImportedShadowMap, read_shadow_map};
-use shadowtruth::raster::{DepthFormat, MAX_SHADOW_MAP_RESOLUTION};
+use shadowtruth::raster::MAX_SHADOW_MAP_RESOLUTION;
 use shadowtruth::scene::{Camera, Scene};
 use shadowtruth::technique::{ExternalParams, LayerNeeds, TechniqueSpec};
 use std::path::{Path, PathBuf};
@@ -109,22 +109,12 @@ pub(super) fn score(a: ScoreArgs) -> Result<u8> {
     };
     drop(scene);
     let plan = Plan {
-        source: None,
-        scenes: vec![a.scene.clone()],
         cameras: Some(vec![a.camera.clone()]),
         lights: Some(vec![a.light.clone()]),
-        techniques: vec![technique],
-        resolutions: vec![resolution],
-        depth_formats: vec![DepthFormat::F32],
         repeats: 1,
         figures: !a.no_figures,
-        zoom: None,
-        coverage_grid: DEFAULT_COVERAGE_GRID,
-        area_light_grid: DEFAULT_AREA_LIGHT_GRID,
-        max_runs: DEFAULT_MAX_RUNS,
         shadow_map,
-        pipeline: crate::plan::Pipeline::Cpu,
-        frames: 1,
+        ..Plan::new(vec![a.scene.clone()], vec![technique], vec![resolution])
     };
     let cache = (!a.no_cache).then(|| shadowtruth::trace::ReferenceCache::new(&a.references));
     write_plan_report(&plan, &a.out, cache.as_ref(), a.quiet, false)?;
