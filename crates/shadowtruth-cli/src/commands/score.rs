@@ -63,8 +63,8 @@ pub(super) struct ScoreArgs {
     clip_from_world: Option<PathBuf>,
     /// The built-in technique that reads the shadow map, as JSON:
     /// '{"technique": "constant", "bias_depth": 0.001}'. Single-layer techniques only.
-    #[arg(long, requires = "shadow_map")]
-    technique: Option<String>,
+    #[arg(long, value_name = "JSON", requires = "shadow_map", value_parser = parse_map_technique)]
+    technique: Option<TechniqueSpec>,
     /// Output folder.
     #[arg(short, long, default_value = "reports/score")]
     out: PathBuf,
@@ -101,7 +101,7 @@ pub(super) fn score(a: ScoreArgs) -> Result<u8> {
         (None, Some(map)) => {
             let sidecar = a.clip_from_world.clone().unwrap_or_else(|| map.with_extension("json"));
             let shadow_map = read_shadow_map(map, &sidecar)?;
-            let technique = map_technique(a.technique.as_deref().unwrap_or_default())?;
+            let technique = a.technique.clone().ok_or_else(|| anyhow!("--shadow-map needs --technique"))?;
             check_map_light(&shadow_map, scene.as_ref(), &a.light)?;
             (technique, shadow_map.layer.resolution, Some(shadow_map))
         }
@@ -152,16 +152,16 @@ fn check_map_light(map: &ImportedShadowMap, scene: Option<&Scene>, light: &str) 
     Ok(())
 }
 
-/// The built-in technique `--technique` names, to shade with an imported map.
-fn map_technique(json: &str) -> Result<TechniqueSpec> {
-    let spec: TechniqueSpec =
-        serde_json::from_str(json).map_err(|e| anyhow!("--technique: {e} (in {json})"))?;
-    spec.validate().map_err(|e| anyhow!("--technique: {}: {e}", spec.name()))?;
+/// `--technique JSON`: the built-in technique that shades with an imported map, which holds one
+/// nearest layer: a technique that reads no map, or more than that layer, is refused.
+fn parse_map_technique(json: &str) -> Result<TechniqueSpec, String> {
+    let spec: TechniqueSpec = serde_json::from_str(json).map_err(|e| e.to_string())?;
+    spec.validate().map_err(|e| format!("{}: {e}", spec.name()))?;
     match spec.build() {
-        None => Err(anyhow!("--technique: {} reads no shadow map", spec.name())),
-        Some(t) if t.layer_needs() != LayerNeeds::default() => Err(anyhow!(
-            "--technique: {} reads layers an imported shadow map does not hold (culling, raster bias, a \
-             second layer or multiple depths): only single-layer techniques read one",
+        None => Err(format!("{} reads no shadow map", spec.name())),
+        Some(t) if t.layer_needs() != LayerNeeds::default() => Err(format!(
+            "{} reads layers an imported shadow map does not hold (culling, raster bias, a second layer or \
+             multiple depths): only single-layer techniques read one",
             spec.label()
         )),
         Some(_) => Ok(spec),
