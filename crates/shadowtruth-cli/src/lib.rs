@@ -4,7 +4,7 @@
 //! targets, so that the same code runs under `cargo fuzz` and over the committed corpus in the
 //! tests.
 
-mod cli;
+mod commands;
 pub mod fuzzing;
 mod generate;
 mod papers;
@@ -19,5 +19,5 @@ mod app_tests;
 /// The `shadowtruth` command: parses the arguments, runs the command and returns its exit code
 /// (0 success, 1 a gate failed, 2 a usage or input error).
 pub fn main() -> std::process::ExitCode {
-    cli::main()
+    commands::main()
 }

@@ -123,3 +123,17 @@ fn every_bundled_plan_reads_and_every_technique_builds() {
     }
     assert!(read >= 5, "the plans folder holds the bundled plans");
 }
+
+/// A binary built without the device code refuses the GPU pipeline at the plan's `pipeline`,
+/// before any scene is loaded, saying why.
+#[cfg(not(feature = "gpu"))]
+#[test]
+fn the_gpu_pipeline_without_the_gpu_feature_is_refused_at_pipeline() {
+    let text = plan(r#"{ "technique": "none" }"#, r#", "pipeline": "gpu""#);
+    let plan = parse_plan(&text, Path::new("dir/plan.json")).expect("a valid plan file");
+    let e = match crate::plan::check_plan(&plan) {
+        Err(crate::plan::PlanError::Input(e)) => e,
+        other => panic!("expected a plan input error, got {:?}", other.err()),
+    };
+    assert!(message_at(&e, "pipeline").contains("built without the `gpu` feature"), "{e}");
+}

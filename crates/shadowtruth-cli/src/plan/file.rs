@@ -10,7 +10,7 @@
 
 use super::Plan;
 use super::size::{PlanSize, TechniqueEntry};
-use super::spec::MAX_REPEATS;
+use super::spec::{DEFAULT_MAX_RUNS, DEFAULT_REPEATS, MAX_REPEATS};
 use serde_json::{Map, Value};
 use shadowtruth::json_input::{Problem, Problems, Reader, as_name, as_string, count, describe, parse_json};
 use shadowtruth::raster::{DepthFormat, MAX_SHADOW_MAP_RESOLUTION};
@@ -19,9 +19,6 @@ use std::fmt;
 use std::path::Path;
 
 pub const PLAN_FORMAT: &str = "shadowtruth/plan/v1";
-
-/// A plan above this many runs is refused unless the limit is raised (`run --max-runs`).
-pub const DEFAULT_MAX_RUNS: u64 = 100_000;
 
 /// Every problem of a plan, each with its file and JSON path.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -94,7 +91,7 @@ fn read_plan_value(root: &Value, path: &Path, max_runs: u64, problems: &mut Prob
     let resolutions = top.required_list("resolutions", count(1, MAX_SHADOW_MAP_RESOLUTION as u64));
     let depth_formats =
         top.optional_list("depth_formats", as_depth_format).unwrap_or(Some(vec![DepthFormat::F32]));
-    let repeats = top.optional_or("repeats", count(1, MAX_REPEATS as u64), 3);
+    let repeats = top.optional_or("repeats", count(1, MAX_REPEATS as u64), DEFAULT_REPEATS as _);
     let frames = top.optional_or("frames", count(1, super::MAX_FRAMES as u64), 1);
     let max_grid = super::MAX_REFERENCE_GRID as u64;
     let coverage_grid = top.optional_or("coverage_grid", count(1, max_grid), super::DEFAULT_COVERAGE_GRID);
@@ -121,23 +118,19 @@ fn read_plan_value(root: &Value, path: &Path, max_runs: u64, problems: &mut Prob
     }
     let techniques =
         expand_entries(&entries, problems).into_iter().map(|t| files_relative_to(t, base)).collect();
+    let scenes = scenes?.iter().map(|s| base.join(s)).collect();
     Some(Plan {
         source: Some(path.to_path_buf()),
-        scenes: scenes?.iter().map(|s| base.join(s)).collect(),
         cameras: cameras?,
         lights: lights?,
-        techniques,
-        resolutions: resolutions?,
         depth_formats: depth_formats?,
         repeats: repeats? as usize,
-        figures: true,
-        zoom: None,
         coverage_grid: coverage_grid?,
         area_light_grid: area_light_grid?,
         max_runs,
-        shadow_map: None,
         pipeline: pipeline?,
         frames: frames? as usize,
+        ..Plan::new(scenes, techniques, resolutions?)
     })
 }
 

@@ -10,11 +10,15 @@
 //! through the earlier frame's maps (and its reference traced again under the earlier light
 //! when the light moves too), so no point is ever compared with its neighbour.
 
+use super::backend::cpu::{group_layers, shade_timed};
 use super::events::{Event, TracedView, emit};
-use super::execute::{MapSetting, Schedule, run_record, timings};
+use super::execute::Schedule;
+use super::map_setting::MapSetting;
 use super::map_setup::MapSetup;
 use super::references::ViewReferences;
+use super::run_record::{run_record, timings};
 use super::{BinnedView, PlanError};
+use super::{shade_through, trace_view};
 use glam::Vec3;
 use shadowtruth::metrics::{Counts, FrameDecisions, count_flicker, reference_decisions, technique_decisions};
 use shadowtruth::raster::{DepthFormat, LightView};
@@ -156,8 +160,9 @@ impl Schedule<'_, '_, '_> {
         if let Some(p) = previous.filter(|p| p.camera == *camera && p.light == *light) {
             return Ok((p.gbuffer.clone(), p.references.clone()));
         }
-        let gbuffer = GBuffer::trace(scene, bvh, camera, light);
-        let references = ViewReferences::new(self.plan, None, scene, bvh, &gbuffer, camera, light)?;
+        // The frame's stage is already under way.
+        let (gbuffer, references) =
+            trace_view(self.plan, None, scene, bvh, (camera, light), &mut |_| Ok(()))?;
         Ok((Arc::new(gbuffer), Arc::new(references)))
     }
 }
@@ -217,7 +222,8 @@ impl Schedule<'_, '_, '_> {
                 let (layers, prepare_ms) = match reused {
                     Some(k) => (k.layers.clone(), 0.0),
                     None => {
-                        let (layers, ms) = self.group_layers(scene, &setting, gi, &mut binned);
+                        let (layers, ms) =
+                            group_layers(self.plan, &self.groups[gi].0, scene, &setting, &mut binned);
                         (Arc::new(layers), ms)
                     }
                 };
@@ -244,7 +250,8 @@ impl Schedule<'_, '_, '_> {
         track: &mut RunTrack,
     ) -> Result<Vec<f32>, PlanError> {
         let spec = &self.plan.techniques[ti];
-        let (visibility, shade_ms) = self.shade(spec, traced.scene, run.setting, run.layers);
+        let (visibility, shade_ms) =
+            shade_timed(self.plan.repeats, spec, traced.scene, run.setting, run.layers);
         let mut record = run_record(traced, run.setting, spec, &visibility);
         record.timings = timings(run.prepare_ms, shade_ms, record.counts.evaluated);
         record.layer_memory_bytes = run.layers.iter().map(|l| l.memory_bytes() as u64).sum();
@@ -276,8 +283,10 @@ impl Schedule<'_, '_, '_> {
                     let layers = &before.frame.layers[index].layers;
                     // Shaded once: the earlier frame's maps are read for the comparison, not timed.
                     let technique = self.plan.techniques[ti].build().expect("a shaded technique");
-                    let contexts = setting.contexts(traced.scene, layers);
-                    technique_decisions(points, &setting.shade(technique.as_ref(), &contexts))
+                    technique_decisions(
+                        points,
+                        &shade_through(technique.as_ref(), traced.scene, &setting, layers),
+                    )
                 }
             };
             let earlier = FrameDecisions { technique: &technique_before, reference: &before.reference };

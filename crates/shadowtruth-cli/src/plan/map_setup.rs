@@ -3,7 +3,7 @@
 //! attribution) and the shading order. Shared by every depth format and technique.
 
 use super::cascaded_map::CascadedMap;
-use super::execute::MapSetting;
+use super::map_setting::MapSetting;
 use super::{Plan, PlanError};
 use glam::Vec3;
 use shadowtruth::metrics::LightUv;

@@ -10,6 +10,11 @@ use std::collections::HashMap;
 use std::collections::hash_map::Entry;
 use std::path::{Path, PathBuf};
 
+/// Why a plan on the GPU pipeline cannot run in a binary without the device code.
+#[cfg(not(feature = "gpu"))]
+pub(super) const WITHOUT_GPU: &str = "the GPU pipeline is not available: this shadowtruth was built without the `gpu` feature \
+     (build it with `--features gpu`, or run on the CPU pipeline)";
+
 /// A loaded scene and the (camera, light) index pairs the plan runs on it.
 pub(crate) struct Selected {
     pub scene: Scene,
@@ -91,7 +96,10 @@ pub(crate) fn check_plan(plan: &Plan) -> Result<(), PlanError> {
         }
     }
     if plan.pipeline == super::Pipeline::Gpu {
+        #[cfg(not(feature = "gpu"))]
+        problem("pipeline".into(), WITHOUT_GPU.into());
         // Imported techniques are read, not drawn or shaded: they run on either pipeline.
+        #[cfg(feature = "gpu")]
         for (i, t) in plan.techniques.iter().enumerate().filter(|(_, t)| t.build().is_some()) {
             if let Err(e) = shadowtruth_gpu::GpuTechnique::from_spec(t) {
                 problem(format!("techniques[{i}]"), e.to_string());

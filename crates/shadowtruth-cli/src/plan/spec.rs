@@ -72,16 +72,35 @@ pub const MAX_FRAMES: usize = 10_000;
 /// Largest number of timing repeats, in a plan and on the command line.
 pub const MAX_REPEATS: usize = 1000;
 
-/// The default plan file, built into the binary so that `run` works from anywhere.
-pub const DEFAULT_PLAN_JSON: &str = include_str!("../../../../plans/default.json");
+/// A plan above this many runs is refused unless the limit is raised (`run --max-runs`).
+pub const DEFAULT_MAX_RUNS: u64 = 100_000;
+
+/// Timing repeats of a plan that names none.
+pub const DEFAULT_REPEATS: usize = 3;
 
 impl Plan {
-    /// The default plan (`plans/default.json`) over `scenes`.
-    pub fn default_for(scenes: Vec<PathBuf>) -> Self {
-        let mut plan = super::parse_plan(DEFAULT_PLAN_JSON, std::path::Path::new("plans/default.json"))
-            .expect("plans/default.json is valid");
-        plan.source = None;
-        plan.scenes = scenes;
-        plan
+    /// `techniques` at `resolutions` on every view of `scenes`, with what a plan file that
+    /// names nothing else gets: f32 depths, [`DEFAULT_REPEATS`], figures without a zoom, the
+    /// default reference grids and run limit, the CPU pipeline, one frame; built in code (no
+    /// file).
+    pub fn new(scenes: Vec<PathBuf>, techniques: Vec<TechniqueSpec>, resolutions: Vec<u32>) -> Self {
+        Plan {
+            source: None,
+            scenes,
+            cameras: None,
+            lights: None,
+            techniques,
+            resolutions,
+            depth_formats: vec![DepthFormat::F32],
+            repeats: DEFAULT_REPEATS,
+            figures: true,
+            zoom: None,
+            coverage_grid: DEFAULT_COVERAGE_GRID,
+            area_light_grid: DEFAULT_AREA_LIGHT_GRID,
+            max_runs: DEFAULT_MAX_RUNS,
+            shadow_map: None,
+            pipeline: Pipeline::Cpu,
+            frames: 1,
+        }
     }
 }

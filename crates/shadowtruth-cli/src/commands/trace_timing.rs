@@ -9,7 +9,7 @@
 //! from its G-buffer point (which the other tool does before its clock) included.
 
 use anyhow::{Result, bail};
-use shadowtruth::metrics::{Stopwatch, median_ms};
+use shadowtruth::metrics::timed_median;
 use shadowtruth::scene::{Camera, Light, Scene};
 use shadowtruth::trace::{GBuffer, SceneBvh, primary_directions, primary_hits, trace_hard_reference};
 use std::path::Path;
@@ -37,7 +37,7 @@ pub(super) struct OurTiming {
 }
 
 /// Times the primary rays, the G-buffer and the hard reference (shadow rays), each the median
-/// of `repeats`.
+/// of `repeats` (each measurement's repeats in a row).
 pub(super) fn time_tracer(
     scene: &Scene,
     bvh: &SceneBvh,
@@ -46,28 +46,20 @@ pub(super) fn time_tracer(
     repeats: usize,
 ) -> OurTiming {
     let directions = primary_directions(camera);
-    let (mut primary_ms, mut gbuffer_ms, mut shadow_ms) = (Vec::new(), Vec::new(), Vec::new());
-    let mut rays = (0, 0);
-    for _ in 0..repeats.max(1) {
-        let sw = Stopwatch::start();
-        std::hint::black_box(primary_hits(bvh, camera, &directions));
-        primary_ms.push(sw.ms());
-        let sw = Stopwatch::start();
-        let g = GBuffer::trace(scene, bvh, camera, light);
-        gbuffer_ms.push(sw.ms());
-        let sw = Stopwatch::start();
-        std::hint::black_box(trace_hard_reference(scene, bvh, &g, light));
-        shadow_ms.push(sw.ms());
-        rays = (g.pixel_count() as u64, g.evaluated.len() as u64);
-    }
-    let rate = |rays: u64, ms: &[f64]| Rate { mrays_per_s: rays as f64 / median_ms(ms) / 1e3, rays };
+    let (_, primary_ms) =
+        timed_median(repeats, || std::hint::black_box(primary_hits(bvh, camera, &directions)));
+    let (g, gbuffer_ms) = timed_median(repeats, || GBuffer::trace(scene, bvh, camera, light));
+    let (_, shadow_ms) =
+        timed_median(repeats, || std::hint::black_box(trace_hard_reference(scene, bvh, &g, light)));
+    let rays = (g.pixel_count() as u64, g.evaluated.len() as u64);
+    let rate = |rays: u64, ms: f64| Rate { mrays_per_s: rays as f64 / ms / 1e3, rays };
     OurTiming {
         tracer: TraceTiming {
             threads: rayon::current_num_threads(),
-            primary: rate(rays.0, &primary_ms),
-            occlusion: rate(rays.1, &shadow_ms),
+            primary: rate(rays.0, primary_ms),
+            occlusion: rate(rays.1, shadow_ms),
         },
-        gbuffer: rate(rays.0, &gbuffer_ms),
+        gbuffer: rate(rays.0, gbuffer_ms),
     }
 }
 

@@ -2,12 +2,13 @@
 //! through the plan's schedule (one `external` technique), into a report folder like `run`'s; or
 //! its shadow map, read by a built-in technique in place of the layers rasterized here.
 
-use super::{set_threads, write_plan_report};
-use crate::plan::{DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_MAX_RUNS, Plan};
+use super::args::{set_threads, threads_parser};
+use super::plan_report::write_plan_report;
+use crate::plan::Plan;
 use anyhow::{Result, anyhow};
 use clap::Args;
 use shadowtruth::import::{ImportedShadowMap, read_shadow_map};
-use shadowtruth::raster::{DepthFormat, MAX_SHADOW_MAP_RESOLUTION};
+use shadowtruth::raster::MAX_SHADOW_MAP_RESOLUTION;
 use shadowtruth::scene::{Camera, Scene};
 use shadowtruth::technique::{ExternalParams, LayerNeeds, TechniqueSpec};
 use std::path::{Path, PathBuf};
@@ -62,8 +63,8 @@ pub(super) struct ScoreArgs {
     clip_from_world: Option<PathBuf>,
     /// The built-in technique that reads the shadow map, as JSON:
     /// '{"technique": "constant", "bias_depth": 0.001}'. Single-layer techniques only.
-    #[arg(long, requires = "shadow_map")]
-    technique: Option<String>,
+    #[arg(long, value_name = "JSON", requires = "shadow_map", value_parser = parse_map_technique)]
+    technique: Option<TechniqueSpec>,
     /// Output folder.
     #[arg(short, long, default_value = "reports/score")]
     out: PathBuf,
@@ -76,8 +77,8 @@ pub(super) struct ScoreArgs {
     /// Skip the PNG figures.
     #[arg(long)]
     no_figures: bool,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
+    /// Worker threads, 1 to 1024 (default: all cores).
+    #[arg(long, value_parser = threads_parser())]
     threads: Option<usize>,
     /// No progress bar and no table.
     #[arg(short, long)]
@@ -100,7 +101,7 @@ pub(super) fn score(a: ScoreArgs) -> Result<u8> {
         (None, Some(map)) => {
             let sidecar = a.clip_from_world.clone().unwrap_or_else(|| map.with_extension("json"));
             let shadow_map = read_shadow_map(map, &sidecar)?;
-            let technique = map_technique(a.technique.as_deref().unwrap_or_default())?;
+            let technique = a.technique.clone().ok_or_else(|| anyhow!("--shadow-map needs --technique"))?;
             check_map_light(&shadow_map, scene.as_ref(), &a.light)?;
             (technique, shadow_map.layer.resolution, Some(shadow_map))
         }
@@ -108,22 +109,12 @@ pub(super) fn score(a: ScoreArgs) -> Result<u8> {
     };
     drop(scene);
     let plan = Plan {
-        source: None,
-        scenes: vec![a.scene.clone()],
         cameras: Some(vec![a.camera.clone()]),
         lights: Some(vec![a.light.clone()]),
-        techniques: vec![technique],
-        resolutions: vec![resolution],
-        depth_formats: vec![DepthFormat::F32],
         repeats: 1,
         figures: !a.no_figures,
-        zoom: None,
-        coverage_grid: DEFAULT_COVERAGE_GRID,
-        area_light_grid: DEFAULT_AREA_LIGHT_GRID,
-        max_runs: DEFAULT_MAX_RUNS,
         shadow_map,
-        pipeline: crate::plan::Pipeline::Cpu,
-        frames: 1,
+        ..Plan::new(vec![a.scene.clone()], vec![technique], vec![resolution])
     };
     let cache = (!a.no_cache).then(|| shadowtruth::trace::ReferenceCache::new(&a.references));
     write_plan_report(&plan, &a.out, cache.as_ref(), a.quiet, false)?;
@@ -161,16 +152,16 @@ fn check_map_light(map: &ImportedShadowMap, scene: Option<&Scene>, light: &str) 
     Ok(())
 }
 
-/// The built-in technique `--technique` names, to shade with an imported map.
-fn map_technique(json: &str) -> Result<TechniqueSpec> {
-    let spec: TechniqueSpec =
-        serde_json::from_str(json).map_err(|e| anyhow!("--technique: {e} (in {json})"))?;
-    spec.validate().map_err(|e| anyhow!("--technique: {}: {e}", spec.name()))?;
+/// `--technique JSON`: the built-in technique that shades with an imported map, which holds one
+/// nearest layer: a technique that reads no map, or more than that layer, is refused.
+fn parse_map_technique(json: &str) -> Result<TechniqueSpec, String> {
+    let spec: TechniqueSpec = serde_json::from_str(json).map_err(|e| e.to_string())?;
+    spec.validate().map_err(|e| format!("{}: {e}", spec.name()))?;
     match spec.build() {
-        None => Err(anyhow!("--technique: {} reads no shadow map", spec.name())),
-        Some(t) if t.layer_needs() != LayerNeeds::default() => Err(anyhow!(
-            "--technique: {} reads layers an imported shadow map does not hold (culling, raster bias, a \
-             second layer or multiple depths): only single-layer techniques read one",
+        None => Err(format!("{} reads no shadow map", spec.name())),
+        Some(t) if t.layer_needs() != LayerNeeds::default() => Err(format!(
+            "{} reads layers an imported shadow map does not hold (culling, raster bias, a second layer or \
+             multiple depths): only single-layer techniques read one",
             spec.label()
         )),
         Some(_) => Ok(spec),

@@ -2,15 +2,17 @@
 //! its safe range; tune.json, a plot of the search, gate rules, and the tuned settings run into
 //! the usual report folder (docs/tune.md).
 
-use super::{expand_scenes, load_report, set_threads, write_plan_report};
+use super::args::set_threads;
+use super::plan_report::write_plan_report;
+use super::scene_paths::expand_scenes_or_default;
 use crate::plan::{Plan, check_plan};
+use crate::report::load_report;
 use crate::report::tune_chart;
 use crate::tune::{TuneRecord, TuneRequest, TuneResult, TuneViews, gate_rules_toml, tune};
 use anyhow::{Context, Result, anyhow};
 use indicatif::{ProgressBar, ProgressStyle};
 use shadowtruth::atomic_file::write_atomic;
 use shadowtruth::raster::DepthFormat;
-use std::path::PathBuf;
 
 /// The options and their checks live beside the search (`src/tune/options.rs`), where the
 /// fuzz entry reaches them too.
@@ -21,8 +23,7 @@ pub(super) fn run_tune(a: TuneArgs) -> Result<u8> {
     let request = a.request()?;
     let format = DepthFormat::parse(&a.depth_format)
         .ok_or_else(|| anyhow!("--depth-format {}: expected f32, unorm24 or unorm16", a.depth_format))?;
-    let default_scenes = [PathBuf::from("scenes")];
-    let scenes = expand_scenes(if a.scenes.is_empty() { &default_scenes } else { &a.scenes })?;
+    let scenes = expand_scenes_or_default(&a.scenes)?;
     let mut plan = Plan::default_for(scenes);
     plan.techniques = vec![
         request

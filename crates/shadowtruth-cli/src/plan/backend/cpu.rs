@@ -1,0 +1,102 @@
+//! The CPU back-end: each layer group's depth layers rasterized once per map setting (or the
+//! imported shadow map read in their place), then every member technique shaded through them,
+//! each timed as the median of the plan's repeats.
+
+use super::{MapBackend, ProducedRun, RunRecorder};
+use crate::plan::events::TracedView;
+use crate::plan::layer_groups::LayerGroups;
+use crate::plan::layers::{BinnedView, build_layers_timed};
+use crate::plan::map_setting::MapSetting;
+use crate::plan::{Plan, PlanError};
+use shadowtruth::metrics::timed_median;
+use shadowtruth::scene::Scene;
+use shadowtruth::technique::{BuiltLayers, LayerNeeds, TechniqueSpec};
+
+pub(in crate::plan) struct CpuBackend<'p> {
+    plan: &'p Plan,
+    groups: &'p LayerGroups,
+}
+
+impl<'p> CpuBackend<'p> {
+    pub fn new(plan: &'p Plan, groups: &'p LayerGroups) -> Self {
+        CpuBackend { plan, groups }
+    }
+}
+
+impl MapBackend for CpuBackend<'_> {
+    fn produce(
+        &mut self,
+        traced: &TracedView,
+        map: &MapSetting,
+        recorder: &mut dyn RunRecorder,
+    ) -> Result<(), PlanError> {
+        let (scene, camera, light) = (traced.scene, traced.camera, traced.light);
+        // Each map binned when the first group needs it, then shared by the others.
+        let mut binned: Vec<BinnedView> = Vec::new();
+        for (needs, members) in self.groups {
+            let (resolution, format) = (map.resolution, map.format.name());
+            recorder.stage(&format!(
+                "{}/{}/{}: {resolution}² {format} layers",
+                scene.name, camera.name, light.name
+            ))?;
+            let (layers, prepare_ms) = group_layers(self.plan, needs, scene, map, &mut binned);
+            let layer_memory_bytes = layers.iter().map(|l| l.memory_bytes() as u64).sum();
+            for &ti in members {
+                let spec = &self.plan.techniques[ti];
+                let (visibility, shade_ms) = shade_timed(self.plan.repeats, spec, scene, map, &layers);
+                let run = ProducedRun {
+                    spec,
+                    visibility: &visibility,
+                    prepare_ms,
+                    shade_ms,
+                    layer_memory_bytes,
+                    pipeline: None,
+                };
+                recorder.record(run)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The layers `needs` asks for, one per map of `map` (each cascade's, or the one), built from
+/// the maps' binned triangles (binned here on first use), and the time they took (ms).
+pub(in crate::plan) fn group_layers<'m>(
+    plan: &Plan,
+    needs: &LayerNeeds,
+    scene: &'m Scene,
+    map: &MapSetting<'m>,
+    binned: &mut Vec<BinnedView<'m>>,
+) -> (Vec<BuiltLayers>, f64) {
+    if let Some(map_file) = &plan.shadow_map {
+        return (vec![BuiltLayers::Nearest(map_file.layer.clone())], 0.0);
+    }
+    if binned.is_empty() {
+        binned.extend(map.views().into_iter().map(|view| BinnedView::new(scene, view)));
+    }
+    let mut total_ms = 0.0;
+    let layers = binned
+        .iter()
+        .map(|b| {
+            let (layers, ms) = build_layers_timed(b, map.format, needs, plan.repeats);
+            total_ms += ms;
+            layers
+        })
+        .collect();
+    (layers, total_ms)
+}
+
+/// The technique's visibility of every evaluated sample through `layers` (one per map of
+/// `map`), and the median shading time (ms) of `repeats`.
+pub(in crate::plan) fn shade_timed(
+    repeats: usize,
+    spec: &TechniqueSpec,
+    scene: &Scene,
+    map: &MapSetting,
+    layers: &[BuiltLayers],
+) -> (Vec<f32>, f64) {
+    let technique = spec.build().expect("only shaded techniques are in a layer group");
+    // The contexts are built once, outside the clock: only shading is timed.
+    let contexts = map.contexts(scene, layers);
+    timed_median(repeats, || map.shade(technique.as_ref(), &contexts))
+}

@@ -1,0 +1,53 @@
+//! The three steps every measurement of a technique takes, wherever it is assembled (the
+//! schedule, frames, `tune`, the papers' experiments): a view traced (G-buffer and the
+//! references its techniques are judged by), a technique shaded through one map setting, and
+//! its visibility scored against a reference with the attribution of every false pixel.
+
+use super::map_setting::MapSetting;
+use super::references::ViewReferences;
+use super::{Plan, PlanError};
+use shadowtruth::metrics::{Counts, LightUv, attribute, score_hard};
+use shadowtruth::scene::{Camera, Light, Scene};
+use shadowtruth::technique::{BuiltLayers, Technique};
+use shadowtruth::trace::{GBuffer, HardReference, ReferenceCache, SceneBvh};
+
+/// The G-buffer of the (camera, light) view and the references `plan`'s techniques are scored
+/// against (read from `cache` when given); `stage` is told each step (`G-buffer`, `reference`)
+/// as it begins.
+pub fn trace_view(
+    plan: &Plan,
+    cache: Option<&ReferenceCache>,
+    scene: &Scene,
+    bvh: &SceneBvh,
+    (camera, light): (&Camera, &Light),
+    stage: &mut dyn FnMut(&str) -> Result<(), PlanError>,
+) -> Result<(GBuffer, ViewReferences), PlanError> {
+    stage("G-buffer")?;
+    let gbuffer = GBuffer::trace(scene, bvh, camera, light);
+    stage("reference")?;
+    let references = ViewReferences::new(plan, cache, scene, bvh, &gbuffer, camera, light)?;
+    Ok((gbuffer, references))
+}
+
+/// The technique's visibility of every evaluated pixel through `map`, whose maps hold `layers`
+/// (one per map, in `map.views()` order).
+pub fn shade_through(
+    technique: &dyn Technique,
+    scene: &Scene,
+    map: &MapSetting,
+    layers: &[BuiltLayers],
+) -> Vec<f32> {
+    map.shade(technique, &map.contexts(scene, layers))
+}
+
+/// The counts of `visibility` against `reference`, with the attribution of every false pixel
+/// (acne, leak, aliasing) through the light-map positions `light_uv`.
+pub fn score_against(
+    gbuffer: &GBuffer,
+    reference: &HardReference,
+    visibility: &[f32],
+    light_uv: &LightUv,
+) -> Counts {
+    score_hard(gbuffer, reference, visibility)
+        .with_attribution(attribute(gbuffer, reference, visibility, light_uv))
+}
