@@ -18,7 +18,7 @@ mod render;
 mod rules;
 
 pub use check::{BaselineComparison, Check, GateOptions, GateOutcome, evaluate};
-pub use input::{CheckedReport, load_report};
+pub use input::CheckedReport;
 pub use rules::{load_rules, parse_rules};
 
 use std::fmt;
