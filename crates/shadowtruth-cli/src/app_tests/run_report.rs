@@ -3,7 +3,7 @@
 use super::common;
 
 use crate::plan::{Event, Plan, PlanError, Portion, Sink, Watch, execute, execute_portion};
-use crate::report::ReportWriter;
+use crate::sinks::ReportWriter;
 use common::repo;
 use shadowtruth::raster::DepthFormat;
 use shadowtruth::record::{REPORT_SCHEMA, Report};
@@ -131,7 +131,7 @@ fn a_run_killed_midway_resumes_from_report_json_and_its_journal() {
     let journal = std::fs::read_to_string(dir.path().join("report.journal")).unwrap();
     assert_eq!(journal.lines().filter(|l| l.starts_with("{\"run\":")).count(), killed);
 
-    let resumed = crate::report::open_resumed(dir.path(), false, None).unwrap().unwrap();
+    let resumed = crate::shards::open_resumed(dir.path(), false, None).unwrap().unwrap();
     assert_eq!((resumed.report.runs.len(), resumed.dropped_runs), (2 * runs_per_map, 1));
     let portion = Portion { done: resumed.done, ..Portion::default() };
     let mut writer = ReportWriter::resume(dir.path(), resumed.report).unwrap();

@@ -171,7 +171,7 @@ mod tests {
     fn run(scene: &str, evaluated: u64, false_shadow: u64, false_lit: u64) -> RunRecord {
         let counts =
             Counts { pixels: evaluated + 10, evaluated, false_shadow, false_lit, ..Counts::default() };
-        crate::report::gate::test_run(scene, "none", serde_json::json!({}), "none", counts)
+        crate::gate::test_run(scene, "none", serde_json::json!({}), "none", counts)
     }
 
     fn problems(runs: Vec<RunRecord>) -> Vec<String> {

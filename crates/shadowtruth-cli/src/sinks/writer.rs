@@ -18,10 +18,10 @@
 //! Both first lock the folder (`output_lock.rs`): a folder that another live process is writing
 //! is refused before anything in it is removed or written.
 
-use super::{Report, RunRecord, SceneRecord};
 use crate::plan::{Event, PlanError, Sink};
 use shadowtruth::atomic_file::{remove_stray_temp_files, write_atomic};
 use shadowtruth::record::{JOURNAL_FILE, JournalEntry, ScheduleRecord, journal_header, journal_line};
+use shadowtruth::record::{Report, RunRecord, SceneRecord};
 use std::fs::File;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};

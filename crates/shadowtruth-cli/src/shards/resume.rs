@@ -4,12 +4,12 @@
 //! figures, its grid figure too (written after the map's other figures, `figure_sink.rs`).
 //! Runs of unfinished maps are dropped and run again with their map.
 
-use super::figure_sink::grid_file_name;
-use super::{Report, RunRecord};
 use crate::plan::MapKey;
+use crate::sinks::figure_sink::grid_file_name;
 use anyhow::{Result, anyhow, bail};
 use shadowtruth::raster::DepthFormat;
 use shadowtruth::record::ShardRecord;
+use shadowtruth::record::{Report, RunRecord};
 use shadowtruth::scene::ViewKey;
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
