@@ -131,7 +131,7 @@ impl ReportWriter {
     pub fn add_run(&mut self, run: RunRecord) -> std::io::Result<()> {
         self.report.runs.push(run.clone());
         self.put_in_order();
-        self.journal(&JournalEntry::Run(run))?;
+        self.journal(&JournalEntry::Run(Box::new(run)))?;
         self.runs_to_finish = self.runs_to_finish.saturating_sub(1);
         if self.runs_to_finish == 0 { self.flush() } else { Ok(()) }
     }

@@ -23,7 +23,8 @@ pub const JOURNAL_FILE: &str = "report.journal";
 #[serde(rename_all = "snake_case")]
 pub enum JournalEntry {
     Scene(SceneRecord),
-    Run(RunRecord),
+    /// Boxed: a run's record is ten times a scene's.
+    Run(Box<RunRecord>),
 }
 
 /// The journal's first line.
@@ -52,7 +53,7 @@ pub fn load_journaled_report(dir: &Path) -> Result<(Report, PathBuf), ReportRead
                 Some(earlier) => *earlier = scene,
                 None => report.scenes.push(scene),
             },
-            JournalEntry::Run(run) => report.runs.push(run),
+            JournalEntry::Run(run) => report.runs.push(*run),
         }
     }
     Ok((report, file))
@@ -118,8 +119,8 @@ mod tests {
         report.runs.push(run_named("kept"));
         let bytes = write_report(dir.path(), &report);
         let mut journal = journal_header(&bytes);
-        journal.extend(journal_line(&JournalEntry::Run(run_named("journaled"))));
-        let cut = journal_line(&JournalEntry::Run(run_named("cut")));
+        journal.extend(journal_line(&JournalEntry::Run(run_named("journaled").into())));
+        let cut = journal_line(&JournalEntry::Run(run_named("cut").into()));
         journal.extend(&cut[..cut.len() / 2]);
         std::fs::write(dir.path().join(JOURNAL_FILE), &journal).unwrap();
         assert_eq!(labels(dir.path()), ["kept", "journaled"]);
@@ -131,7 +132,7 @@ mod tests {
         let mut report = Report::new();
         let older = write_report(dir.path(), &report);
         let mut journal = journal_header(&older);
-        journal.extend(journal_line(&JournalEntry::Run(run_named("folded"))));
+        journal.extend(journal_line(&JournalEntry::Run(run_named("folded").into())));
         std::fs::write(dir.path().join(JOURNAL_FILE), &journal).unwrap();
         // Killed after the report holding the journaled run was written, before a new journal.
         report.runs.push(run_named("folded"));
