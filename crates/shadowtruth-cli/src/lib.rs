@@ -5,11 +5,19 @@
 //! tests.
 
 mod commands;
+mod drawing;
+mod escape;
+mod export;
+mod exports;
 pub mod fuzzing;
+mod gate;
 mod generate;
+mod outputs;
 mod papers;
 mod plan;
 mod report;
+mod shards;
+mod sinks;
 mod tune;
 mod view_export;
 

@@ -62,9 +62,9 @@ fn hold_cache_manifest(dir: &Path) -> std::fs::File {
     file
 }
 
-/// `run` into `dir/out` through the cache `dir/refs`, started, and waited on until its report.json
-/// holds its scene: it then holds the folder, and cannot end while the cache's manifest is
-/// held (it records its reference there before its runs).
+/// `run` into `dir/out` through the cache `dir/refs`, started, and waited on until its journal
+/// holds its scene: it then holds the folder, and cannot end while the cache's manifest is held
+/// (it records its reference there before its runs).
 fn start_blocked_run(dir: &Path) -> Child {
     let mut child = binary()
         .args([&RUN_INTO_OUT[..], &["--references", "refs"]].concat())
@@ -73,13 +73,11 @@ fn start_blocked_run(dir: &Path) -> Child {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    // report.json is written when the plan is known and again when the scene is built; the next
-    // write waits for the cache's manifest.
+    // report.json is written when the plan is known, then the built scene is appended to the
+    // journal beside it; the next write waits for the cache's manifest.
     let scene_recorded = || {
-        std::fs::read(dir.join("out/report.json"))
-            .ok()
-            .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok())
-            .is_some_and(|r| r["scenes"].as_array().is_some_and(|s| !s.is_empty()))
+        let journal = std::fs::read(dir.join("out/report.journal")).unwrap_or_default();
+        String::from_utf8_lossy(&journal).lines().any(|l| l.starts_with("{\"scene\":"))
     };
     while !scene_recorded() {
         if let Some(status) = child.try_wait().unwrap() {

@@ -376,18 +376,19 @@ fn a_killed_run_resumes_to_the_fresh_run() {
         .stderr(std::process::Stdio::null())
         .spawn()
         .unwrap();
-    // Killed (SIGKILL) as soon as report.json holds a run.
+    // Killed (SIGKILL) as soon as a run is on disk: in the journal beside report.json.
     let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
-    let runs_on_disk = || {
-        let bytes = std::fs::read(dir.path().join("killed/report.json")).ok()?;
-        Some(serde_json::from_slice::<Value>(&bytes).ok()?["runs"].as_array()?.len())
+    let runs_journaled = || {
+        let bytes = std::fs::read(dir.path().join("killed/report.journal")).unwrap_or_default();
+        String::from_utf8_lossy(&bytes).lines().filter(|l| l.starts_with("{\"run\":")).count()
     };
-    while runs_on_disk().unwrap_or(0) == 0 && child.try_wait().unwrap().is_none() {
-        assert!(std::time::Instant::now() < deadline, "the run wrote no run in 60 s");
+    while runs_journaled() == 0 && child.try_wait().unwrap().is_none() {
+        assert!(std::time::Instant::now() < deadline, "the run journaled no run in 60 s");
         std::thread::sleep(std::time::Duration::from_millis(2));
     }
     child.kill().unwrap();
     child.wait().unwrap();
+    assert_eq!(report(&dir.path().join("killed"))["schema"], "shadowtruth/report/v1", "a whole report");
     let stdout = run(dir.path(), "killed", &["--resume"]);
     assert!(stdout.contains("resuming killed:"), "{stdout}");
     assert_same_folder(&dir.path().join("whole"), &dir.path().join("killed"), dir.path());

@@ -4,14 +4,14 @@
 
 use super::common;
 
-use crate::report::figures::{
+use crate::drawing::figures::{
     FALSE_LIT_INDEX, FALSE_SHADOW_INDEX, GRID_BACKGROUND, GRID_GAP, GRID_TEXT, GridCell, GridLayout,
     ViewCanvas, ZOOM_FRAME, caption_block_height, error_map, grid, is_grey, legend_strip_height,
     reference_visibility, run_images, run_stem, view_stem, visibility_image, write_reference_figure,
     write_run_figures, zoom,
 };
-use crate::report::font;
-use crate::report::indexed_image::{FALSE_LIT, FALSE_SHADOW, IndexedImage};
+use crate::drawing::font;
+use crate::drawing::indexed_image::{FALSE_LIT, FALSE_SHADOW, IndexedImage};
 use common::{bundled, trace_first};
 use shadowtruth::metrics::{Counts, Rates};
 use shadowtruth::raster::DepthFormat;
@@ -111,7 +111,7 @@ fn error_colours_are_distinct_from_each_other_and_from_every_base_grey() {
         let (g, r) = trace_first(&scene);
         let canvas = ViewCanvas::new(&g, &r, &scene.lights[0]);
         let base = &canvas.base;
-        let reference = visibility_image(&g, &canvas, &crate::report::figures::reference_visibility(&g, &r));
+        let reference = visibility_image(&g, &canvas, &crate::drawing::figures::reference_visibility(&g, &r));
         let mut greys = HashSet::new();
         for img in [base, &reference] {
             for p in img.to_rgb().chunks_exact(3) {

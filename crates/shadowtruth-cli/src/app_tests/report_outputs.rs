@@ -5,8 +5,10 @@
 
 use super::common;
 
+use crate::outputs::write_report_outputs;
 use crate::plan::{Plan, execute, parse_plan};
-use crate::report::{Report, ReportWriter, load_report, write_report_outputs};
+use crate::sinks::ReportWriter;
+use shadowtruth::record::{Report, load_report};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -29,7 +31,7 @@ fn report_of(dir: &Path, figures: bool) -> Report {
     let mut plan: Plan = parse_plan(&text, Path::new("plan.json")).unwrap();
     plan.scenes = vec![common::repo().join("scenes/plane_box.json")];
     let mut writer = ReportWriter::new(dir);
-    let mut figure_sink = crate::report::FigureSink::new(&dir.join("figures"), None);
+    let mut figure_sink = crate::sinks::FigureSink::new(&dir.join("figures"), None);
     if figures {
         execute(&plan, None, &mut [&mut writer, &mut figure_sink]).unwrap();
     } else {

@@ -2,28 +2,27 @@
 
 use super::common;
 
-use crate::plan::{Plan, execute};
-use crate::report::ReportWriter;
+use crate::plan::{Event, Plan, PlanError, Portion, Sink, Watch, execute, execute_portion};
+use crate::sinks::ReportWriter;
 use common::repo;
 use shadowtruth::raster::DepthFormat;
 use shadowtruth::record::{REPORT_SCHEMA, Report};
 use shadowtruth::technique::{ConstantParams, CullSpec, NoneParams, SlopeScaledParams, TechniqueSpec};
 
-#[test]
-fn a_plan_writes_one_record_per_run_with_consistent_counts() {
-    let dir = tempfile::tempdir().unwrap();
+/// Three techniques over `scenes` at `resolutions`, in f32 and unorm16, without figures.
+fn plan_of(scenes: &[&str], resolutions: Vec<u32>) -> Plan {
     let techniques = vec![
         TechniqueSpec::None(NoneParams {}),
         TechniqueSpec::Constant(ConstantParams { bias_depth: Some(1e-3), bias_world: None }),
         TechniqueSpec::SlopeScaled(SlopeScaledParams { factor: 1.0, units: 1.0, cull: CullSpec::None }),
     ];
-    let plan = Plan {
+    Plan {
         source: None,
-        scenes: vec![repo().join("scenes/plane_box.json"), repo().join("scenes/spot.json")],
+        scenes: scenes.iter().map(|s| repo().join(s)).collect(),
         cameras: None,
         lights: None,
-        techniques: techniques.clone(),
-        resolutions: vec![256, 512],
+        techniques,
+        resolutions,
         depth_formats: vec![DepthFormat::F32, DepthFormat::Unorm16],
         repeats: 1,
         figures: false,
@@ -34,7 +33,13 @@ fn a_plan_writes_one_record_per_run_with_consistent_counts() {
         shadow_map: None,
         pipeline: crate::plan::Pipeline::Cpu,
         frames: 1,
-    };
+    }
+}
+
+#[test]
+fn a_plan_writes_one_record_per_run_with_consistent_counts() {
+    let dir = tempfile::tempdir().unwrap();
+    let plan = plan_of(&["scenes/plane_box.json", "scenes/spot.json"], vec![256, 512]);
     let mut writer = ReportWriter::new(dir.path());
     let mut done = 0;
     let mut count = crate::plan::Watch(|e: &crate::plan::Event| {
@@ -75,4 +80,67 @@ fn a_plan_writes_one_record_per_run_with_consistent_counts() {
     // The spot scene has pixels outside the cone; the plane_box scene none.
     let spot = report.runs.iter().find(|r| r.scene == "spot").unwrap();
     assert!(spot.counts.outside_light > 0);
+}
+
+/// A sink that stops the plan after `runs` runs, as a kill would (the writer before it has
+/// journaled the last one).
+struct KillAfter {
+    runs: usize,
+}
+
+impl Sink for KillAfter {
+    fn on_event(&mut self, event: &Event) -> Result<(), PlanError> {
+        if let Event::RunDone { .. } = event {
+            self.runs -= 1;
+            if self.runs == 0 {
+                return Err(PlanError::Invalid("killed".into()));
+            }
+        }
+        Ok(())
+    }
+}
+
+fn without_timings(mut report: Report) -> serde_json::Value {
+    report.created = String::new();
+    report.scenes.iter_mut().for_each(|s| s.bvh_build_ms = 0.0);
+    report.runs.iter_mut().for_each(|r| r.timings = Default::default());
+    serde_json::to_value(report).unwrap()
+}
+
+#[test]
+fn a_run_killed_midway_resumes_from_report_json_and_its_journal() {
+    let plan = plan_of(&["scenes/plane_box.json"], vec![64, 128]);
+    let whole = tempfile::tempdir().unwrap();
+    let mut writer = ReportWriter::create(whole.path()).unwrap();
+    writer.track_schedule(None);
+    execute(&plan, None, &mut [&mut writer]).unwrap();
+    let whole = writer.into_report();
+    let runs_per_map = whole.schedule.as_ref().unwrap().runs_per_map;
+    assert!(whole.runs.len() >= 3 * runs_per_map, "{} runs", whole.runs.len());
+
+    let dir = tempfile::tempdir().unwrap();
+    let mut writer = ReportWriter::create(dir.path()).unwrap();
+    writer.track_schedule(None);
+    // Killed one run into the third map: nothing more is written, as after SIGKILL.
+    let killed = 2 * runs_per_map + 1;
+    assert!(execute(&plan, None, &mut [&mut writer, &mut KillAfter { runs: killed }]).is_err());
+    std::mem::forget(writer);
+    let on_disk: Report =
+        serde_json::from_slice(&std::fs::read(dir.path().join("report.json")).unwrap()).unwrap();
+    assert!(on_disk.runs.len() < killed, "report.json is not rewritten after every run");
+    let journal = std::fs::read_to_string(dir.path().join("report.journal")).unwrap();
+    assert_eq!(journal.lines().filter(|l| l.starts_with("{\"run\":")).count(), killed);
+
+    let resumed = crate::shards::open_resumed(dir.path(), false, None).unwrap().unwrap();
+    assert_eq!((resumed.report.runs.len(), resumed.dropped_runs), (2 * runs_per_map, 1));
+    let portion = Portion { done: resumed.done, ..Portion::default() };
+    let mut writer = ReportWriter::resume(dir.path(), resumed.report).unwrap();
+    writer.track_schedule(None);
+    let mut run_again = 0;
+    let mut count = Watch(|e: &Event| run_again += matches!(e, Event::RunDone { .. }) as usize);
+    execute_portion(&plan, None, &mut [&mut writer, &mut count], &portion).unwrap();
+    assert_eq!(run_again, whole.runs.len() - 2 * runs_per_map, "the recorded maps are not run again");
+    assert!(!dir.path().join("report.journal").exists(), "folded into report.json at the end");
+    let (read, _) = shadowtruth::record::load_report(dir.path()).unwrap();
+    assert_eq!(without_timings(read), without_timings(whole));
 }

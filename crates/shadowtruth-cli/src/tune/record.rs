@@ -3,6 +3,7 @@
 
 use super::search::SafeRange;
 use super::{EvaluatedPoint, Objective, SuiteAggregate, TuneRequest, TuneResult, Tuned};
+use crate::gate::{Metric, RuleSpec, rules_toml};
 use serde::Serialize;
 use serde_json::{Map, Value};
 use shadowtruth::record::RunRecord;
@@ -128,26 +129,22 @@ fn tuned_record(request: &TuneRequest, names: &[&str], t: &Tuned) -> TunedRecord
 /// in `runs` plus `slack` of it and one scored pixel: a later change that makes the tuned
 /// setting worse on any view fails the gate.
 pub fn gate_rules_toml(runs: &[RunRecord], label: &str, slack: f64) -> String {
-    let mut out = format!(
-        "# The error of the tuned setting {label} on each view, with {}% slack and one pixel.\n",
+    let header = format!(
+        "# The error of the tuned setting {label} on each view, with {}% slack and one pixel.\n\n",
         slack * 100.0
     );
-    // TOML basic strings take JSON's escapes, so any name is written as it reads.
-    let quoted = |text: &str| serde_json::to_string(text).expect("a string serializes");
-    for r in runs.iter().filter(|r| r.label == label) {
-        let bound = r.rates.error * (1.0 + slack) + 1.0 / r.counts.scored().max(1) as f64;
-        let name = format!("tuned {label} on {}/{}/{} at {}", r.scene, r.camera, r.light, r.resolution);
-        out.push_str(&format!(
-            "\n[[rule]]\nname = {}\nscene = {}\ncamera = {}\nlight = {}\nresolution = {}\ndepth_format = {}\n\
-             label = {}\nmetric = \"error\"\nmax = {bound:e}\n",
-            quoted(&name),
-            quoted(&r.scene),
-            quoted(&r.camera),
-            quoted(&r.light),
-            r.resolution,
-            quoted(&r.depth_format),
-            quoted(label),
-        ));
-    }
-    out
+    let rule = |r: &RunRecord| RuleSpec {
+        name: Some(format!("tuned {label} on {}/{}/{} at {}", r.scene, r.camera, r.light, r.resolution)),
+        scene: Some(r.scene.clone()),
+        camera: Some(r.camera.clone()),
+        light: Some(r.light.clone()),
+        resolution: Some(r.resolution),
+        depth_format: Some(r.depth_format.clone()),
+        label: Some(label.into()),
+        metric: Some(Metric::Error),
+        max: Some(r.rates.error * (1.0 + slack) + 1.0 / r.counts.scored().max(1) as f64),
+        ..RuleSpec::default()
+    };
+    let rules: Vec<RuleSpec> = runs.iter().filter(|r| r.label == label).map(rule).collect();
+    header + &rules_toml(&rules)
 }

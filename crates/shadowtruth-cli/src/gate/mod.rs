@@ -7,19 +7,21 @@
 //! - `input.rs` reads reports and rejects inconsistent ones ([`CheckedReport`]);
 //! - `identity.rs` decides which baseline run is the same run as a run of the report;
 //! - `check.rs` evaluates the rules ([`evaluate`], a pure function);
-//! - `render.rs` prints the outcome as text and Markdown (JUnit XML is in `report/junit.rs`).
+//! - `render.rs` prints the outcome as text and Markdown (JUnit XML is in `exports/junit.rs`);
+//! - `fmt_value.rs` is how both the rules and the outcome print a value.
 //!
 //! Reading files is the only I/O here; the CLI writes the outputs.
 
 mod check;
+mod fmt_value;
 mod identity;
 mod input;
 mod render;
 mod rules;
 
 pub use check::{BaselineComparison, Check, GateOptions, GateOutcome, evaluate};
-pub use input::{CheckedReport, load_report};
-pub use rules::{load_rules, parse_rules};
+pub use input::CheckedReport;
+pub use rules::{Metric, RuleSpec, load_rules, parse_rules, rules_toml};
 
 use std::fmt;
 
@@ -52,8 +54,8 @@ pub(crate) fn test_run(
     parameters: serde_json::Value,
     label: &str,
     counts: shadowtruth::metrics::Counts,
-) -> crate::report::RunRecord {
-    crate::report::RunRecord {
+) -> shadowtruth::record::RunRecord {
+    shadowtruth::record::RunRecord {
         scene: scene.into(),
         camera: "main".into(),
         light: "sun".into(),
@@ -64,7 +66,7 @@ pub(crate) fn test_run(
         depth_format: "f32".into(),
         counts,
         rates: counts.rates(),
-        timings: crate::report::Timings::default(),
+        timings: shadowtruth::record::Timings::default(),
         layer_memory_bytes: 0,
         reference: Default::default(),
         soft: None,

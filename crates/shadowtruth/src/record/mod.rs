@@ -5,6 +5,12 @@ use crate::metrics::{Counts, Rates, SoftErrors};
 use crate::technique::ReferenceKind;
 use serde::{Deserialize, Serialize};
 
+mod journal;
+mod load;
+
+pub use journal::{JOURNAL_FILE, JournalEntry, journal_header, journal_line, load_journaled_report};
+pub use load::{MAX_REPORT_BYTES, ReportReadError, load_report};
+
 pub const REPORT_SCHEMA: &str = "shadowtruth/report/v1";
 
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -251,5 +257,30 @@ impl Report {
 impl Default for Report {
     fn default() -> Self {
         Self::new()
+    }
+}
+
+/// A run with this label and no pixels, for the tests of reading and journaling reports.
+#[cfg(test)]
+pub(crate) fn test_run(label: &str) -> RunRecord {
+    let counts = crate::metrics::Counts::default();
+    RunRecord {
+        scene: "a".into(),
+        camera: "c".into(),
+        light: "l".into(),
+        technique: "t".into(),
+        parameters: Default::default(),
+        label: label.into(),
+        resolution: 32,
+        depth_format: "f32".into(),
+        counts,
+        rates: counts.rates(),
+        timings: Default::default(),
+        layer_memory_bytes: 0,
+        reference: Default::default(),
+        soft: None,
+        pipeline: None,
+        cascades: None,
+        temporal: None,
     }
 }

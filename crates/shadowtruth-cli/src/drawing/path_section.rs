@@ -3,12 +3,12 @@
 //! per-frame plot (`frame_plots.rs`) and each run's animated error map (`frame_movie.rs`) and
 //! flicker heat map (`flicker_map.rs`). Images are linked only where their files were written.
 
-use super::Report;
 use super::figures::run_stem;
 use super::flicker_map::flicker_file_name;
 use super::frame_movie::movie_file_name;
 use super::frame_plots::frame_plot_groups;
-use super::html::escape;
+use crate::escape::escape_html as escape;
+use shadowtruth::record::Report;
 use shadowtruth::record::{RunRecord, TemporalRecord};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -160,7 +160,7 @@ mod tests {
 
     fn run(label: &str, temporal: bool) -> RunRecord {
         let counts = Counts { pixels: 100, evaluated: 100, ..Counts::default() };
-        let mut r = crate::report::gate::test_run("s", "none", serde_json::json!({}), label, counts);
+        let mut r = crate::gate::test_run("s", "none", serde_json::json!({}), label, counts);
         r.temporal = temporal.then(|| TemporalRecord {
             frames: 4,
             moving: "light".into(),

@@ -4,8 +4,8 @@
 //! (`TechniqueSpec::canonical`), so two reports pair however their parameters were printed; the
 //! label is printed from the parameters, so it is shown but never compared.
 
-use crate::report::RunRecord;
 use serde_json::Value;
+use shadowtruth::record::RunRecord;
 use shadowtruth::technique::{ReferenceKind, TechniqueSpec, canonical_json};
 use std::collections::HashMap;
 use std::fmt;
@@ -156,8 +156,8 @@ impl Pairing {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::{ReferenceUsed, Timings};
     use serde_json::json;
+    use shadowtruth::record::{ReferenceUsed, Timings};
 
     fn run(technique: &str, parameters: Value, label: &str) -> RunRecord {
         RunRecord {

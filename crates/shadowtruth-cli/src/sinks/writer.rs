@@ -1,5 +1,8 @@
-//! Writes `report.json` as runs finish: the whole report is rewritten atomically after each
-//! run, so a killed run leaves the last complete report, never a half-written one.
+//! Writes `report.json` as runs finish. The whole report is written atomically when a plan
+//! starts and when its last run finishes; in between each finished scene and run is appended to
+//! the journal beside it (`shadowtruth::record::journal`), so that the I/O grows with the runs
+//! (not with their square) while a killed run leaves the last complete report, never a
+//! half-written one, and every finished run on disk for `--resume`.
 //!
 //! `ReportWriter::create` opens a report folder for `run` and `papers`: the outputs of an earlier
 //! run there (`EARLIER_RUN_FILES`, and the figures and plots in `EARLIER_RUN_FOLDERS`) are removed
@@ -15,15 +18,17 @@
 //! Both first lock the folder (`output_lock.rs`): a folder that another live process is writing
 //! is refused before anything in it is removed or written.
 
-use super::{Report, RunRecord, SceneRecord};
 use crate::plan::{Event, PlanError, Sink};
 use shadowtruth::atomic_file::{remove_stray_temp_files, write_atomic};
-use shadowtruth::record::ScheduleRecord;
+use shadowtruth::record::{JOURNAL_FILE, JournalEntry, ScheduleRecord, journal_header, journal_line};
+use shadowtruth::record::{Report, RunRecord, SceneRecord};
+use std::fs::File;
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 /// Files of an earlier run removed from a report folder (report.json is replaced instead).
-const EARLIER_RUN_FILES: [&str; 6] =
-    ["report.csv", "index.html", "claims.json", "claims.html", "tune.json", "tune-gate.toml"];
+const EARLIER_RUN_FILES: [&str; 7] =
+    ["report.csv", "index.html", "claims.json", "claims.html", "tune.json", "tune-gate.toml", JOURNAL_FILE];
 
 /// Subfolders of a report folder and the extensions of the files this tool writes into them.
 const EARLIER_RUN_FOLDERS: [(&str, &[&str]); 2] = [("figures", &["png"]), ("plots", &["svg", "png"])];
@@ -40,6 +45,10 @@ pub struct ReportWriter {
     tracks_schedule: bool,
     /// The schedule identity the plan must have: that of the report being resumed.
     resumed_identity: Option<String>,
+    /// The journal of what finished since report.json was written, while there is any.
+    journal: Option<File>,
+    /// Runs of the current plan still to finish; report.json is written whole after its last.
+    runs_to_finish: usize,
 }
 
 impl ReportWriter {
@@ -52,6 +61,8 @@ impl ReportWriter {
             earlier_run_pending: false,
             tracks_schedule: false,
             resumed_identity: None,
+            journal: None,
+            runs_to_finish: 0,
         }
     }
 
@@ -63,7 +74,9 @@ impl ReportWriter {
         refuse_linked_subfolders(dir)?;
         remove_stray_report_temp_files(dir)?;
         let identity = report.schedule.as_ref().map(|s| s.identity.clone()).unwrap_or_default();
-        Ok(ReportWriter { report, tracks_schedule: true, resumed_identity: Some(identity), ..Self::new(dir) })
+        let mut writer = Self::new(dir);
+        (writer.report, writer.tracks_schedule, writer.resumed_identity) = (report, true, Some(identity));
+        Ok(writer)
     }
 
     /// Records the plan's schedule (and `shard`, the share of it run here) in the report, and
@@ -81,7 +94,9 @@ impl ReportWriter {
         shadowtruth::output_lock::lock_output_folder(dir)?;
         refuse_linked_subfolders(dir)?;
         remove_stray_report_temp_files(dir)?;
-        Ok(ReportWriter { earlier_run_pending: true, ..Self::new(dir) })
+        let mut writer = Self::new(dir);
+        writer.earlier_run_pending = true;
+        Ok(writer)
     }
 
     pub fn path(&self) -> &Path {
@@ -106,19 +121,24 @@ impl ReportWriter {
         let resumed = self.resumed_identity.is_some();
         match self.report.scenes.iter_mut().find(|s| resumed && s.name == scene.name) {
             // A resumed run builds the scene again: its record replaces the interrupted one's.
-            Some(earlier) => *earlier = scene,
-            None => self.report.scenes.push(scene),
+            Some(earlier) => *earlier = scene.clone(),
+            None => self.report.scenes.push(scene.clone()),
         }
-        self.flush()
+        self.put_in_order();
+        self.journal(&JournalEntry::Scene(scene))
     }
 
     pub fn add_run(&mut self, run: RunRecord) -> std::io::Result<()> {
-        self.report.runs.push(run);
-        self.flush()
+        self.report.runs.push(run.clone());
+        self.put_in_order();
+        self.journal(&JournalEntry::Run(Box::new(run)))?;
+        self.runs_to_finish = self.runs_to_finish.saturating_sub(1);
+        if self.runs_to_finish == 0 { self.flush() } else { Ok(()) }
     }
 
     /// Takes the plan's schedule, refusing one that is not the resumed report's.
-    fn planned(&mut self, schedule: &ScheduleRecord) -> Result<(), PlanError> {
+    fn planned(&mut self, runs: usize, schedule: &ScheduleRecord) -> Result<(), PlanError> {
+        self.runs_to_finish = runs;
         if !self.tracks_schedule {
             return Ok(());
         }
@@ -134,25 +154,66 @@ impl ReportWriter {
             )));
         }
         self.report.schedule = Some(schedule.clone());
-        self.flush().map_err(|source| PlanError::Io { path: self.path.clone(), source })
+        let written = if runs == 0 { self.flush() } else { self.start_journal() };
+        written.map_err(|source| PlanError::Io { path: self.path.clone(), source })
     }
 
+    /// Writes the whole report.json; what the journal held is in it, so the journal goes.
     pub fn flush(&mut self) -> std::io::Result<()> {
+        self.write_report_json()?;
+        self.journal = None;
+        remove_if_present(&self.dir().join(JOURNAL_FILE))
+    }
+
+    /// Writes the whole report.json, then a new journal that extends it.
+    fn start_journal(&mut self) -> std::io::Result<()> {
+        let written = self.write_report_json()?;
+        let path = self.dir().join(JOURNAL_FILE);
+        write_atomic(&path, &journal_header(&written))?;
+        self.journal = Some(File::options().append(true).open(&path)?);
+        Ok(())
+    }
+
+    /// Appends `entry` to the journal (started first if there is none), synced before the next
+    /// run starts: a finished run is on disk as soon as its record is.
+    fn journal(&mut self, entry: &JournalEntry) -> std::io::Result<()> {
+        if self.journal.is_none() {
+            self.start_journal()?;
+        }
+        let journal = self.journal.as_mut().expect("started above");
+        journal.write_all(&journal_line(entry))?;
+        journal.sync_data()
+    }
+
+    /// Writes report.json atomically and returns its bytes.
+    fn write_report_json(&mut self) -> std::io::Result<Vec<u8>> {
         if self.earlier_run_pending {
             remove_earlier_run_outputs(self.dir())?;
             self.earlier_run_pending = false;
         }
+        self.put_in_order();
+        let mut text = serde_json::to_vec_pretty(&self.report).map_err(std::io::Error::other)?;
+        text.push(b'\n');
+        write_atomic(&self.path, &text)?;
+        Ok(text)
+    }
+
+    /// A resumed report is kept in schedule order (the earlier runs are there from the start).
+    fn put_in_order(&mut self) {
         if self.resumed_identity.is_some() {
             super::schedule_order::put_in_schedule_order(&mut self.report);
         }
-        let mut text = serde_json::to_string_pretty(&self.report).map_err(std::io::Error::other)?;
-        text.push('\n');
-        write_atomic(&self.path, text.as_bytes())
+    }
+
+    /// Writes report.json whole when the journal holds what it lacks.
+    fn flush_journaled(&mut self) -> std::io::Result<()> {
+        if self.journal.is_some() { self.flush() } else { Ok(()) }
     }
 
     #[cfg(test)]
-    pub fn into_report(self) -> Report {
-        self.report
+    pub fn into_report(mut self) -> Report {
+        self.flush_journaled().expect("report.json written");
+        std::mem::take(&mut self.report)
     }
 }
 
@@ -160,12 +221,21 @@ impl ReportWriter {
 impl Sink for ReportWriter {
     fn on_event(&mut self, event: &Event) -> Result<(), PlanError> {
         let written = match event {
-            Event::Planned { schedule, .. } => return self.planned(schedule),
+            Event::Planned { runs, schedule } => return self.planned(*runs, schedule),
             Event::SceneBuilt(record) => self.add_scene((*record).clone()),
             Event::RunDone { record, .. } => self.add_run((*record).clone()),
             _ => return Ok(()),
         };
         written.map_err(|source| PlanError::Io { path: self.path.clone(), source })
+    }
+}
+
+/// What finished after the plan's last run (a scene of a resumed run, whose maps were all done)
+/// is only in the journal: report.json is written whole once more, as the report it ends with.
+impl Drop for ReportWriter {
+    fn drop(&mut self) {
+        // An error here has no one to go to; the journal then still holds every finished run.
+        let _ = self.flush_journaled();
     }
 }
 

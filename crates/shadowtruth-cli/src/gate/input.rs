@@ -9,41 +9,9 @@
 
 use super::GateError;
 use super::identity::{RunIdentity, RunName};
-use serde_json::Value;
-use shadowtruth::record::{REPORT_SCHEMA, Report, RunRecord};
+use shadowtruth::record::{Report, RunRecord};
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
-
-/// The largest report read: a run's record takes a few kilobytes and a plan expands to at most
-/// 100 000 runs (`DEFAULT_MAX_RUNS`); a gigabyte holds some 300 000.
-const MAX_REPORT_BYTES: u64 = 1 << 30;
-
-/// Reads a report: a `report.json` file, or a folder holding one. Returns the report and the
-/// file it was read from.
-pub fn load_report(path: &Path) -> Result<(Report, PathBuf), GateError> {
-    let file = if path.is_dir() { path.join("report.json") } else { path.to_path_buf() };
-    let origin = file.display().to_string();
-    if !file.exists() {
-        return Err(GateError::one(format!("{origin}: no such report")));
-    }
-    let text = shadowtruth::input_file::read_named_text(&file, MAX_REPORT_BYTES).map_err(GateError::one)?;
-    let report = parse_report(&text).map_err(|e| GateError::one(format!("{origin}: {e}")))?;
-    Ok((report, file))
-}
-
-/// The schema is checked first, so that a report of another schema says so instead of failing
-/// on a field that schema lacks; deserialisation errors name the JSON path.
-fn parse_report(text: &str) -> Result<Report, String> {
-    let value: Value = serde_json::from_str(text).map_err(|e| format!("not valid JSON: {e}"))?;
-    let expected = format!("expected \"{REPORT_SCHEMA}\"");
-    match value.get("schema") {
-        Some(Value::String(s)) if s == REPORT_SCHEMA => {}
-        Some(other) => return Err(format!("schema: {expected}, got {other}")),
-        None if value.is_object() => return Err(format!("schema: missing ({expected})")),
-        None => return Err("expected a JSON object (a report)".into()),
-    }
-    serde_path_to_error::deserialize(value).map_err(|e| format!("{}: {}", e.path(), e.inner()))
-}
+use std::path::Path;
 
 /// A report that passed the consistency checks, with the file it came from (named in messages)
 /// and the identity of each run. The gate evaluates only these.
@@ -55,9 +23,9 @@ pub struct CheckedReport {
 }
 
 impl CheckedReport {
-    /// Reads a report (see [`load_report`]) and checks it.
+    /// Reads a report (see [`shadowtruth::record::load_report`]) and checks it.
     pub fn load(path: &Path) -> Result<Self, GateError> {
-        let (report, file) = load_report(path)?;
+        let (report, file) = shadowtruth::record::load_report(path).map_err(|e| GateError::one(e.0))?;
         Self::new(report, file.display().to_string())
     }
 
@@ -203,7 +171,7 @@ mod tests {
     fn run(scene: &str, evaluated: u64, false_shadow: u64, false_lit: u64) -> RunRecord {
         let counts =
             Counts { pixels: evaluated + 10, evaluated, false_shadow, false_lit, ..Counts::default() };
-        crate::report::gate::test_run(scene, "none", serde_json::json!({}), "none", counts)
+        crate::gate::test_run(scene, "none", serde_json::json!({}), "none", counts)
     }
 
     fn problems(runs: Vec<RunRecord>) -> Vec<String> {
@@ -240,7 +208,7 @@ mod tests {
         // A third that does not round-trip exactly still passes when written by `Counts::rates`.
         let third = run("c", 3, 1, 0);
         let text = serde_json::to_string(&Report { runs: vec![third], ..Report::new() }).unwrap();
-        let read = parse_report(&text).unwrap();
+        let read: Report = serde_json::from_str(&text).unwrap();
         assert!(CheckedReport::new(read, "r.json").is_ok());
     }
 
@@ -264,19 +232,5 @@ mod tests {
         let p = problems(vec![run("a", 100, 0, 0), run("b", 100, 0, 0), relabelled]);
         assert_eq!(p.len(), 1, "{p:?}");
         assert!(p[0].starts_with("r.json: runs[2]: the same run as runs[0] (a/main/sun none @1024"), "{p:?}");
-    }
-
-    #[test]
-    fn the_schema_is_checked_before_the_rest() {
-        let mut v = serde_json::to_value(Report { runs: vec![run("a", 1, 0, 0)], ..Report::new() }).unwrap();
-        v["schema"] = "shadowtruth/report/v2".into();
-        v["runs"] = "changed in v2".into();
-        let e = parse_report(&v.to_string()).unwrap_err();
-        assert_eq!(e, "schema: expected \"shadowtruth/report/v1\", got \"shadowtruth/report/v2\"");
-        v["schema"] = REPORT_SCHEMA.into();
-        v["runs"] = serde_json::json!([serde_json::to_value(run("a", 1, 0, 0)).unwrap()]);
-        v["runs"][0]["counts"]["false_lit"] = (-3).into();
-        let e = parse_report(&v.to_string()).unwrap_err();
-        assert!(e.starts_with("runs[0].counts.false_lit: invalid value: integer `-3`"), "{e}");
     }
 }

@@ -3,8 +3,8 @@
 //! at its far split, and the error of the pixels it shaded — collapsed under the run's name, so
 //! that many runs stay one line each.
 
-use super::Report;
-use super::html::escape;
+use crate::escape::escape_html as escape;
+use shadowtruth::record::Report;
 use shadowtruth::record::{CascadeCounts, CascadesRecord, RunRecord};
 use std::fmt::Write as _;
 
@@ -78,7 +78,7 @@ mod tests {
     #[test]
     fn a_table_per_cascaded_run() {
         let counts = Counts { pixels: 100, evaluated: 100, ..Counts::default() };
-        let plain = crate::report::gate::test_run("s", "none", serde_json::json!({}), "none", counts);
+        let plain = crate::gate::test_run("s", "none", serde_json::json!({}), "none", counts);
         let mut cascaded = plain.clone();
         let cascade = |near: f64, far: f64, evaluated: u64, false_lit: u64| CascadeRecord {
             near,

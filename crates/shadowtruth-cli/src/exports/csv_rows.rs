@@ -9,8 +9,8 @@
 //! that starts so gets a leading `'`, as OWASP advises against CSV injection. Numbers are written
 //! as they are (a negative number is a number, not a formula).
 
-use super::{Report, RunRecord};
 use serde_json::Value;
+use shadowtruth::record::{Report, RunRecord};
 
 /// Flattens one record into (column, cell) pairs, in serialization order.
 fn flatten(prefix: &str, value: &Value, out: &mut Vec<(String, String)>) {
@@ -94,7 +94,7 @@ pub fn report_csv(report: &Report) -> Result<String, csv::Error> {
 /// `report.csv`.
 pub struct CsvExport;
 
-impl super::outputs::Export for CsvExport {
+impl crate::export::Export for CsvExport {
     fn write(&self, dir: &std::path::Path, report: &Report) -> std::io::Result<()> {
         let csv = report_csv(report).map_err(std::io::Error::other)?;
         shadowtruth::atomic_file::write_atomic(&dir.join("report.csv"), csv.as_bytes())
@@ -109,7 +109,7 @@ mod tests {
 
     fn run(label: &str) -> RunRecord {
         let counts = Counts { pixels: 100, evaluated: 100, false_shadow: 3, ..Counts::default() };
-        crate::report::gate::test_run("s", "none", serde_json::json!({}), label, counts)
+        crate::gate::test_run("s", "none", serde_json::json!({}), label, counts)
     }
 
     fn temporal() -> TemporalRecord {

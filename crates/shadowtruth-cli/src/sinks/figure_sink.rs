@@ -4,13 +4,13 @@
 //! are done; for runs over a path, each run's animated error map as its frames arrive
 //! (`frame_movie.rs`) and its flicker heat map when it ends (`flicker_map.rs`).
 
-use super::figures::{
+use crate::drawing::figures::{
     GridCell, ViewCanvas, downscale, grid, run_stem, view_stem, write_reference_figure, write_run_figures,
     zoom,
 };
-use super::flicker_map::write_flicker_map;
-use super::frame_movie::FrameMovies;
-use super::indexed_image::IndexedImage;
+use crate::drawing::flicker_map::write_flicker_map;
+use crate::drawing::frame_movie::FrameMovies;
+use crate::drawing::indexed_image::IndexedImage;
 use crate::plan::{Event, PlanError, Sink, TracedView};
 use rayon::prelude::*;
 use shadowtruth::metrics::Stopwatch;

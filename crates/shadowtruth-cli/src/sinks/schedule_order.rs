@@ -2,7 +2,7 @@
 //! a whole `run` writes them in: reports assembled from parts — merged shards, a resumed run's
 //! earlier and new runs — end up as that run's would.
 
-use super::Report;
+use shadowtruth::record::Report;
 use shadowtruth::record::ViewName;
 use std::collections::HashMap;
 

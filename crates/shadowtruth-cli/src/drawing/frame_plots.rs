@@ -5,8 +5,8 @@
 //! technique setting, and the pixels that flickered since the frame before.
 
 use super::plots::{Chart, write_stacked};
-use super::{Report, RunRecord};
 use shadowtruth::file_name;
+use shadowtruth::record::{Report, RunRecord};
 use std::path::Path;
 
 /// The lowest error drawn (in %), as in the other plots: error-free frames sit on it.
@@ -99,7 +99,7 @@ fn frame_plot(report: &Report, stem: String, runs: &[usize]) -> FramePlot {
 /// The per-frame plots under `plots/`.
 pub struct FramePlotsExport;
 
-impl super::outputs::Export for FramePlotsExport {
+impl crate::export::Export for FramePlotsExport {
     fn write(&self, dir: &Path, report: &Report) -> std::io::Result<()> {
         use rayon::prelude::*;
         let plots = frame_plots(report);
@@ -115,14 +115,14 @@ impl super::outputs::Export for FramePlotsExport {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::outputs::Export;
-    use crate::report::plots::tests::line_colours;
+    use crate::drawing::plots::tests::line_colours;
+    use crate::export::Export;
     use shadowtruth::metrics::Counts;
     use shadowtruth::record::TemporalRecord;
 
     fn run(label: &str, resolution: u32, frames: usize) -> RunRecord {
         let counts = Counts { pixels: 100, evaluated: 100, ..Counts::default() };
-        let mut r = crate::report::gate::test_run("s", "none", serde_json::json!({}), label, counts);
+        let mut r = crate::gate::test_run("s", "none", serde_json::json!({}), label, counts);
         r.resolution = resolution;
         r.temporal = Some(TemporalRecord {
             frames: frames as u32,

@@ -1,6 +1,6 @@
-//! Single-file exports: the world-space OBJ of a scene and reference mask PNGs.
+//! The world-space OBJ of a scene (`shadowtruth export-obj`).
 
-use shadowtruth::atomic_file::{encode_gray_png, write_atomic};
+use shadowtruth::atomic_file::write_atomic;
 use shadowtruth::scene::Scene;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -27,9 +27,4 @@ pub fn world_obj(scene: &Scene) -> String {
 
 pub fn write_world_obj(scene: &Scene, path: &Path) -> std::io::Result<()> {
     write_atomic(path, world_obj(scene).as_bytes())
-}
-
-/// A mask in the `MaskCode` grey levels.
-pub fn write_mask_png(path: &Path, width: u32, height: u32, codes: &[u8]) -> std::io::Result<()> {
-    write_atomic(path, &encode_gray_png(width, height, codes)?)
 }

@@ -1,15 +1,15 @@
-//! `run --resume`: what an interrupted report folder already holds. report.json is rewritten
-//! atomically after every run (`writer.rs`), so a killed run leaves its finished runs on disk; a
+//! `run --resume`: what an interrupted report folder already holds. report.json and its journal
+//! hold every finished run of a killed run (`writer.rs`); a
 //! map (view, resolution, depth format) counts as done when all of its runs are there and, with
 //! figures, its grid figure too (written after the map's other figures, `figure_sink.rs`).
 //! Runs of unfinished maps are dropped and run again with their map.
 
-use super::figure_sink::grid_file_name;
-use super::{Report, RunRecord, load_report};
 use crate::plan::MapKey;
+use crate::sinks::figure_sink::grid_file_name;
 use anyhow::{Result, anyhow, bail};
 use shadowtruth::raster::DepthFormat;
 use shadowtruth::record::ShardRecord;
+use shadowtruth::record::{Report, RunRecord};
 use shadowtruth::scene::ViewKey;
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
@@ -35,7 +35,7 @@ pub fn open_resumed(dir: &Path, figures: bool, shard: Option<ShardRecord>) -> Re
     if !file.exists() {
         return Ok(None);
     }
-    let (mut report, _) = load_report(dir).map_err(|e| anyhow!("{e}"))?;
+    let (mut report, _) = shadowtruth::record::load_journaled_report(dir).map_err(|e| anyhow!("{e}"))?;
     let Some(schedule) = &report.schedule else {
         bail!(
             "{}: schedule: missing: the folder holds no `run` to resume (a report of `papers`, `score` or of \

@@ -10,7 +10,7 @@ use super::GateError;
 use super::identity::{Pairing, RunName};
 use super::input::CheckedReport;
 use super::rules::{Metric, Regression, Rule, Rules};
-use crate::report::RunRecord;
+use shadowtruth::record::RunRecord;
 use std::collections::{BTreeMap, BTreeSet};
 
 /// A metric's value for one run, with the pixel counts behind it when it is a hard rate.
@@ -23,26 +23,21 @@ pub struct Measured {
 }
 
 /// The value of `metric` for `run`, or `None` if the run does not carry it. Hard rates come from
-/// the counts; the metrics of a run over a path from its `temporal` record (`Metric::temporal`
-/// maps their names); soft metrics from the run's `soft` (or `rates`) object when the report has
-/// one.
+/// the counts; the soft metrics from the run's `soft` errors and the metrics of a run over a
+/// path from its `temporal` record (`Metric::soft` and `Metric::temporal` name their fields).
 pub fn measure(run: &RunRecord, metric: Metric) -> Option<Measured> {
     let evaluated = run.counts.evaluated;
     if let Some(count) = metric.count(run) {
         let value = if evaluated == 0 { 0.0 } else { count as f64 / evaluated as f64 };
         return Some(Measured { value, count: Some(count), evaluated });
     }
-    if let Some(value) = metric.temporal(run) {
-        return value.map(|value| Measured { value, count: None, evaluated });
-    }
-    let json = serde_json::to_value(run).ok()?;
-    let name = metric.name();
-    ["soft", "soft_errors", "rates"]
-        .iter()
-        .find_map(|k| json.get(k).and_then(|o| o.get(name)))
-        .or_else(|| json.get(name))
-        .and_then(|v| v.as_f64())
-        .map(|value| Measured { value, count: None, evaluated })
+    let value = match metric.temporal(run) {
+        Some(value) => value,
+        // A report holds no soft value that is not finite (JSON has none): such a value in
+        // memory is as absent.
+        None => metric.soft(run)?.filter(|v| v.is_finite()),
+    };
+    value.map(|value| Measured { value, count: None, evaluated })
 }
 
 /// A bound a checked pair broke.
@@ -373,14 +368,14 @@ fn regression_check(value: &Measured, base: &Measured, reg: &Regression) -> (f64
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::Report;
-    use crate::report::gate::rules::parse_rules;
+    use crate::gate::rules::parse_rules;
     use shadowtruth::metrics::Counts;
+    use shadowtruth::record::Report;
 
     fn run(scene: &str, evaluated: u64, fs: u64, fl: u64) -> RunRecord {
         let counts =
             Counts { pixels: evaluated, evaluated, false_shadow: fs, false_lit: fl, ..Counts::default() };
-        crate::report::gate::test_run(
+        crate::gate::test_run(
             scene,
             "constant",
             serde_json::json!({"bias_depth": 0.001}),

@@ -5,14 +5,16 @@
 //! folder that is no shard, a run in a view of another shard, an unfinished shard and a shard
 //! missing a figure of its runs are refused before anything is written.
 
-use super::figure_sink::grid_file_name;
-use super::figures::{run_stem, view_stem};
-use super::schedule_order::put_in_schedule_order;
-use super::{Report, ReportWriter, RunRecord, load_report, write_report_outputs};
+use crate::drawing::figures::{run_stem, view_stem};
+use crate::outputs::write_report_outputs;
 use crate::plan::Shard;
+use crate::sinks::ReportWriter;
+use crate::sinks::figure_sink::grid_file_name;
+use crate::sinks::schedule_order::put_in_schedule_order;
 use anyhow::{Context, Result, anyhow, bail};
 use shadowtruth::atomic_file::write_atomic;
 use shadowtruth::raster::DepthFormat;
+use shadowtruth::record::{Report, RunRecord, load_report};
 use shadowtruth::record::{ScheduleRecord, ShardRecord, ViewName};
 use shadowtruth::scene::ViewKey;
 use std::collections::{BTreeMap, HashMap};

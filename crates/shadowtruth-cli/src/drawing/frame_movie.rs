@@ -217,7 +217,7 @@ impl FrameMovies {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::figures::is_grey;
+    use crate::drawing::figures::is_grey;
     use glam::Vec3;
     use shadowtruth::scene::{Light, LightKind};
     use shadowtruth::trace::PixelClass;

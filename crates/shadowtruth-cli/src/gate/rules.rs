@@ -2,9 +2,10 @@
 //! absolutely and/or against a baseline. The format is described in gates/README.md.
 
 use super::GateError;
-use super::render::fmt_value;
-use crate::report::RunRecord;
+use super::fmt_value::fmt_value;
 use serde::{Deserialize, Serialize};
+use shadowtruth::metrics::SoftErrors;
+use shadowtruth::record::RunRecord;
 use shadowtruth::record::TemporalRecord;
 use std::fmt;
 use std::path::Path;
@@ -65,6 +66,18 @@ impl Metric {
             _ => return None,
         };
         Some(run.temporal.as_ref().map(field))
+    }
+
+    /// A soft metric, read from the run's `soft` errors (`None` for the others, and for a run
+    /// without them).
+    pub(super) fn soft(self, run: &RunRecord) -> Option<Option<f64>> {
+        let field: fn(&SoftErrors) -> f64 = match self {
+            Metric::Mae => |s| s.mae,
+            Metric::FalseShadowMass => |s| s.false_shadow_mass,
+            Metric::FalseLitMass => |s| s.false_lit_mass,
+            _ => return None,
+        };
+        Some(run.soft.as_ref().map(field))
     }
 
     /// The pixel count behind a hard rate (`None` for the soft and path metrics).
@@ -338,6 +351,16 @@ fn rule_from_spec(spec: RuleSpec) -> Rule {
     rule
 }
 
+/// The text of a rules file holding `specs`: serialised from the type [`parse_rules`] reads, so
+/// that what is written reads back as written whatever the names hold.
+pub fn rules_toml(specs: &[RuleSpec]) -> String {
+    #[derive(Serialize)]
+    struct RulesFile<'a> {
+        rule: &'a [RuleSpec],
+    }
+    toml::to_string(&RulesFile { rule: specs }).expect("rules serialise to TOML")
+}
+
 /// Reads and parses a rules file.
 pub fn load_rules(path: &Path) -> Result<Rules, GateError> {
     let origin = path.display().to_string();
@@ -356,6 +379,23 @@ mod tests {
 
     fn problems(text: &str) -> String {
         parse_rules(text, "rules.toml").expect_err("bad rules").to_string()
+    }
+
+    #[test]
+    fn written_rules_read_back_as_written() {
+        let spec = RuleSpec {
+            name: Some("tuned \"x\" on a/b\\c".into()),
+            scene: Some("s*".into()),
+            resolution: Some(512),
+            metric: Some(Metric::Error),
+            max: Some(1.0 / 3.0),
+            ..RuleSpec::default()
+        };
+        let read = rules(&rules_toml(&[spec.clone(), RuleSpec { name: None, ..spec.clone() }]));
+        assert_eq!(read.rules.len(), 2);
+        assert_eq!(read.rules[0].name, "tuned \"x\" on a/b\\c");
+        assert_eq!((read.rules[0].max, read.rules[0].resolution), (Some(1.0 / 3.0), Some(512)));
+        assert_eq!(read.rules[1].scene, "s*");
     }
 
     #[test]

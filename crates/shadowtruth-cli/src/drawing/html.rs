@@ -2,24 +2,16 @@
 //! (`path_section.rs`) and on cascaded shadow maps (`cascades_section.rs`), the plots, the
 //! figures, the settings and the tool version. Only relative links; no network.
 
-use super::Report;
 use super::cascades_section::cascades_section;
 use super::figures::{run_stem, view_stem};
 use super::path_section::{PathAssets, path_assets, path_section};
 use super::plots::charts;
 use super::summary::{GroupSummary, per_scene, summaries};
+use crate::escape::escape_html as escape;
+use shadowtruth::record::Report;
 use shadowtruth::scene::ViewKey;
 use std::fmt::Write as _;
 use std::path::Path;
-
-/// HTML-escapes text for element content and attribute values.
-pub fn escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-        .replace('\'', "&#39;")
-}
 
 /// Images and links the page shows, relative to the report folder.
 #[derive(Clone, Debug, Default)]
@@ -249,7 +241,7 @@ fn runs_table(h: &mut String, report: &Report, assets: &PageAssets) {
 
 /// A run's figure links, and its viewer button when the reference figure is there too.
 fn run_figure_links(
-    r: &super::RunRecord,
+    r: &shadowtruth::record::RunRecord,
     figures: Option<&Option<(String, String)>>,
     reference: Option<&Option<String>>,
 ) -> String {
@@ -303,7 +295,7 @@ fn plots_section(h: &mut String, assets: &PageAssets) {
 /// `index.html`, linking the figures already written under `figures/` and the report's plots.
 pub struct PageExport;
 
-impl super::outputs::Export for PageExport {
+impl crate::export::Export for PageExport {
     fn write(&self, dir: &Path, report: &Report) -> std::io::Result<()> {
         write_page(dir, report)
     }

@@ -3,7 +3,8 @@
 //! missing from the report, a `baseline` testsuite with one testcase per missing run (a failure,
 //! or skipped with `--allow-missing`).
 
-use super::gate::{BaselineComparison, Check, GateOutcome};
+use crate::escape::escape_xml as escape;
+use crate::gate::{BaselineComparison, Check, GateOutcome};
 
 /// The outcome as JUnit XML (`testsuites` / `testsuite` / `testcase` / `failure`).
 pub fn junit_xml(outcome: &GateOutcome) -> String {
@@ -76,37 +77,4 @@ fn missing_suite(b: &BaselineComparison) -> String {
     }
     x.push_str("  </testsuite>\n");
     x
-}
-
-/// Escapes text for XML attribute values and character data. Characters XML 1.0 cannot carry
-/// (most control characters) become U+FFFD; line breaks and tabs are kept as character
-/// references so that attribute values keep them too.
-pub fn escape(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    for ch in s.chars() {
-        match ch {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            '\n' => out.push_str("&#10;"),
-            '\r' => out.push_str("&#13;"),
-            '\t' => out.push_str("&#9;"),
-            c if (c as u32) < 0x20 || c == '\u{FFFE}' || c == '\u{FFFF}' => out.push('\u{FFFD}'),
-            c => out.push(c),
-        }
-    }
-    out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::escape;
-
-    #[test]
-    fn escapes_markup_and_control_characters() {
-        assert_eq!(escape(r#"a<b>&"c"'d'"#), "a&lt;b&gt;&amp;&quot;c&quot;&apos;d&apos;");
-        assert_eq!(escape("x\ny\u{1}"), "x&#10;y\u{FFFD}");
-    }
 }

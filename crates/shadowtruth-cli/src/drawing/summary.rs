@@ -4,7 +4,7 @@
 //! and the page's summary read it.
 
 use super::plots::pareto_front;
-use super::{Report, RunRecord};
+use shadowtruth::record::{Report, RunRecord};
 
 /// One setting (label, resolution, depth format) over the views of a scene or group.
 #[derive(Clone, Debug, PartialEq)]
@@ -132,7 +132,7 @@ mod tests {
         fl: u64,
         ns: f64,
     ) -> RunRecord {
-        let mut r = crate::report::gate::test_run(
+        let mut r = crate::gate::test_run(
             scene,
             technique,
             serde_json::json!({}),

@@ -1,6 +1,7 @@
 //! The outcome as text (what `gate` prints) and as a Markdown table for CI job summaries.
 
 use super::check::{BaselineComparison, BaselineStatus, Check, GateOutcome, Measured, Violation};
+use super::fmt_value::fmt_value;
 use super::identity::RunName;
 
 impl Measured {
@@ -172,31 +173,16 @@ fn md_cell(s: &str) -> String {
     s.replace('\\', "\\\\").replace('|', "\\|").replace(['\n', '\r'], " ")
 }
 
-/// Six significant digits, no trailing zeros: `0.00123457`, `0`, `1.5e-9`.
-pub fn fmt_value(v: f64) -> String {
-    if v == 0.0 || !v.is_finite() {
-        return format!("{v}");
-    }
-    let exp = v.abs().log10().floor() as i32;
-    if (-6..=6).contains(&exp) {
-        let decimals = (5 - exp).max(0) as usize;
-        let s = format!("{v:.decimals$}");
-        if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s }
-    } else {
-        format!("{v:.5e}")
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::gate::{CheckedReport, GateOptions, evaluate, parse_rules};
-    use crate::report::{Report, RunRecord};
+    use crate::gate::{CheckedReport, GateOptions, evaluate, parse_rules};
     use shadowtruth::metrics::Counts;
+    use shadowtruth::record::{Report, RunRecord};
 
     fn run(scene: &str, false_shadow: u64) -> RunRecord {
         let counts = Counts { pixels: 100, evaluated: 100, false_shadow, ..Counts::default() };
-        crate::report::gate::test_run(scene, "none", serde_json::json!({}), "none", counts)
+        crate::gate::test_run(scene, "none", serde_json::json!({}), "none", counts)
     }
 
     fn outcome(now: Vec<RunRecord>, base: Option<Vec<RunRecord>>, allow_missing: bool) -> GateOutcome {
@@ -229,15 +215,5 @@ mod tests {
         assert!(
             allowed.starts_with("## shadowtruth gate: passed") && allowed.contains("| missing (allowed) |")
         );
-    }
-
-    #[test]
-    fn values_print_with_six_significant_digits() {
-        assert_eq!(fmt_value(0.0), "0");
-        assert_eq!(fmt_value(0.001), "0.001");
-        assert_eq!(fmt_value(1.0 / 3.0), "0.333333");
-        assert_eq!(fmt_value(0.0012715657552083333), "0.00127157");
-        assert_eq!(fmt_value(2.0), "2");
-        assert_eq!(fmt_value(1.5e-9), "1.50000e-9");
     }
 }

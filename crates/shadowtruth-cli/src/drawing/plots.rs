@@ -2,11 +2,11 @@
 //! shadow-map resolution, and shading cost against error with the Pareto front marked.
 //! Drawn with plotters; text uses the bundled DejaVu Sans, so no system font is needed.
 
-use super::{Report, RunRecord};
 use plotters::coord::CoordTranslate;
 use plotters::prelude::*;
 use shadowtruth::atomic_file::{encode_rgb_png, write_atomic};
 use shadowtruth::file_name;
+use shadowtruth::record::{Report, RunRecord};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -689,7 +689,7 @@ pub fn write_stacked(dir: &Path, stem: &str, charts: &[Chart]) -> std::io::Resul
 /// `plots/`: every chart of the report, each as SVG and PNG.
 pub struct PlotsExport;
 
-impl super::outputs::Export for PlotsExport {
+impl crate::export::Export for PlotsExport {
     fn write(&self, dir: &Path, report: &Report) -> std::io::Result<()> {
         use rayon::prelude::*;
         let plots_dir = dir.join("plots");

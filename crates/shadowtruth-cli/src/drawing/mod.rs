@@ -1,0 +1,20 @@
+//! What is drawn from a report: the figures of each run and view (PNG, through the indexed
+//! image), the plots (SVG and PNG, plotters), the animated error maps and flicker maps of runs
+//! over a path, the summaries and the HTML page (`index.html`, with `page.js`).
+
+mod cascades_section;
+pub mod figures;
+pub mod flicker_map;
+pub mod font;
+pub mod frame_movie;
+pub mod frame_plots;
+pub mod html;
+pub mod indexed_image;
+mod path_section;
+pub mod plots;
+pub mod summary;
+mod tune_plot;
+
+pub use html::write_page;
+pub use plots::write_chart;
+pub use tune_plot::tune_chart;
