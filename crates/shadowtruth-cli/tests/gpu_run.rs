@@ -26,14 +26,19 @@ fn run_on_the_gpu_pipeline_records_the_adapter() {
     std::fs::write(&plan_path, plan.to_string()).unwrap();
     let report = |pipeline: &str| {
         let out = dir.path().join(pipeline);
-        let status = std::process::Command::new(env!("CARGO_BIN_EXE_shadowtruth"))
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_shadowtruth"))
             .args(["run", "--plan"])
             .arg(&plan_path)
             .args(["--pipeline", pipeline, "--no-cache", "--no-figures", "--quiet", "-o"])
             .arg(&out)
-            .status()
+            .output()
             .unwrap();
-        assert!(status.success(), "run --pipeline {pipeline}");
+        // Without a Vulkan adapter the command's message says what to install.
+        assert!(
+            run.status.success(),
+            "run --pipeline {pipeline}: {}(`bash scripts/test.sh` installs lavapipe)",
+            String::from_utf8_lossy(&run.stderr)
+        );
         let text = std::fs::read_to_string(out.join("report.json")).unwrap();
         serde_json::from_str::<serde_json::Value>(&text).unwrap()["runs"].as_array().unwrap().clone()
     };

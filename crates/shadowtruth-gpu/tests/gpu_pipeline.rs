@@ -1,7 +1,8 @@
 //! The GPU pipeline (src/gpu/) against the CPU: the depth map of the device's rasterizer against
 //! `rasterize_nearest`, and the fragment shader's shadow tests against the CPU techniques, on the
 //! bundled scenes. A machine without a Vulkan adapter fails here with the message saying how to
-//! get one (CI installs Mesa's lavapipe): the cross-check never passes by not running.
+//! get one (`bash scripts/test.sh` installs Mesa's lavapipe): the cross-check never passes by not
+//! running.
 //! docs/conventions.md ("GPU pipeline") holds the measurements these bounds come from.
 
 #[path = "../../shadowtruth/tests/common/mod.rs"]
@@ -15,7 +16,7 @@ use shadowtruth_gpu::{GpuDepthMap, GpuDevice, GpuTechnique, shade_visibility};
 const SCENES: [&str; 5] = ["plane_box", "rocks", "spot", "grazing_wall", "l_shape"];
 
 fn gpu() -> GpuDevice {
-    GpuDevice::new().unwrap_or_else(|e| panic!("{e}"))
+    GpuDevice::new().unwrap_or_else(|e| panic!("{e}; `bash scripts/test.sh` installs lavapipe"))
 }
 
 fn gpu_layer(gpu: &GpuDevice, scene: &Scene, view: &LightView, settings: &RasterSettings) -> DepthLayer {

@@ -58,3 +58,8 @@ pub use raster::{DepthFormat, LightView};
 pub use scene::{Camera, Light, Scene};
 pub use technique::{BuiltLayers, TechniqueSpec};
 pub use trace::{GBuffer, HardReference, SceneBvh, trace_hard_reference};
+
+/// The README's Rust examples, compiled and run with the doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct ReadmeDoctests;

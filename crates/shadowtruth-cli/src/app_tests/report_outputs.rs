@@ -1,7 +1,7 @@
 //! A report folder end to end: report.json, report.csv, plots and index.html, and the page
 //! opened in a real headless Chromium (Debian's `chromium`), which must load the table and every
-//! image. CI installs Chromium; elsewhere the browser part is skipped with a message when it is
-//! missing (and fails when `CI` is set).
+//! image. A machine without Chromium fails the browser tests, naming what to install
+//! (`bash scripts/test.sh` installs it).
 
 use super::common;
 
@@ -113,11 +113,13 @@ fn chromium() -> Option<PathBuf> {
     })
 }
 
-/// The browser: the tests need one, as CI and `.ci/run` install it (a missing browser fails the
-/// test rather than skipping what it checks).
+/// The browser: the tests need one (a missing browser fails the test rather than skipping what it
+/// checks).
 fn required_chromium() -> PathBuf {
-    chromium()
-        .expect("no chromium on PATH: install it (apt-get install chromium, as .ci/run does) or set CHROMIUM")
+    chromium().expect(
+        "no chromium on PATH: install it (`apt-get install chromium`, or `bash scripts/test.sh`, \
+         which installs it) or set CHROMIUM",
+    )
 }
 
 /// Loads `page` in headless Chromium and returns the DOM after its scripts ran.

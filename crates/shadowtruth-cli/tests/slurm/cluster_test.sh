@@ -5,16 +5,18 @@
 # apart from timings (report.json without `created`, `bvh_build_ms` and `timings`; report.csv
 # without its timing columns; the figures byte for byte; the same plots). Prints the cluster's
 # wall time, then checks that a failing shard gets the merge job cancelled instead of left
-# pending. .ci/run calls it after `cargo test`, once munge, slurmctld, slurmd and
-# slurm-client are installed.
+# pending. scripts/test.sh runs it last, after installing munge, slurmctld, slurmd and
+# slurm-client.
 #
-# Usage (as root): bash tests/slurm/cluster_test.sh
-#   SHADOWTRUTH=path/to/binary   default: target/release/shadowtruth (built when missing)
+# Usage (as root): bash crates/shadowtruth-cli/tests/slurm/cluster_test.sh
+#   SHADOWTRUTH=path/to/binary   default: the workspace's target/release/shadowtruth (built when
+#                                missing; CARGO_TARGET_DIR is followed)
 #   KEEP=1                       keep the temporary folder (config, logs, reports)
 set -euo pipefail
 shopt -s nullglob
 
-root=$(cd "$(dirname "$0")/../.." && pwd)
+# The workspace root: the bundled scenes and scripts/slurm/ are read from there.
+root=$(cd "$(dirname "$0")/../../../.." && pwd)
 shards=4
 poll_timeout_s=180
 
@@ -26,7 +28,7 @@ fail() {
 for cmd in munged slurmctld slurmd sbatch squeue scontrol sinfo setpriv; do
   command -v "$cmd" >/dev/null || fail "$cmd is missing (apt-get install munge slurmctld slurmd slurm-client)"
 done
-bin=${SHADOWTRUTH:-$root/target/release/shadowtruth}
+bin=${SHADOWTRUTH:-${CARGO_TARGET_DIR:-$root/target}/release/shadowtruth}
 if [[ ! -x $bin ]]; then
   (cd "$root" && cargo build --release --locked)
 fi
@@ -129,7 +131,7 @@ cat >plan.json <<'PLAN'
   "resolutions": [256], "depth_formats": ["f32"], "repeats": 1 }
 PLAN
 run_args=("$root/scenes" --plan plan.json --references "$work/references")
-submitted=$(date +%s.%N)
+submitted_ms=$(($(date +%s%N) / 1000000))
 jobs=$(SHADOWTRUTH=$bin "$root/scripts/slurm/submit.sh" -n "$shards" -o merged -- "${run_args[@]}")
 array_job=$(sed -n 's/^ARRAY_JOB=//p' <<<"$jobs")
 merge_job=$(sed -n 's/^MERGE_JOB=//p' <<<"$jobs")
@@ -148,10 +150,11 @@ until merge_finished; do
   ((SECONDS < deadline)) || fail "timed out after ${poll_timeout_s} s waiting for merge job $merge_job"
   sleep 0.5
 done
-slurm_s=$(echo "$(date +%s.%N) - $submitted" | bc)
+slurm_ms=$(($(date +%s%N) / 1000000 - submitted_ms))
 tasks=$(scontrol show job "$array_job" | grep -c 'JobState=COMPLETED' || true)
 [[ $tasks -eq $shards ]] || fail "$tasks of $shards array tasks completed"
-printf 'slurm: %d-shard array and merge finished in %.1f s after submission\n' "$shards" "$slurm_s"
+printf 'slurm: %d-shard array and merge finished in %d.%d s after submission\n' "$shards" \
+  $((slurm_ms / 1000)) $((slurm_ms % 1000 / 100))
 
 # --- the same plan unsharded, and the comparison.
 "$bin" run "${run_args[@]}" -o whole --quiet

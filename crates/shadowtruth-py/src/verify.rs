@@ -1,0 +1,62 @@
+//! `verify`: the hard reference of one view checked against exact predicates, as `shadowtruth
+//! verify` checks it (docs/reference.md).
+
+use crate::json_value::to_python;
+use crate::scene::Scene;
+use crate::view;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use shadowtruth::verify::{Adjudicator, PixelSelection, verify_view};
+
+/// Pixels checked per view unless told: the command's `--pixels` default.
+const DEFAULT_PIXELS: usize = 100_000;
+
+/// Checks the hard reference of `camera` under `light` (default: the scene's first of each)
+/// against the exact answer, as `shadowtruth verify` does.
+///
+/// `pixels`: "all", or N for about N evaluated pixels spread uniformly plus every pixel next to
+/// a shadow boundary (default 100000, the command's).
+///
+/// Returns a dict, the view's entry of `shadowtruth verify --json`: camera, light, width,
+/// height, evaluated, checked, checked_at_boundary, agree, disagree_at_boundary,
+/// disagree_away_from_boundary, disagree_in_band, disagree_outside_band, in_band, inconsistent,
+/// cases (the first disagreements, with pixel and triangles) and seconds. The reference is
+/// right when disagree_outside_band and inconsistent are 0.
+#[pyfunction]
+#[pyo3(signature = (scene, camera=None, light=None, pixels=None))]
+pub fn verify<'py>(
+    py: Python<'py>,
+    scene: &Bound<'py, Scene>,
+    camera: Option<&str>,
+    light: Option<&str>,
+    pixels: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let selection = pixel_selection(pixels)?;
+    let scene = scene.get();
+    let (camera, light) = (view::camera(&scene.scene, camera)?, view::light(&scene.scene, light)?);
+    let verification = py.detach(|| {
+        let adjudicator = Adjudicator::new(&scene.scene);
+        verify_view(&scene.scene, scene.bvh(), &adjudicator, camera, light, selection)
+    });
+    to_python(py, &verification)
+}
+
+/// `pixels` as the command's `--pixels` reads it: "all" or a positive count.
+fn pixel_selection(pixels: Option<&Bound<'_, PyAny>>) -> PyResult<PixelSelection> {
+    let Some(pixels) = pixels else { return Ok(PixelSelection::Sample(DEFAULT_PIXELS)) };
+    if let Ok(text) = pixels.extract::<String>() {
+        return match text.as_str() {
+            "all" => Ok(PixelSelection::All),
+            _ => {
+                Err(PyValueError::new_err(format!("pixels: '{text}' is neither 'all' nor a positive number")))
+            }
+        };
+    }
+    match pixels.extract::<i64>() {
+        Ok(n) if n > 0 => Ok(PixelSelection::Sample(n as usize)),
+        _ => Err(PyValueError::new_err(format!(
+            "pixels: {} is neither 'all' nor a positive number",
+            pixels.repr()?
+        ))),
+    }
+}
