@@ -16,7 +16,7 @@ use glam::{DVec3, Vec3};
 /// The cascades of one light for one camera and resolution.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Cascades {
-    /// Cascade i serves view depths [splits[i], splits[i + 1]); splits[0] is the near distance
+    /// Cascade i serves view depths `[splits[i], splits[i + 1])`; `splits[0]` is the near distance
     /// (cascade 0 also serves everything nearer) and the last is the maximum distance.
     pub splits: Vec<f64>,
     pub views: Vec<LightView>,

@@ -268,8 +268,7 @@ mod tests {
     /// (some of them skipping the triangle they start on).
     #[test]
     fn packets_answer_as_single_rays() {
-        if !is_x86_feature_detected!("avx2") {
-            eprintln!("SKIPPED: no AVX2, so no packets");
+        if !super::super::node_test::wide_form_testable() {
             return;
         }
         let mut rng = SplitMix64::new(5);
