@@ -25,10 +25,10 @@ pub(super) struct DepthMapArgs {
     /// 1: the nearest surface; 2: the second-nearest distinct surface.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u8).range(1..=2))]
     layer: u8,
-    /// Depth format: f32, unorm24 or unorm16.
+    /// Depth format.
     #[arg(long, default_value = "f32", value_parser = depth_format_parser())]
     format: DepthFormat,
-    /// Faces of closed objects left out: none, back or front.
+    /// Faces of closed objects left out.
     #[arg(long, value_enum, default_value_t = Cull::None)]
     cull: Cull,
     #[arg(short, long)]
