@@ -5,7 +5,7 @@
 
 use super::claims::Artefacts;
 use crate::plan::PlanError;
-use shadowtruth::metrics::{Counts, LightUv, attribute, score_hard, timed_median};
+use shadowtruth::metrics::{Counts, LightUv, attribute, timed_median};
 use shadowtruth::raster::{DepthFormat, LightView};
 use shadowtruth::scene::{Light, Scene};
 use shadowtruth::technique::{ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated};
@@ -129,12 +129,7 @@ pub(super) fn shade(
     ctx.scene_scale = scene_scale.unwrap_or(ctx.scene_scale);
     let (visibility, shade_ms) =
         timed_median(repeats, || shade_evaluated(technique.as_ref(), &map.order, &ctx));
-    let counts = score_hard(&v.gbuffer, &v.reference, &visibility).with_attribution(attribute(
-        &v.gbuffer,
-        &v.reference,
-        &visibility,
-        &map.uv,
-    ));
+    let counts = crate::plan::score_against(&v.gbuffer, &v.reference, &visibility, &map.uv);
     let ns_per_pixel = shade_ms * 1e6 / visibility.len().max(1) as f64;
     Shaded { visibility, counts, ns_per_pixel }
 }

@@ -2,11 +2,7 @@
 //! given: the report they write the runs of their set-up into (through the plan executor, with
 //! their figures), the reference cache, and the plan of a set-up. `run.rs` runs them in turn.
 
-use crate::plan::{
-    DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_MAX_RUNS, Event, Plan, PlanError, Sink, emit,
-    execute,
-};
-use shadowtruth::raster::DepthFormat;
+use crate::plan::{Event, Plan, PlanError, Sink, emit, execute};
 use shadowtruth::technique::TechniqueSpec;
 use shadowtruth::trace::ReferenceCache;
 use std::path::{Path, PathBuf};
@@ -66,21 +62,9 @@ pub(super) fn plan_of(
     resolutions: &[u32],
 ) -> Plan {
     Plan {
-        source: None,
-        scenes: vec![scene.to_path_buf()],
         cameras: Some(cameras.iter().map(|c| c.to_string()).collect()),
         lights: Some(vec![light.to_string()]),
-        techniques,
-        resolutions: resolutions.to_vec(),
-        depth_formats: vec![DepthFormat::F32],
         repeats: 1,
-        figures: true,
-        zoom: None,
-        coverage_grid: DEFAULT_COVERAGE_GRID,
-        area_light_grid: DEFAULT_AREA_LIGHT_GRID,
-        max_runs: DEFAULT_MAX_RUNS,
-        shadow_map: None,
-        pipeline: crate::plan::Pipeline::Cpu,
-        frames: 1,
+        ..Plan::new(vec![scene.to_path_buf()], techniques, resolutions.to_vec())
     }
 }

@@ -62,8 +62,8 @@ impl TuneViews {
             for (ci, li) in selected.pairs {
                 let (camera, light) = (&scene.cameras[ci], &scene.lights[li]);
                 stage(&format!("{}/{}/{}: G-buffer and reference", scene.name, camera.name, light.name));
-                let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
-                let references = ViewReferences::new(plan, cache, &scene, &bvh, &gbuffer, camera, light)?;
+                let (gbuffer, references) =
+                    crate::plan::trace_view(plan, cache, &scene, &bvh, (camera, light), &mut |_| Ok(()))?;
                 let maps = plan
                     .resolutions
                     .iter()
@@ -92,7 +92,7 @@ impl TuneViews {
             for map in &mut view.maps {
                 let setting = map.setup.setting(format, s.bounds);
                 let layers = layers_for(&s.scene, &setting.views(), &mut map.layers, format, &needs);
-                let visibility = setting.shade(technique.as_ref(), &setting.contexts(&s.scene, layers));
+                let visibility = crate::plan::shade_through(technique.as_ref(), &s.scene, &setting, layers);
                 total.evaluated += view.gbuffer.evaluated.len() as u64;
                 add_false_counts(&mut total, &view.gbuffer, reference, &visibility);
             }
