@@ -15,7 +15,6 @@ mod generate;
 mod outputs;
 mod papers;
 mod plan;
-mod report;
 mod shards;
 mod sinks;
 mod tune;

@@ -2,7 +2,7 @@
 
 use super::common;
 use crate::plan::{execute, parse_plan};
-use crate::report::ReportWriter;
+use crate::sinks::ReportWriter;
 use serde_json::json;
 use std::path::Path;
 

@@ -51,7 +51,7 @@ pub(super) fn depth_map(a: DepthMapArgs) -> Result<u8> {
         }
     };
     let description = serde_json::json!({ "index": a.layer, "format": format.name(), "cull": a.cull.name(), "light": light.name });
-    crate::report::write_depth_map(&a.out, &layer, &view, description)
+    crate::exports::write_depth_map(&a.out, &layer, &view, description)
         .with_context(|| format!("writing {}", a.out.display()))?;
     Ok(0)
 }

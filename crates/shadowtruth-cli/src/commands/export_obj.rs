@@ -1,6 +1,6 @@
 //! `shadowtruth export-obj`: a scene's world-space triangles as OBJ, one group per object.
 
-use crate::report::write_world_obj;
+use crate::exports::write_world_obj;
 use anyhow::{Context, Result};
 use clap::Args;
 use shadowtruth::scene::load_scene;

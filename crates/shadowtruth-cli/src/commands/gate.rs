@@ -35,14 +35,14 @@ pub(super) struct GateArgs {
 /// evaluates, writes the optional JUnit and Markdown files, prints the violations, the missing and
 /// new runs and the summary line.
 pub(super) fn gate(a: GateArgs) -> Result<u8> {
-    use crate::report::{CheckedReport, GateOptions};
-    let rules = crate::report::load_rules(&a.rules)?;
+    use crate::gate::{CheckedReport, GateOptions};
+    let rules = crate::gate::load_rules(&a.rules)?;
     let report = CheckedReport::load(&a.report)?;
     let baseline = a.baseline.as_deref().map(CheckedReport::load).transpose()?;
     let options = GateOptions { allow_missing: a.allow_missing };
-    let outcome = crate::report::evaluate(&report, baseline.as_ref(), &rules, options)?;
+    let outcome = crate::gate::evaluate(&report, baseline.as_ref(), &rules, options)?;
     if let Some(path) = &a.junit {
-        write_atomic(path, crate::report::junit_xml(&outcome).as_bytes())
+        write_atomic(path, crate::exports::junit_xml(&outcome).as_bytes())
             .with_context(|| format!("writing {}", path.display()))?;
     }
     if let Some(path) = &a.summary {

@@ -19,7 +19,7 @@ pub(super) struct MergeArgs {
 }
 
 pub(super) fn merge(a: MergeArgs) -> Result<u8> {
-    let report = crate::report::merge_shards(&a.dirs, &a.out)?;
+    let report = crate::shards::merge_shards(&a.dirs, &a.out)?;
     if !a.quiet {
         println!(
             "merged {} shards: {} runs; report: {} (open {})",

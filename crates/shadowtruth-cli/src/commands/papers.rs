@@ -4,7 +4,8 @@
 use super::args::{set_threads, threads_parser};
 use super::plan_report::sinks;
 use super::progress::Progress;
-use crate::report::{FigureSink, ReportWriter, write_report_outputs};
+use crate::outputs::write_report_outputs;
+use crate::sinks::{FigureSink, ReportWriter};
 use anyhow::{Context, Result};
 use clap::Args;
 use std::path::PathBuf;

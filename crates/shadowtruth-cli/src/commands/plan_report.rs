@@ -3,8 +3,9 @@
 
 use super::progress::Progress;
 use super::table::{TableLayout, print_tables};
+use crate::outputs::write_report_outputs;
 use crate::plan::{Plan, Portion, Sink, execute_portion};
-use crate::report::{FigureSink, ReportWriter, write_report_outputs};
+use crate::sinks::{FigureSink, ReportWriter};
 use anyhow::{Context, Result};
 use shadowtruth::trace::ReferenceCache;
 use std::path::Path;

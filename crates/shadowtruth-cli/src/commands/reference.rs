@@ -4,8 +4,8 @@
 use super::args::{set_threads, threads_parser};
 use super::named_item::pick;
 use super::trace_timing;
+use crate::exports::{write_mask_png, write_soft_exr};
 use crate::plan::{DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, MAX_REFERENCE_GRID, MAX_REPEATS};
-use crate::report::{write_mask_png, write_soft_exr};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use shadowtruth::metrics::try_timed_median;

@@ -1,9 +1,10 @@
 //! `shadowtruth report`: report.csv, the plots and index.html of a report folder rendered again
 //! from its report.json, without running anything.
 
-use crate::report::{load_report, write_report_outputs};
+use crate::outputs::write_report_outputs;
 use anyhow::{Context, Result};
 use clap::Args;
+use shadowtruth::record::load_journaled_report;
 use std::path::{Path, PathBuf};
 
 #[derive(Args)]
@@ -13,9 +14,10 @@ pub(super) struct ReportArgs {
 }
 
 pub(super) fn report(a: ReportArgs) -> Result<u8> {
-    let (report, file) = load_report(&a.dir)?;
+    // A killed run's folder: report.json and the runs its journal holds since.
+    let (report, file) = load_journaled_report(&a.dir)?;
     let dir = file.parent().unwrap_or(Path::new(".")).to_path_buf();
-    crate::report::remove_stray_report_temp_files(&dir)
+    crate::sinks::remove_stray_report_temp_files(&dir)
         .with_context(|| format!("cleaning {}", dir.display()))?;
     write_report_outputs(&dir, &report).with_context(|| format!("writing into {}", dir.display()))?;
     println!("{}", dir.join("index.html").display());

@@ -7,7 +7,7 @@ use super::progress::Progress;
 use super::scene_paths::expand_scenes;
 use super::table::TableLayout;
 use crate::plan::{DEFAULT_MAX_RUNS, MAX_FRAMES, MAX_REPEATS, Plan, Portion, read_plan};
-use crate::report::ReportWriter;
+use crate::sinks::ReportWriter;
 use anyhow::{Context, Result};
 use clap::Args;
 use shadowtruth::raster::MAX_SHADOW_MAP_RESOLUTION;
@@ -128,7 +128,7 @@ pub(super) fn run(a: RunArgs) -> Result<u8> {
 /// finished maps the schedule then skips.
 fn open_run_folder(a: &RunArgs, plan: &Plan) -> Result<(ReportWriter, Portion)> {
     let shard = a.shard.map(|s| s.record());
-    let resumed = if a.resume { crate::report::open_resumed(&a.out, plan.figures, shard)? } else { None };
+    let resumed = if a.resume { crate::shards::open_resumed(&a.out, plan.figures, shard)? } else { None };
     let mut portion = Portion { shard: a.shard, ..Portion::default() };
     let mut writer = match resumed {
         Some(r) => {

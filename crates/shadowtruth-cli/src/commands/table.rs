@@ -2,8 +2,8 @@
 //! the false shadow / false lit of every setting at every resolution, then the best setting of
 //! each technique family and the Pareto set at the highest resolution.
 
-use crate::report::Report;
-use crate::report::summary::{GroupSummary, SettingSummary, per_scene, summaries};
+use crate::drawing::summary::{GroupSummary, SettingSummary, per_scene, summaries};
+use shadowtruth::record::Report;
 use std::path::Path;
 
 /// How the runs are split into tables.

@@ -5,14 +5,14 @@
 use super::args::set_threads;
 use super::plan_report::write_plan_report;
 use super::scene_paths::expand_scenes_or_default;
+use crate::drawing::tune_chart;
 use crate::plan::{Plan, check_plan};
-use crate::report::load_report;
-use crate::report::tune_chart;
 use crate::tune::{TuneRecord, TuneRequest, TuneResult, TuneViews, gate_rules_toml, tune};
 use anyhow::{Context, Result, anyhow};
 use indicatif::{ProgressBar, ProgressStyle};
 use shadowtruth::atomic_file::write_atomic;
 use shadowtruth::raster::DepthFormat;
+use shadowtruth::record::load_report;
 
 /// The options and their checks live beside the search (`src/tune/options.rs`), where the
 /// fuzz entry reaches them too.
@@ -48,7 +48,7 @@ pub(super) fn run_tune(a: TuneArgs) -> Result<u8> {
     write_outputs(&a, &record, &result, &request)?;
     if let Some(report) = &report {
         // The page again, now with the tuning section.
-        crate::report::write_page(&a.out, report)
+        crate::drawing::write_page(&a.out, report)
             .with_context(|| format!("writing {}", a.out.join("index.html").display()))?;
     }
     if !a.quiet {
@@ -82,7 +82,7 @@ fn write_outputs(
     write_atomic(&path, text.as_bytes()).with_context(|| format!("writing {}", path.display()))?;
     for (axis, (name, _)) in request.params.iter().enumerate() {
         let chart = tune_chart(result, request, axis);
-        crate::report::write_chart(&a.out.join("plots"), &chart)
+        crate::drawing::write_chart(&a.out.join("plots"), &chart)
             .with_context(|| format!("writing the plot of {name} into {}", a.out.join("plots").display()))?;
     }
     Ok(())
@@ -124,7 +124,7 @@ fn run_tuned(
     request: &TuneRequest,
     result: &TuneResult,
     cache: Option<&shadowtruth::trace::ReferenceCache>,
-) -> Result<crate::report::Report> {
+) -> Result<shadowtruth::record::Report> {
     let suite_spec = request.spec(&result.suite.best.params).map_err(|e| anyhow!(e))?;
     let mut plan = plan.clone();
     plan.techniques = vec![suite_spec.clone()];

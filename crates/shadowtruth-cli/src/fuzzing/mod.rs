@@ -62,12 +62,13 @@ pub fn plan_reader(data: &[u8]) {
     let _ = crate::plan::parse_plan_limited(&text, Path::new("fuzz.json"), FUZZ_MAX_RUNS);
 }
 
-/// A gate rules file (`crate::report::parse_rules`); rules that parse are evaluated
+/// A gate rules file (`crate::gate::parse_rules`); rules that parse are evaluated
 /// against a small report and their outcome rendered. The input's length picks the options
 /// (with or without the baseline, missing runs allowed or not): each input is evaluated once,
 /// and every combination is reached across inputs.
 pub fn gate_rules(data: &[u8]) {
-    use crate::report::{GateOptions, evaluate, junit_xml, parse_rules};
+    use crate::exports::junit_xml;
+    use crate::gate::{GateOptions, evaluate, parse_rules};
     let text = String::from_utf8_lossy(data);
     let Ok(rules) = parse_rules(&text, "fuzz.toml") else {
         return;
@@ -83,9 +84,10 @@ pub fn gate_rules(data: &[u8]) {
 /// The report and baseline that fuzzed gate rules are evaluated against, built once: a
 /// hard-reference and a soft run that both hold, a run only in the report, one only in the
 /// baseline, and one that regressed.
-fn gate_reports() -> &'static (crate::report::CheckedReport, crate::report::CheckedReport) {
-    use crate::report::{CheckedReport, ReferenceUsed, Report, RunRecord, Timings};
+fn gate_reports() -> &'static (crate::gate::CheckedReport, crate::gate::CheckedReport) {
+    use crate::gate::CheckedReport;
     use shadowtruth::metrics::{Counts, SoftErrors};
+    use shadowtruth::record::{ReferenceUsed, Report, RunRecord, Timings};
     use shadowtruth::technique::ReferenceKind;
     static REPORTS: std::sync::OnceLock<(CheckedReport, CheckedReport)> = std::sync::OnceLock::new();
     let run = |scene: &str, spec: serde_json::Value, label: &str, resolution, false_shadow, false_lit| {

@@ -3,7 +3,7 @@
 //! ray-traced references of both sides, (j) and (k).
 
 use super::measure::{Rect, View};
-use crate::report::figures::{
+use crate::drawing::figures::{
     GridCell, ViewCanvas, grid, reference_visibility, run_images, visibility_image, zoom,
 };
 use std::path::Path;

@@ -3,7 +3,7 @@
 //! `index.html`.
 
 use super::claims::{Claim, SetupResult, Verdict};
-use crate::report::escape;
+use crate::escape::escape_html as escape;
 
 fn colour(v: Verdict) -> &'static str {
     match v {

@@ -1,6 +1,5 @@
 //! Every crate of the workspace (`crates/*/src`) as a file graph.
 
-use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use crate::graph::FileGraph;
@@ -23,20 +22,6 @@ impl CrateGraph {
         let key = (self.graph.files[from].clone(), self.graph.files[to].clone());
         let names: Vec<&str> = self.arrows.get(&key).into_iter().flatten().map(String::as_str).collect();
         format!("{} → {} ({})", short(&self.graph, from), short(&self.graph, to), names.join(", "))
-    }
-
-    pub fn without_arrows(&self, removed: &[(&str, &str)]) -> CrateGraph {
-        let mut arrows = self.arrows.clone();
-        arrows.retain(|(from, to), _| !removed.iter().any(|(f, t)| from.ends_with(f) && to.ends_with(t)));
-        let files: BTreeSet<String> = self.graph.files.iter().cloned().collect();
-        let graph = FileGraph::new(&files, &arrows);
-        CrateGraph {
-            name: self.name.clone(),
-            graph,
-            lines: self.lines.clone(),
-            arrows,
-            unresolved: Vec::new(),
-        }
     }
 }
 
