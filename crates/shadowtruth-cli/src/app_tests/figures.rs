@@ -317,16 +317,8 @@ fn run_stems_are_unique_and_file_name_safe() {
 }
 
 /// Median milliseconds of 7 calls of `f`.
-fn median_ms(mut f: impl FnMut()) -> f64 {
-    let mut t: Vec<f64> = (0..7)
-        .map(|_| {
-            let s = std::time::Instant::now();
-            f();
-            s.elapsed().as_secs_f64() * 1e3
-        })
-        .collect();
-    t.sort_by(f64::total_cmp);
-    t[3]
+fn median_ms(f: impl FnMut()) -> f64 {
+    shadowtruth::metrics::timed_median(7, f).1
 }
 
 /// Prints the cost of one run's figures at 1024×768 beside the cost of the run's shading pass

@@ -17,22 +17,10 @@ fn plan_of(scenes: &[&str], resolutions: Vec<u32>) -> Plan {
         TechniqueSpec::SlopeScaled(SlopeScaledParams { factor: 1.0, units: 1.0, cull: CullSpec::None }),
     ];
     Plan {
-        source: None,
-        scenes: scenes.iter().map(|s| repo().join(s)).collect(),
-        cameras: None,
-        lights: None,
-        techniques,
-        resolutions,
         depth_formats: vec![DepthFormat::F32, DepthFormat::Unorm16],
         repeats: 1,
         figures: false,
-        zoom: None,
-        coverage_grid: crate::plan::DEFAULT_COVERAGE_GRID,
-        area_light_grid: crate::plan::DEFAULT_AREA_LIGHT_GRID,
-        max_runs: crate::plan::DEFAULT_MAX_RUNS,
-        shadow_map: None,
-        pipeline: crate::plan::Pipeline::Cpu,
-        frames: 1,
+        ..Plan::new(scenes.iter().map(|s| repo().join(s)).collect(), techniques, resolutions)
     }
 }
 

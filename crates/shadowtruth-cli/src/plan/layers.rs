@@ -3,7 +3,7 @@
 //! The view's triangles are binned once for every group (`Rasterizer`); the binning's time is
 //! added to each group's, as a build of that group alone would pay it.
 
-use shadowtruth::metrics::{Stopwatch, median_ms};
+use shadowtruth::metrics::{Stopwatch, timed_median};
 use shadowtruth::raster::{DepthFormat, LightView, Rasterizer};
 use shadowtruth::scene::Scene;
 use shadowtruth::technique::{BuiltLayers, LayerNeeds};
@@ -30,12 +30,7 @@ pub fn build_layers_timed(
     needs: &LayerNeeds,
     repeats: usize,
 ) -> (BuiltLayers, f64) {
-    let mut times = Vec::new();
-    let mut built = None;
-    for _ in 0..repeats.max(1) {
-        let sw = Stopwatch::start();
-        built = Some(BuiltLayers::rasterize(&binned.rasterizer, format, needs));
-        times.push(sw.ms());
-    }
-    (built.expect("at least one build"), binned.bin_ms + median_ms(&times))
+    let (built, build_ms) =
+        timed_median(repeats, || BuiltLayers::rasterize(&binned.rasterizer, format, needs));
+    (built, binned.bin_ms + build_ms)
 }
