@@ -3,13 +3,7 @@
 
 use pyo3::PyResult;
 use pyo3::exceptions::PyValueError;
-
-/// Sub-pixel grid of the coverage reference unless one is given (the command's default).
-pub const DEFAULT_COVERAGE_GRID: u32 = 4;
-/// Light-sample grid of the area-light reference unless one is given (the command's default).
-pub const DEFAULT_AREA_LIGHT_GRID: u32 = 8;
-/// The largest grid either reference accepts (the command's bound).
-pub const MAX_REFERENCE_GRID: u32 = 64;
+pub use shadowtruth::trace::{DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, MAX_REFERENCE_GRID};
 
 /// `grid` checked against the command's bounds, with the command's wording.
 /// (An `i64`, so that a negative grid is this error rather than an overflow.)

@@ -58,13 +58,8 @@ impl Pipeline {
     }
 }
 
-/// Sub-pixel grid of the coverage reference (4×4).
-pub const DEFAULT_COVERAGE_GRID: u32 = 4;
-/// Light-sample grid of the area-light reference (8×8).
-pub const DEFAULT_AREA_LIGHT_GRID: u32 = 8;
-/// Largest N of the N×N sample grid of a fractional reference (4096 samples per pixel), in a
-/// plan and on the command line.
-pub const MAX_REFERENCE_GRID: u32 = 64;
+/// The soft references' grids: the library's, which the Python package takes too.
+pub use shadowtruth::trace::{DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, MAX_REFERENCE_GRID};
 
 /// Most frames along a path, in a plan and on the command line.
 pub const MAX_FRAMES: usize = 10_000;

@@ -15,10 +15,11 @@ pub use bvh::{
     offset_ray_origin, position_error,
 };
 pub use reference::{
-    AreaLightError, CachedReference, EXR_ENCODING, GBuffer, HardReference, MaskCode, PixelClass, PrimaryHit,
-    ReferenceCache, SoftKind, SoftReference, hard_shadow_ray, primary_directions, primary_hits,
-    reference_digest, soft_reference_digest, trace_area_light_reference, trace_coverage_reference,
-    trace_hard_reference, validate_area_light,
+    AreaLightError, CachedReference, DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, EXR_ENCODING, GBuffer,
+    HardReference, MAX_REFERENCE_GRID, MaskCode, PixelClass, PrimaryHit, ReferenceCache, SoftKind,
+    SoftReference, hard_shadow_ray, primary_directions, primary_hits, reference_digest,
+    soft_reference_digest, trace_area_light_reference, trace_coverage_reference, trace_hard_reference,
+    validate_area_light,
 };
 
 /// Bumped whenever a change to the tracer could change a reference bit.

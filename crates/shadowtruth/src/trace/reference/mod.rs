@@ -16,4 +16,6 @@ pub use coverage::trace_coverage_reference;
 pub use gbuffer::{GBuffer, PixelClass, PrimaryHit, primary_directions, primary_hits};
 pub use hard::{HardReference, MaskCode, hard_shadow_ray, trace_hard_reference};
 pub use soft_reference::EXR_ENCODING;
-pub use soft_reference::{SoftKind, SoftReference};
+pub use soft_reference::{
+    DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, MAX_REFERENCE_GRID, SoftKind, SoftReference,
+};

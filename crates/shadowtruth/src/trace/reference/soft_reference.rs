@@ -11,6 +11,14 @@ use exr::prelude::*;
 use rayon::prelude::*;
 use std::io::Cursor;
 
+/// Sub-pixel grid of the coverage reference (4×4) unless one is given.
+pub const DEFAULT_COVERAGE_GRID: u32 = 4;
+/// Light-sample grid of the area-light reference (8×8) unless one is given.
+pub const DEFAULT_AREA_LIGHT_GRID: u32 = 8;
+/// Largest N of the N×N sample grid of a soft reference (4096 samples per pixel) that the
+/// command and the Python package accept.
+pub const MAX_REFERENCE_GRID: u32 = 64;
+
 /// Which soft reference: the two share the type and the file format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum SoftKind {
