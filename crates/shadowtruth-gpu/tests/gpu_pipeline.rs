@@ -1,4 +1,4 @@
-//! The GPU pipeline (src/gpu/) against the CPU: the depth map of the device's rasterizer against
+//! The GPU pipeline (this crate) against the CPU: the depth map of the device's rasterizer against
 //! `rasterize_nearest`, and the fragment shader's shadow tests against the CPU techniques, on the
 //! bundled scenes. A machine without a Vulkan adapter fails here with the message saying how to
 //! get one (`bash scripts/test.sh` installs Mesa's lavapipe): the cross-check never passes by not

@@ -40,7 +40,7 @@ pub struct Plan {
 }
 
 /// Where a plan's shadow maps are drawn and its techniques shaded: the CPU rasterizer and
-/// techniques, or a Vulkan device (`src/gpu/`, for the techniques it implements).
+/// techniques, or a Vulkan device (crate shadowtruth-gpu, for the techniques it implements).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
 pub enum Pipeline {
     #[default]
