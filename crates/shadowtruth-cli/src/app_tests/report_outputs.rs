@@ -113,8 +113,7 @@ fn chromium() -> Option<PathBuf> {
     })
 }
 
-/// The browser: the tests need one (a missing browser fails the test rather than skipping what it
-/// checks).
+/// The browser the tests need: without one they fail, naming what to install.
 fn required_chromium() -> PathBuf {
     chromium().expect(
         "no chromium on PATH: install it (`apt-get install chromium`, or `bash scripts/test.sh`, \
