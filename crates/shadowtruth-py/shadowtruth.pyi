@@ -20,6 +20,10 @@ MAX_REFERENCE_GRID: int
 """The largest grid of either soft reference: 64."""
 DEFAULT_DEPTH_TOLERANCE: float
 """Relative depth tolerance of score unless one is given: 1e-3."""
+DEFAULT_ATTRIBUTION_RESOLUTION: int
+"""Shadow-map resolution whose texel footprint score's attribution uses unless one is given: 2048."""
+DEFAULT_SAMPLE_PIXELS: int
+"""Pixels verify samples per view unless told: 100000."""
 
 class Error(ValueError):
     """A scene, light or buffer the library refuses; the message names the file and the JSON path or pixel."""

@@ -12,6 +12,7 @@ mod exports;
 pub mod fuzzing;
 mod gate;
 mod generate;
+mod option_values;
 mod outputs;
 mod papers;
 mod plan;

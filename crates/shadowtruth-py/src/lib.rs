@@ -35,6 +35,8 @@ fn python_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("DEFAULT_AREA_LIGHT_GRID", reference_grid::DEFAULT_AREA_LIGHT_GRID)?;
     m.add("MAX_REFERENCE_GRID", reference_grid::MAX_REFERENCE_GRID)?;
     m.add("DEFAULT_DEPTH_TOLERANCE", shadowtruth::import::DEFAULT_DEPTH_TOLERANCE)?;
+    m.add("DEFAULT_ATTRIBUTION_RESOLUTION", shadowtruth::metrics::DEFAULT_ATTRIBUTION_RESOLUTION)?;
+    m.add("DEFAULT_SAMPLE_PIXELS", shadowtruth::verify::DEFAULT_SAMPLE_PIXELS)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -2,7 +2,7 @@
 //! against the exact hard reference, with the same counts and attribution as `shadowtruth
 //! score` records in report.json.
 
-use crate::buffer::Buffer;
+use crate::buffer::buffer_image;
 use crate::error::library_error;
 use crate::json_value::to_python;
 use crate::scene::Scene;
@@ -10,13 +10,10 @@ use crate::view;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use shadowtruth::import::{DEFAULT_DEPTH_TOLERANCE, evaluated_visibility};
-use shadowtruth::metrics::{LightUv, attribute, score_hard};
+use shadowtruth::import::{BufferKind, DEFAULT_DEPTH_TOLERANCE, evaluated_visibility};
+use shadowtruth::metrics::{DEFAULT_ATTRIBUTION_RESOLUTION, LightUv, attribute, score_hard};
 use shadowtruth::raster::MAX_SHADOW_MAP_RESOLUTION;
 use shadowtruth::{Counts, GBuffer, Light, LightView, trace_hard_reference};
-
-/// The command's `--resolution`: the shadow map whose texel footprint the attribution uses.
-const DEFAULT_RESOLUTION: u32 = 2048;
 
 /// Scores a renderer's shadows of `camera` under `light` (default: the scene's first of each)
 /// against the exact hard reference, as `shadowtruth score --visibility` does.
@@ -37,7 +34,7 @@ const DEFAULT_RESOLUTION: u32 = 2048;
 #[pyfunction]
 #[pyo3(signature = (
     scene, camera, light, visibility, depth=None, depth_tolerance=DEFAULT_DEPTH_TOLERANCE,
-    resolution=DEFAULT_RESOLUTION as i64
+    resolution=DEFAULT_ATTRIBUTION_RESOLUTION as i64
 ), text_signature = "(scene, camera, light, visibility, depth=None, depth_tolerance=1e-3, resolution=2048)")]
 #[allow(clippy::too_many_arguments)] // Python's keyword arguments, one per option of the command.
 pub fn score<'py>(
@@ -54,8 +51,8 @@ pub fn score<'py>(
     let (camera, light) = (view::camera(&scene.scene, camera)?, view::light(&scene.scene, light)?);
     let view = attribution_view(&scene.scene, light, resolution)?;
     let size = (camera.width, camera.height);
-    let visibility = Buffer::Visibility.image(visibility, size)?;
-    let depth = depth.map(|d| Buffer::Depth.image(d, size)).transpose()?;
+    let visibility = buffer_image(BufferKind::Visibility, visibility, size)?;
+    let depth = depth.map(|d| buffer_image(BufferKind::Depth, d, size)).transpose()?;
     let counts = py.detach(|| -> shadowtruth::Result<Counts> {
         let gbuffer = GBuffer::trace(&scene.scene, scene.bvh(), camera, light);
         let reference = trace_hard_reference(&scene.scene, scene.bvh(), &gbuffer, light);

@@ -8,9 +8,6 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use shadowtruth::verify::{Adjudicator, PixelSelection, verify_view};
 
-/// Pixels checked per view unless told: the command's `--pixels` default.
-const DEFAULT_PIXELS: usize = 100_000;
-
 /// Checks the hard reference of `camera` under `light` (default: the scene's first of each)
 /// against the exact answer, as `shadowtruth verify` does.
 ///
@@ -43,20 +40,14 @@ pub fn verify<'py>(
 
 /// `pixels` as the command's `--pixels` reads it: "all" or a positive count.
 fn pixel_selection(pixels: Option<&Bound<'_, PyAny>>) -> PyResult<PixelSelection> {
-    let Some(pixels) = pixels else { return Ok(PixelSelection::Sample(DEFAULT_PIXELS)) };
-    if let Ok(text) = pixels.extract::<String>() {
-        return match text.as_str() {
-            "all" => Ok(PixelSelection::All),
-            _ => {
-                Err(PyValueError::new_err(format!("pixels: '{text}' is neither 'all' nor a positive number")))
-            }
-        };
-    }
-    match pixels.extract::<i64>() {
-        Ok(n) if n > 0 => Ok(PixelSelection::Sample(n as usize)),
-        _ => Err(PyValueError::new_err(format!(
-            "pixels: {} is neither 'all' nor a positive number",
-            pixels.repr()?
-        ))),
-    }
+    let Some(pixels) = pixels else { return Ok(PixelSelection::default()) };
+    let text = match pixels.extract::<String>() {
+        Ok(text) => text,
+        // An int in Python's own digits; anything else in its repr, which the parse refuses.
+        Err(_) => match pixels.extract::<i64>() {
+            Ok(n) => n.to_string(),
+            Err(_) => pixels.repr()?.to_string(),
+        },
+    };
+    text.parse().map_err(|e| PyValueError::new_err(format!("pixels: {e}")))
 }

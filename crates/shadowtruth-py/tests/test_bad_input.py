@@ -69,8 +69,8 @@ def test_bad_grid_resolution_and_pixels(scene):
             shadowtruth.coverage_reference(scene, grid=grid)
     with pytest.raises(shadowtruth.Error, match="shadow-map resolution 0"):
         shadowtruth.score(scene, None, None, np.ones((768, 1024), np.float32), resolution=0)
-    for pixels in (0, "some"):
-        with pytest.raises(ValueError, match="neither 'all' nor a positive number"):
+    for pixels in (0, -2, "some", 1.5):
+        with pytest.raises(ValueError, match=rf"pixels: '{pixels}' is neither `all` nor a positive number"):
             shadowtruth.verify(scene, pixels=pixels)
 
 

@@ -48,4 +48,5 @@ def test_signatures_show_the_defaults():
     assert default(shadowtruth.coverage_reference, "grid") == shadowtruth.DEFAULT_COVERAGE_GRID
     assert default(shadowtruth.area_light_reference, "grid") == shadowtruth.DEFAULT_AREA_LIGHT_GRID
     assert default(shadowtruth.score, "depth_tolerance") == shadowtruth.DEFAULT_DEPTH_TOLERANCE
-    assert default(shadowtruth.score, "resolution") == 2048
+    assert default(shadowtruth.score, "resolution") == shadowtruth.DEFAULT_ATTRIBUTION_RESOLUTION == 2048
+    assert shadowtruth.DEFAULT_SAMPLE_PIXELS == 100000

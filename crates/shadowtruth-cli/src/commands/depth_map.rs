@@ -1,8 +1,8 @@
 //! `shadowtruth depth-map`: one depth layer of a light as a one-channel f32 EXR with a JSON
 //! sidecar (clip_from_world, near, far), to check the rasterizer against another.
 
-use super::args::depth_format_parser;
 use super::named_item::pick;
+use crate::option_values::depth_format_parser;
 use anyhow::{Context, Result};
 use clap::Args;
 use shadowtruth::raster::{

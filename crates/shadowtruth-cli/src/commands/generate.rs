@@ -1,7 +1,8 @@
 //! `shadowtruth generate`: a procedural city or forest of a given size, the same bytes for the
 //! same arguments.
 
-use super::args::{set_threads, threads_parser};
+use super::args::set_threads;
+use crate::option_values::threads_parser;
 use anyhow::{Context, Result};
 use clap::Args;
 use shadowtruth::scene::MAX_IMAGE_SIDE;

@@ -1,9 +1,10 @@
 //! `shadowtruth papers`: the papers' results reproduced and each claim judged: the usual report
 //! of their set-ups, claims.json and claims.html.
 
-use super::args::{set_threads, threads_parser};
+use super::args::set_threads;
 use super::plan_report::sinks;
 use super::progress::Progress;
+use crate::option_values::threads_parser;
 use crate::outputs::write_report_outputs;
 use crate::sinks::{FigureSink, ReportWriter};
 use anyhow::{Context, Result};

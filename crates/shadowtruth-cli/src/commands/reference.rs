@@ -1,10 +1,11 @@
 //! `shadowtruth reference`: the exact hard mask of one view as a PNG, or a soft reference (pixel
 //! coverage, area light) as an EXR; with `--timing`, the tracer's rates beside another tracer's.
 
-use super::args::{set_threads, threads_parser};
+use super::args::set_threads;
 use super::named_item::pick;
 use super::trace_timing;
 use crate::exports::{write_mask_png, write_soft_exr};
+use crate::option_values::threads_parser;
 use crate::plan::{DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, MAX_REFERENCE_GRID, MAX_REPEATS};
 use anyhow::{Context, Result, bail};
 use clap::Args;

@@ -1,11 +1,12 @@
 //! `shadowtruth run`: a plan (the default one, or a plan file, with the options' overrides) run
 //! into a report folder, whole, as one shard, or resuming an interrupted run.
 
-use super::args::{set_threads, threads_parser};
+use super::args::set_threads;
 use super::plan_report::finish_plan_report;
 use super::progress::Progress;
 use super::scene_paths::expand_scenes;
 use super::table::TableLayout;
+use crate::option_values::threads_parser;
 use crate::plan::{DEFAULT_MAX_RUNS, MAX_FRAMES, MAX_REPEATS, Plan, Portion, read_plan};
 use crate::sinks::ReportWriter;
 use anyhow::{Context, Result};

@@ -2,12 +2,14 @@
 //! through the plan's schedule (one `external` technique), into a report folder like `run`'s; or
 //! its shadow map, read by a built-in technique in place of the layers rasterized here.
 
-use super::args::{set_threads, threads_parser};
+use super::args::set_threads;
 use super::plan_report::write_plan_report;
+use crate::option_values::threads_parser;
 use crate::plan::Plan;
 use anyhow::{Result, anyhow};
 use clap::Args;
 use shadowtruth::import::{ImportedShadowMap, read_shadow_map};
+use shadowtruth::metrics::DEFAULT_ATTRIBUTION_RESOLUTION;
 use shadowtruth::raster::MAX_SHADOW_MAP_RESOLUTION;
 use shadowtruth::scene::{Camera, Scene};
 use shadowtruth::technique::{ExternalParams, LayerNeeds, TechniqueSpec};
@@ -48,7 +50,7 @@ pub(super) struct ScoreArgs {
     channel: Option<String>,
     /// The shadow-map resolution the attribution's texel footprint is taken at (aliasing: a false
     /// pixel within one texel of a reference shadow boundary).
-    #[arg(long, default_value_t = 2048, conflicts_with = "shadow_map",
+    #[arg(long, default_value_t = DEFAULT_ATTRIBUTION_RESOLUTION, conflicts_with = "shadow_map",
           value_parser = clap::value_parser!(u32).range(1..=MAX_SHADOW_MAP_RESOLUTION as i64))]
     resolution: u32,
     /// Instead of a visibility buffer, the renderer's shadow map: one depth layer as an EXR (row

@@ -11,7 +11,6 @@ use crate::tune::{TuneRecord, TuneRequest, TuneResult, TuneViews, gate_rules_tom
 use anyhow::{Context, Result, anyhow};
 use indicatif::{ProgressBar, ProgressStyle};
 use shadowtruth::atomic_file::write_atomic;
-use shadowtruth::raster::DepthFormat;
 use shadowtruth::record::load_report;
 
 /// The options and their checks live beside the search (`src/tune/options.rs`), where the
@@ -21,8 +20,7 @@ pub(super) use crate::tune::TuneArgs;
 pub(super) fn run_tune(a: TuneArgs) -> Result<u8> {
     set_threads(a.threads)?;
     let request = a.request()?;
-    let format = DepthFormat::parse(&a.depth_format)
-        .ok_or_else(|| anyhow!("--depth-format {}: expected f32, unorm24 or unorm16", a.depth_format))?;
+    let format = a.depth_format;
     let scenes = expand_scenes_or_default(&a.scenes)?;
     let mut plan = Plan::default_for(scenes);
     plan.techniques = vec![

@@ -1,7 +1,8 @@
 //! `shadowtruth verify`: the hard reference checked against exact predicates, view by view
 //! (docs/reference.md); exit 1 when a disagreement lies outside the documented error band.
 
-use super::args::{set_threads, threads_parser};
+use super::args::set_threads;
+use crate::option_values::threads_parser;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use shadowtruth::atomic_file::write_atomic;
@@ -22,7 +23,7 @@ pub(super) struct VerifyArgs {
     light: Option<String>,
     /// Pixels to check per view: `all`, or N for about N evaluated pixels spread uniformly plus
     /// every pixel next to a shadow boundary.
-    #[arg(long, default_value = "100000", value_parser = parse_pixel_selection)]
+    #[arg(long, default_value_t = PixelSelection::default())]
     pixels: PixelSelection,
     /// Also write the results as JSON.
     #[arg(long)]
@@ -30,16 +31,6 @@ pub(super) struct VerifyArgs {
     /// Worker threads, 1 to 1024 (default: all cores).
     #[arg(long, value_parser = threads_parser())]
     threads: Option<usize>,
-}
-
-fn parse_pixel_selection(text: &str) -> std::result::Result<PixelSelection, String> {
-    if text == "all" {
-        return Ok(PixelSelection::All);
-    }
-    match text.parse::<usize>() {
-        Ok(n) if n > 0 => Ok(PixelSelection::Sample(n)),
-        _ => Err(format!("'{text}' is neither `all` nor a positive number of pixels")),
-    }
 }
 
 pub(super) fn verify(a: VerifyArgs) -> Result<u8> {

@@ -1,8 +1,9 @@
 //! `shadowtruth view-export`: everything an engine needs to render the same pixels under the
 //! same light (view.json, the G-buffer as EXRs, the scene as glTF binary).
 
-use super::args::{set_threads, threads_parser};
+use super::args::set_threads;
 use super::named_item::pick;
+use crate::option_values::threads_parser;
 use anyhow::Result;
 use clap::Args;
 use indicatif::ProgressBar;

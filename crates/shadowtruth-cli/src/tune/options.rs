@@ -3,10 +3,11 @@
 //! before anything is traced. The fuzz entry `fuzzing::tune_options` parses with the same code.
 
 use super::{LogRange, Objective, SuiteAggregate, TuneRequest};
+use crate::option_values::{depth_format_parser, threads_parser};
 use anyhow::{Result, anyhow, bail};
 use clap::Args;
 use serde_json::{Map, Value};
-use shadowtruth::raster::MAX_SHADOW_MAP_RESOLUTION;
+use shadowtruth::raster::{DepthFormat, MAX_SHADOW_MAP_RESOLUTION};
 use std::path::PathBuf;
 
 /// Parameters tuned together at most.
@@ -29,8 +30,6 @@ pub const MAX_WEIGHT: f64 = 1e6;
 pub const MAX_GATE_SLACK: f64 = 10.0;
 /// Shadow-map resolutions an evaluation shades at most.
 pub const MAX_RESOLUTIONS: usize = 8;
-/// Worker threads at most.
-pub const MAX_THREADS: usize = 1024;
 
 /// The options of `shadowtruth tune` (docs/tune.md).
 #[derive(Args, Debug)]
@@ -46,8 +45,8 @@ pub struct TuneArgs {
     /// names have a default range (bias_depth 1e-6:0.1, bias_world 1e-5:1, scale_texels
     /// 0.01:10, factor 0.01:16, units 0.01:64, k 1e-6:0.1, z_offset 1e-5:0.1, radius_texels
     /// 0.25:8).
-    #[arg(long = "param", required = true, value_name = "NAME[=LO:HI]")]
-    pub params: Vec<String>,
+    #[arg(long = "param", required = true, value_name = "NAME[=LO:HI]", value_parser = param_arg)]
+    pub params: Vec<ParamArg>,
     /// What to minimise: `total` (false shadow + false lit), `weighted` (false shadow + W·false
     /// lit, with --weight W) or `false-lit-under` (the least false lit with false shadow at most
     /// --max-false-shadow X). Rates are fractions of each scene's scored pixels.
@@ -67,8 +66,8 @@ pub struct TuneArgs {
           value_parser = clap::value_parser!(u32).range(1..=MAX_SHADOW_MAP_RESOLUTION as i64))]
     pub resolutions: Vec<u32>,
     /// Depth format of the shadow maps: f32, unorm24 or unorm16.
-    #[arg(long, default_value = "f32")]
-    pub depth_format: String,
+    #[arg(long, default_value = "f32", value_parser = depth_format_parser())]
+    pub depth_format: DepthFormat,
     /// Output folder: tune.json, tune-gate.toml, plots/tune.png and the tuned settings' report.
     #[arg(short, long, default_value = "reports/tune")]
     pub out: PathBuf,
@@ -89,7 +88,7 @@ pub struct TuneArgs {
     #[arg(long, conflicts_with = "no_report")]
     pub report_scene_bests: bool,
     /// Worker threads, 1 to 1024 (default: all cores).
-    #[arg(long, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_THREADS as u64))]
+    #[arg(long, value_parser = threads_parser())]
     pub threads: Option<usize>,
     /// No progress bar and no table.
     #[arg(short, long)]
@@ -149,7 +148,8 @@ impl TuneArgs {
                 request.params.iter().map(|(_, r)| if corner { r.lo } else { r.hi }).collect();
             for values in [super::round_all(&values), values] {
                 request.spec(&values).map_err(|e| {
-                    anyhow!("--technique {} with --param {:?}: {e}", self.technique, self.params)
+                    let given: Vec<&str> = self.params.iter().map(|p| p.given.as_str()).collect();
+                    anyhow!("--technique {} with --param {given:?}: {e}", self.technique)
                 })?;
             }
         }
@@ -177,15 +177,14 @@ impl TuneArgs {
     /// Every `--param`, each once, none already fixed by `--technique`.
     fn param_ranges(&self, base: &Map<String, Value>) -> Result<Vec<(String, LogRange)>> {
         let mut params: Vec<(String, LogRange)> = Vec::new();
-        for text in &self.params {
-            let (name, range) = param_range(text)?;
-            if params.iter().any(|(n, _)| *n == name) {
-                bail!("--param {text}: {name} is given twice; tune each parameter once");
+        for ParamArg { given, name, range } in &self.params {
+            if params.iter().any(|(n, _)| n == name) {
+                bail!("--param {given}: {name} is given twice; tune each parameter once");
             }
-            if base.contains_key(&name) {
-                bail!("--param {text}: {name} is fixed by --technique; tune it or fix it, not both");
+            if base.contains_key(name) {
+                bail!("--param {given}: {name} is fixed by --technique; tune it or fix it, not both");
             }
-            params.push((name, range));
+            params.push((name.clone(), *range));
         }
         Ok(params)
     }
@@ -245,42 +244,52 @@ fn technique_object(text: &str) -> Result<Map<String, Value>> {
     }
 }
 
-/// `NAME` or `NAME=LO:HI`, the range checked.
-fn param_range(text: &str) -> Result<(String, LogRange)> {
+/// One `--param` as given (`NAME` or `NAME=LO:HI`), and the range it names.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParamArg {
+    pub given: String,
+    pub name: String,
+    pub range: LogRange,
+}
+
+/// `--param`'s value parser: the name, and its range given or by default, checked; clap names
+/// the option and the value beside the message.
+fn param_arg(text: &str) -> Result<ParamArg, String> {
     let (name, range) = match text.split_once('=') {
         Some((name, range)) => {
-            let (lo, hi) =
-                range.split_once(':').ok_or_else(|| anyhow!("--param {text}: expected NAME=LO:HI"))?;
-            let parse = |s: &str| s.trim().parse::<f64>().map_err(|e| anyhow!("--param {text}: {s}: {e}"));
+            let (lo, hi) = range.split_once(':').ok_or("expected NAME=LO:HI")?;
+            let parse = |s: &str| s.trim().parse::<f64>().map_err(|e| format!("{s}: {e}"));
             (name.trim(), LogRange { lo: parse(lo)?, hi: parse(hi)? })
         }
         None => {
-            let (_, lo, hi) = DEFAULT_RANGES.iter().find(|(n, _, _)| *n == text.trim()).ok_or_else(|| {
-                anyhow!("--param {text}: no default range for this parameter; give one as {text}=LO:HI")
-            })?;
-            (text.trim(), LogRange { lo: *lo, hi: *hi })
+            let name = text.trim();
+            let (_, lo, hi) = DEFAULT_RANGES
+                .iter()
+                .find(|(n, _, _)| *n == name)
+                .ok_or_else(|| format!("{name} has no default range; give one as {name}=LO:HI"))?;
+            (name, LogRange { lo: *lo, hi: *hi })
         }
     };
-    check_range(text, range)?;
-    Ok((name.to_string(), range))
+    check_range(range)?;
+    Ok(ParamArg { given: text.to_string(), name: name.to_string(), range })
 }
 
-fn check_range(text: &str, LogRange { lo, hi }: LogRange) -> Result<()> {
+fn check_range(LogRange { lo, hi }: LogRange) -> Result<(), String> {
     if !(lo > 0.0 && hi > lo && hi.is_finite()) {
-        bail!("--param {text}: the range must satisfy 0 < LO < HI (it is searched on a log scale)");
+        return Err("the range must satisfy 0 < LO < HI (it is searched on a log scale)".into());
     }
     let within = |x: f64| (MIN_PARAM_VALUE..=MAX_PARAM_VALUE).contains(&x);
     if !within(lo) || !within(hi) {
-        bail!("--param {text}: LO and HI must lie from {MIN_PARAM_VALUE:e} to {MAX_PARAM_VALUE:e}");
+        return Err(format!("LO and HI must lie from {MIN_PARAM_VALUE:e} to {MAX_PARAM_VALUE:e}"));
     }
     let decades = (hi / lo).log10();
     if !(MIN_SPAN_DECADES..=MAX_SPAN_DECADES).contains(&decades) {
-        bail!(
-            "--param {text}: the range spans {decades:.3} decades; it must span {MIN_SPAN_DECADES} to \
-             {MAX_SPAN_DECADES} (HI/LO from {:.3} to {:e}) for the search to resolve it",
+        return Err(format!(
+            "the range spans {decades:.3} decades; it must span {MIN_SPAN_DECADES} to {MAX_SPAN_DECADES} \
+             (HI/LO from {:.3} to {:e}) for the search to resolve it",
             10f64.powf(MIN_SPAN_DECADES),
             10f64.powf(MAX_SPAN_DECADES)
-        );
+        ));
     }
     Ok(())
 }
@@ -354,7 +363,7 @@ mod tests {
             ("bias_depth=1e-9:1", "spans 9.000 decades"),
             ("bias_depth=0.01:0.0101", "spans 0.004 decades"),
         ] {
-            refused(&["--param", range], &format!("--param {range}"));
+            refused(&["--param", range], &format!("invalid value '{range}' for '--param"));
             refused(&["--param", range], needle);
         }
         assert!(request(&["--param", "bias_depth=1e-9:0.1"]).is_ok(), "8 decades");

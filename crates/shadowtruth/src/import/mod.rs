@@ -21,6 +21,7 @@
 //! in `Counts::surface_mismatch`, when the renderer drew background there, or when its depth `d`
 //! differs from the reference's distance `t` by more than `tolerance · t + DEPTH_FLOOR_WORLD`.
 
+mod buffer_kind;
 mod error;
 mod expected_size;
 mod exr_image;
@@ -30,6 +31,7 @@ mod read;
 mod shadow_map;
 mod surface;
 
+pub use buffer_kind::BufferKind;
 pub use error::ImportError;
 pub use expected_size::ExpectedSize;
 pub use read::{ImageSource, read_depth, read_depth_from, read_visibility, read_visibility_from};

@@ -2,6 +2,7 @@
 //! one f32 per pixel, row 0 at the top; from a file or from memory, through the same checks.
 //! Every header is checked before any pixel is decoded (`ExpectedSize`).
 
+use super::buffer_kind::BufferKind;
 use super::error::{ImportError, Result};
 use super::expected_size::ExpectedSize;
 use super::exr_image::{ChannelChoice, read_exr_channel};
@@ -44,17 +45,7 @@ pub fn read_visibility_from(
     expected: ExpectedSize,
 ) -> Result<ImportedImage> {
     let image = read_image(source, options, None, expected)?;
-    if let Some(i) = image.values.iter().position(|&v| v > 1.0) {
-        let (x, y) = (i as u32 % image.width, i as u32 / image.width);
-        return Err(import_error(
-            &image.path,
-            format!(
-                "pixel ({x}, {y}) is {}: visibility must be in [0, 1] (NaN or negative for background)",
-                image.values[i]
-            ),
-        ));
-    }
-    Ok(image)
+    refuse_values(image, BufferKind::Visibility)
 }
 
 /// Reads a depth file of any camera's size (EXR; the only channel or `Z`, unless `options`
@@ -70,14 +61,15 @@ pub fn read_depth_from(
     expected: ExpectedSize,
 ) -> Result<ImportedImage> {
     let image = read_image(source, options, Some("Z"), expected)?;
-    if let Some(i) = image.values.iter().position(|&d| d.is_nan() || d < 0.0) {
-        let (x, y) = (i as u32 % image.width, i as u32 / image.width);
-        return Err(import_error(
-            &image.path,
-            format!("pixel ({x}, {y}) is {}: depth must be ≥ 0 (0 or +inf for background)", image.values[i]),
-        ));
+    refuse_values(image, BufferKind::Depth)
+}
+
+/// `image`, or the error naming its first value that a `kind` buffer may not hold.
+fn refuse_values(image: ImportedImage, kind: BufferKind) -> Result<ImportedImage> {
+    match kind.first_refused(&image.values, image.width) {
+        Some(message) => Err(import_error(&image.path, message)),
+        None => Ok(image),
     }
-    Ok(image)
 }
 
 /// The two formats, by extension.

@@ -47,6 +47,11 @@ use serde::{Deserialize, Serialize};
 /// The largest search radius in pixels (see the module documentation).
 pub const MAX_RADIUS: usize = 64;
 
+/// The shadow-map resolution whose texel footprint attributes a renderer's buffer when its own
+/// resolution is not told (`score --resolution`, the Python package's `score`): 2048, the most
+/// common shipping size of a directional light's map.
+pub const DEFAULT_ATTRIBUTION_RESOLUTION: u32 = 2048;
+
 /// The false pixels of one run, by cause.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Attribution {

@@ -7,7 +7,7 @@ mod flicker;
 mod soft;
 mod timing;
 
-pub use attribution::{Attribution, LightUv, MAX_RADIUS, attribute};
+pub use attribution::{Attribution, DEFAULT_ATTRIBUTION_RESOLUTION, LightUv, MAX_RADIUS, attribute};
 pub use classify::{Counts, Rates, add_false_counts, falseness, score_hard};
 pub use flicker::{FrameDecisions, count_flicker, reference_decisions, technique_decisions};
 pub use soft::{SoftErrors, score_soft, thresholded};

@@ -10,10 +10,12 @@
 mod band;
 mod cull;
 mod exact;
+mod pixel_selection;
 mod segment;
 
 pub use band::{Frame, Robustness};
 pub use exact::{Diff, det2_sign, det3_sign};
+pub use pixel_selection::{DEFAULT_SAMPLE_PIXELS, PixelSelection};
 pub use segment::{Contact, Toward, contact};
 
 use crate::scene::{Camera, Light, LightKind, Scene, is_degenerate};
@@ -145,15 +147,6 @@ impl SamePlane {
         self.leaves
             && other.iter().all(|&v| det3_sign([e1, e2, Diff::vec(v, a)]) == std::cmp::Ordering::Equal)
     }
-}
-
-/// Which evaluated pixels to check.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum PixelSelection {
-    All,
-    /// About this many pixels spread uniformly over the evaluated ones, plus every pixel next
-    /// to a shadow boundary.
-    Sample(usize),
 }
 
 /// One pixel where the tracer and the exact answer differ (or the adjudicator contradicts
