@@ -24,6 +24,11 @@ pub trait TechniqueParams: ParametersJson {
 
     /// Every field, with the defaults `build` uses filled in (canonical.rs).
     fn canonical_fields(&self, fields: &mut CanonicalFields);
+
+    /// The parameters a label shows: all of them, unless some are too long to read in one.
+    fn label_parameters(&self) -> Map<String, Value> {
+        self.parameters()
+    }
 }
 
 /// The parameters alone as a JSON object (a record's `parameters`), for every serializable

@@ -7,7 +7,7 @@
 
 use super::canonical::CanonicalFields;
 use super::{
-    AdaptiveParams, ConstantParams, DualParams, ExternalParams, MdsmParams, MidpointParams, NoneParams,
+    AdaptiveParams, CommandParams, ConstantParams, DualParams, ExternalParams, MdsmParams, MidpointParams, NoneParams,
     NormalOffsetParams, PcfParams, PcssParams, ReceiverPlaneParams, ReferenceKind, SecondDepthParams,
     SlopeScaledParams, Technique, TechniqueParams, TechniqueSpecError,
 };
@@ -70,6 +70,8 @@ techniques! {
     "pcss" => Pcss(PcssParams),
     /// Another renderer's visibility buffer, read from an image file and scored as it is.
     "external" => External(ExternalParams),
+    /// Another renderer run once per setting through the command protocol (docs/engines.md).
+    "command" => Command(CommandParams),
 }
 
 impl TechniqueSpec {
@@ -97,7 +99,7 @@ impl TechniqueSpec {
 
     /// A short label: `constant(bias_depth=0.001)`.
     pub fn label(&self) -> String {
-        let params = self.parameters();
+        let params = self.params().label_parameters();
         if params.is_empty() {
             return self.name().to_string();
         }
@@ -113,7 +115,8 @@ impl TechniqueSpec {
         self.params().validate()
     }
 
-    /// The technique to run; `None` for `external`, whose visibility is read from files.
+    /// The technique to run; `None` for `external` and `command`, whose visibility is read from
+    /// files.
     pub fn build(&self) -> Option<Box<dyn Technique>> {
         self.params().build()
     }
