@@ -115,6 +115,126 @@ fn generate_instanced_forest_holds_one_tree_and_casts_shadows() {
     }
 }
 
+/// Every number of a JSON tree, in document order.
+fn numbers(value: &serde_json::Value, out: &mut Vec<serde_json::Number>) {
+    match value {
+        serde_json::Value::Number(n) => out.push(n.clone()),
+        serde_json::Value::Array(items) => items.iter().for_each(|v| numbers(v, out)),
+        serde_json::Value::Object(map) => map.values().for_each(|v| numbers(v, out)),
+        _ => {}
+    }
+}
+
+/// Where a generated scene's camera and lamp stand, in metres.
+struct Placed {
+    camera_m: [f64; 3],
+    look_at_m: [f64; 3],
+    lamp_m: [f64; 3],
+    lamp_axis_m: [f64; 3],
+    lamp_far_m: f64,
+}
+
+/// The scene file of each kind holds the camera, lights and placements derived from the ground
+/// and the tallest caster, in millimetres (values of scenes written before the file was
+/// serialised from the scene types), and loads as written.
+#[test]
+fn generate_scene_file_holds_the_scene_in_millimetres() {
+    let v3 = |v: &serde_json::Value| -> Vec<f64> {
+        v.as_array().unwrap().iter().map(|c| c.as_f64().unwrap()).collect()
+    };
+    let cases = [
+        (GenerateOptions { width_px: 640, height_px: 360, ..options(SceneKind::City, 5_000, 3) }, "city"),
+        (
+            GenerateOptions { width_px: 1920, height_px: 1080, ..options(SceneKind::Forest, 5_000, 7) },
+            "forest",
+        ),
+        (
+            GenerateOptions {
+                width_px: 320,
+                height_px: 200,
+                instanced: true,
+                ..options(SceneKind::Forest, 200_000, 2)
+            },
+            "instanced",
+        ),
+    ];
+    let expected = [
+        Placed {
+            camera_m: [-66.0, 147.23, 66.0],
+            look_at_m: [6.0, 0.0, -6.0],
+            lamp_m: [-18.0, 153.23, 12.0],
+            lamp_axis_m: [30.0, -153.23, -24.0],
+            lamp_far_m: 280.0,
+        },
+        Placed {
+            camera_m: [-11.55, 24.159, 11.55],
+            look_at_m: [1.05, 0.0, -1.05],
+            lamp_m: [-3.15, 25.209, 2.1],
+            lamp_axis_m: [5.25, -25.209, -4.2],
+            lamp_far_m: 47.0,
+        },
+        Placed {
+            camera_m: [-23.1, 28.785, 23.1],
+            look_at_m: [2.1, 0.0, -2.1],
+            lamp_m: [-6.3, 30.885, 4.2],
+            lamp_axis_m: [10.5, -30.885, -8.4],
+            lamp_far_m: 73.0,
+        },
+    ];
+    for ((options, case), placed) in cases.iter().zip(expected) {
+        let Placed {
+            camera_m: position,
+            look_at_m: look_at,
+            lamp_m: lamp,
+            lamp_axis_m: axis,
+            lamp_far_m: far,
+        } = placed;
+        let dir = tempfile::tempdir().unwrap();
+        let (path, _) = write_generated(dir.path(), options).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let file: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let camera = &file["cameras"][0];
+        assert_eq!(
+            (v3(&camera["position"]), v3(&camera["look_at"])),
+            (position.to_vec(), look_at.to_vec()),
+            "{case}"
+        );
+        assert_eq!(v3(&camera["up"]), [0.0, 1.0, 0.0]);
+        assert_eq!(
+            (camera["fov_y_deg"].as_f64(), camera["width"].as_u64()),
+            (Some(50.0), Some(options.width_px as u64))
+        );
+        let [sun, spot] = [&file["lights"][0], &file["lights"][1]];
+        assert_eq!(
+            (sun["type"].as_str(), v3(&sun["direction"])),
+            (Some("directional"), vec![0.6, -0.45, -0.35])
+        );
+        assert_eq!(sun["angular_diameter_deg"].as_f64(), Some(0.5));
+        assert_eq!((v3(&spot["position"]), v3(&spot["direction"])), (lamp.to_vec(), axis.to_vec()), "{case}");
+        let spot_values = ["cone_deg", "near", "far", "radius"].map(|k| spot[k].as_f64().unwrap());
+        assert_eq!(spot_values, [70.0, 1.0, far, 0.5], "{case}");
+        let mut all = Vec::new();
+        numbers(&file, &mut all);
+        for n in &all {
+            let shown = n.to_string();
+            let decimals = shown.split_once('.').map_or(0, |(_, d)| d.trim_end_matches('0').len());
+            assert!(decimals <= 3, "{case}: {shown} is finer than millimetres");
+            assert_ne!(n.as_f64().map(f64::to_bits), Some((-0.0f64).to_bits()), "{case}: -0 in the file");
+        }
+        let scene = load_scene(&path).unwrap_or_else(|e| panic!("{case}: {e}"));
+        assert_eq!(scene.cameras[0].position, glam::Vec3::from(position.map(|c| c as f32)));
+        if options.instanced {
+            let first = &file["objects"][1]["instances"][0];
+            assert_eq!(v3(&first["scale"]), [1.073; 3]);
+            assert_eq!(v3(&first["rotate_deg"]), [0.0, 264.096, 0.0]);
+            assert_eq!(v3(&first["translate"]), [-16.481, 0.619, -16.159]);
+            assert_eq!(file["objects"][1]["instances"].as_array().unwrap().len(), scene.instances.len());
+        } else {
+            assert!(file["objects"].as_array().unwrap().iter().all(|o| o.get("instances").is_none()));
+        }
+    }
+}
+
 #[test]
 fn scene_mesh_cache_is_written_reused_and_never_trusted_when_stale() {
     let dir = tempfile::tempdir().unwrap();

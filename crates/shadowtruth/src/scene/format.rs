@@ -35,8 +35,8 @@ pub const MAX_INSTANCED_TRIANGLES: u64 = 1 << 31;
 pub const MAX_INSTANCES: u64 = 1 << 20;
 
 /// Where an object's triangles come from.
-#[derive(Clone, Debug)]
-pub(crate) enum Geometry {
+#[derive(Clone, Debug, PartialEq)]
+pub enum Geometry {
     /// An OBJ path, relative to the scene file's folder.
     Mesh(String),
     Shape(Shape),

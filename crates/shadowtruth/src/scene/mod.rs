@@ -6,6 +6,7 @@ mod camera;
 mod cascade_settings;
 mod error;
 mod format;
+mod format_write;
 mod gltf;
 mod instance;
 mod light;
@@ -25,8 +26,9 @@ pub use camera::{Camera, Film, FilmRow};
 pub use cascade_settings::{CascadeFit, CascadeSettings, MAX_CASCADES, SplitScheme};
 pub use error::{Problem, SceneError};
 pub use format::{
-    MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE, MAX_INSTANCED_TRIANGLES, MAX_INSTANCES, MAX_SCENE_TRIANGLES,
+    Geometry, MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE, MAX_INSTANCED_TRIANGLES, MAX_INSTANCES, MAX_SCENE_TRIANGLES,
 };
+pub use format_write::{ObjectPlacement, SceneFile, SceneFileObject, UnwritableScene};
 pub use instance::{Instance, SharedMesh, box_corners, is_degenerate, world_vertex};
 pub use light::{Light, LightKind, LightSize, NoLightSize};
 pub use load::load_scene_str_within;

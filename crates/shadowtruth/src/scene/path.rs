@@ -19,6 +19,14 @@ impl Interpolation {
             _ => None,
         }
     }
+
+    /// The name scene files give it (what `parse` reads).
+    pub fn name(self) -> &'static str {
+        match self {
+            Interpolation::Linear => "linear",
+            Interpolation::CatmullRom => "catmull_rom",
+        }
+    }
 }
 
 /// One vector-valued track: `times` strictly increasing, one value per time (at least one).

@@ -7,8 +7,10 @@
 use glam::DVec3;
 use std::f64::consts::{PI, TAU};
 
-/// A procedural shape, in object space before its transform.
-#[derive(Clone, Debug, PartialEq)]
+/// A procedural shape, in object space before its transform. Serialised as a scene file's
+/// `shape` object (`format_write.rs`): its `type` and its fields by their names here.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[serde(tag = "type", rename_all = "lowercase")]
 pub enum Shape {
     /// A rectangle `size = [sx, sz]` in the xz plane at y = 0, centred, normal +y, tessellated
     /// into `subdivisions × subdivisions` quads.
