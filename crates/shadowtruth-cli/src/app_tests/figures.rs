@@ -10,8 +10,8 @@ use crate::drawing::figures::{
     reference_visibility, run_images, run_stem, view_stem, visibility_image, write_reference_figure,
     write_run_figures, zoom,
 };
-use crate::drawing::font;
 use crate::drawing::indexed_image::{FALSE_LIT, FALSE_SHADOW, IndexedImage};
+use crate::drawing::text;
 use common::{bundled, trace_first};
 use shadowtruth::metrics::{Counts, Rates};
 use shadowtruth::raster::DepthFormat;
@@ -141,8 +141,13 @@ fn error_colours_are_distinct_from_each_other_and_from_every_base_grey() {
     }
 }
 
-fn ink(text: &str) -> usize {
-    text.chars().map(|c| font::glyph(c).iter().map(|r| r.count_ones() as usize).sum::<usize>()).sum()
+/// The caption band of a grid cell, `width`×`height` pixels of the page, with `caption` drawn
+/// alone where the grid promises it: centred, its box two pixels below the image.
+fn caption_alone(caption: &str, (width, height): (u32, u32)) -> IndexedImage {
+    let mut band = IndexedImage::filled(width, height, GRID_BACKGROUND);
+    let x = (width.saturating_sub(text::text_width(caption, 1)) / 2) as i64;
+    band.draw_text(x, 2, caption, 1, GRID_TEXT);
+    band
 }
 
 #[test]
@@ -168,15 +173,25 @@ fn grid_of_two_by_three_cells_has_its_size_and_captions() {
                 assert_eq!(out.at(x, y), levels[k], "cell {k} at ({x}, {y})");
             }
         }
-        let mut text = 0;
-        for y in y0 + 120..y0 + 132 {
-            for x in x0..x0 + 160 {
-                let p = out.at(x, y);
-                assert!(p == GRID_BACKGROUND || p == GRID_TEXT, "caption area holds only text: {p:?}");
-                text += (p == GRID_TEXT) as usize;
+        // The band under the cell is its caption and nothing else, pixel for pixel.
+        let expected = caption_alone(&cell.caption, (160, 12));
+        let inked = expected.pixels.iter().filter(|&&p| p != GRID_BACKGROUND).count();
+        let visible = cell.caption.chars().filter(|c| *c != ' ').count();
+        assert!(inked > 5 * visible, "cell {k}: {inked} inked pixels for {visible} characters");
+        assert!(expected.pixels.iter().any(|&p| p < GRID_BACKGROUND / 2), "cell {k}: the text is dark");
+        for y in 0..12 {
+            for x in 0..160 {
+                assert_eq!(
+                    out.at(x0 + x, y0 + 120 + y),
+                    expected.at(x, y),
+                    "cell {k}'s caption at ({x}, {y})"
+                );
             }
         }
-        assert_eq!(text, ink(&cell.caption), "cell {k}: the whole caption is drawn under the cell");
+        // Each caption is its own text, not a copy of its neighbour's.
+        if k > 0 {
+            assert_ne!(expected, caption_alone(&cells[k - 1].caption, (160, 12)), "cell {k}");
+        }
     }
     // The gaps are background.
     for y in 0..h {

@@ -11,8 +11,8 @@
 //! Its legend (swatches in the same two colours, with the counts) is drawn on a strip added *below*
 //! the camera image, never over it.
 
-use super::font;
 pub use super::indexed_image::{FALSE_LIT_INDEX, FALSE_SHADOW_INDEX, GREY_MAX, IndexedImage, grey, is_grey};
+use super::text;
 use glam::Vec3;
 use rayon::prelude::*;
 use shadowtruth::file_name;
@@ -234,7 +234,7 @@ pub fn run_images(
 /// Height of the legend strip below an error map of the given width.
 pub fn legend_strip_height(width: u32) -> u32 {
     let s = legend_scale(width);
-    font::text_height(s) + 8 * s
+    text::text_height(s) + 8 * s
 }
 
 /// Font scale of the legend strip below an image of the given width.
@@ -299,14 +299,14 @@ fn draw_legend(img: &mut IndexedImage, top: u32, fs: u64, fl: u64, evaluated: us
         (FALSE_SHADOW_INDEX, format!("false shadow {fs} ({:.2}%)", pct(fs))),
         (FALSE_LIT_INDEX, format!("false lit {fl} ({:.2}%)", pct(fl))),
     ];
-    let side = font::text_height(s);
+    let side = text::text_height(s);
     let y = (top + 4 * s) as i64;
     let mut x = (4 * s) as i64;
-    for (index, text) in entries {
+    for (index, label) in entries {
         img.fill_rect(x, y, side, side, index);
         x += (side + 3 * s) as i64;
-        img.draw_text(x, y, &text, s, LEGEND_TEXT);
-        x += (font::text_width(&text, s) + 12 * s) as i64;
+        img.draw_text(x, y, &label, s, LEGEND_TEXT);
+        x += (text::text_width(&label, s) + 12 * s) as i64;
     }
 }
 
@@ -367,9 +367,12 @@ impl GridLayout {
         let cell_width = cells.iter().map(|c| c.image.width / downscale).max().unwrap_or(0);
         let cell_height = cells.iter().map(|c| c.image.height / downscale).max().unwrap_or(0);
         let caption_scale = (cell_width / 256).clamp(1, 3);
-        let per_line = font::chars_per_line(cell_width, caption_scale);
-        let caption_lines =
-            cells.iter().map(|c| font::wrap(&c.caption, per_line).len() as u32).max().unwrap_or(1).max(1);
+        let caption_lines = cells
+            .iter()
+            .map(|c| text::wrap(&c.caption, cell_width, caption_scale).len() as u32)
+            .max()
+            .unwrap_or(1)
+            .max(1);
         let caption_height = caption_block_height(caption_lines, caption_scale);
         let width = columns * cell_width + (columns + 1) * GRID_GAP;
         let height = rows * (cell_height + caption_height) + (rows + 1) * GRID_GAP;
@@ -399,7 +402,7 @@ impl GridLayout {
 
 /// Height of a caption block of `lines` lines at font scale `scale`.
 pub fn caption_block_height(lines: u32, scale: u32) -> u32 {
-    scale * (3 + font::LINE_HEIGHT * lines)
+    3 * scale + text::line_pitch(scale) * lines
 }
 
 /// Shrinks an image by an integer factor `f` (the incomplete blocks at the right and bottom edges
@@ -479,7 +482,6 @@ pub fn grid(cells: &[GridCell], columns: u32, max_cell_width: u32) -> IndexedIma
         })
         .collect();
     let s = layout.caption_scale;
-    let per_line = font::chars_per_line(layout.cell_width, s);
     let gw = layout.width as usize;
     for (index, (cell, small)) in cells.iter().zip(&shrunk).enumerate() {
         let (x0, y0) = layout.cell_origin(index);
@@ -489,10 +491,10 @@ pub fn grid(cells: &[GridCell], columns: u32, max_cell_width: u32) -> IndexedIma
             out.pixels[dst..dst + sw].copy_from_slice(src);
         }
         let text_top = y0 + layout.cell_height + 2 * s;
-        for (line_no, line) in font::wrap(&cell.caption, per_line).iter().enumerate() {
-            let tw = font::text_width(line, s);
+        for (line_no, line) in text::wrap(&cell.caption, layout.cell_width, s).iter().enumerate() {
+            let tw = text::text_width(line, s);
             let x = x0 as i64 + (layout.cell_width.saturating_sub(tw) / 2) as i64;
-            let y = text_top as i64 + (line_no as u32 * font::LINE_HEIGHT * s) as i64;
+            let y = text_top as i64 + (line_no as u32 * text::line_pitch(s)) as i64;
             out.draw_text(x, y, line, s, GRID_TEXT);
         }
     }

@@ -8,8 +8,8 @@
 //! flickered.
 
 use super::figures::{ERROR_DIM, LEGEND_BACKGROUND, LEGEND_TEXT, legend_scale, legend_strip_height, lut};
-use super::font;
 use super::indexed_image::{IndexedImage, palette_rgb};
+use super::text;
 use shadowtruth::atomic_file::{encode_rgb_png, write_atomic_unsynced};
 use std::path::Path;
 
@@ -96,20 +96,20 @@ pub fn flicker_image(heat: &[u16], (width, height): (u32, u32), base: Option<&In
 /// the side of each of its squares), drawn in colour by the caller.
 fn draw_legend_text(img: &mut IndexedImage, top: u32, max: u16, flickered: usize) -> Option<(i64, i64, u32)> {
     let s = legend_scale(img.width);
-    let side = font::text_height(s);
+    let side = text::text_height(s);
     let (y, mut x) = ((top + 4 * s) as i64, (4 * s) as i64);
     if max == 0 {
         img.draw_text(x, y, "no pixel flickered", s, LEGEND_TEXT);
         return None;
     }
     img.draw_text(x, y, "1", s, LEGEND_TEXT);
-    x += (font::text_width("1", s) + 3 * s) as i64;
+    x += (text::text_width("1", s) + 3 * s) as i64;
     let ramp = (x, y, side);
     x += (HEAT_COLOURS.len() as u32 * side + 3 * s) as i64;
     let times = if max == 1 { "time" } else { "times" };
     let scale = format!("{max} {times} (log scale)");
     img.draw_text(x, y, &scale, s, LEGEND_TEXT);
-    x += (font::text_width(&scale, s) + 12 * s) as i64;
+    x += (text::text_width(&scale, s) + 12 * s) as i64;
     let pixels = if flickered == 1 { "pixel" } else { "pixels" };
     img.draw_text(x, y, &format!("{flickered} {pixels} flickered"), s, LEGEND_TEXT);
     Some(ramp)

@@ -12,8 +12,8 @@ use super::figures::{
     FALSE_LIT_INDEX, FALSE_SHADOW_INDEX, LEGEND_BACKGROUND, LEGEND_TEXT, ViewCanvas, downscale,
     error_map_unlabelled, legend_scale, legend_strip_height, run_stem, view_stem,
 };
-use super::font;
 use super::indexed_image::{IndexedImage, palette_bytes};
+use super::text;
 use crate::plan::TracedView;
 use shadowtruth::record::RunRecord;
 use shadowtruth::trace::{GBuffer, HardReference};
@@ -62,16 +62,16 @@ pub fn movie_frame(
 /// counts), short enough for a shrunk frame.
 fn draw_frame_legend(img: &mut IndexedImage, top: u32, [fs, fl]: [f64; 2], (frame, frames): (u32, u32)) {
     let s = legend_scale(img.width);
-    let side = font::text_height(s);
+    let side = text::text_height(s);
     let y = (top + 4 * s) as i64;
     let mut x = (4 * s) as i64;
-    for (index, text) in
+    for (index, label) in
         [(FALSE_SHADOW_INDEX, format!("shadow {fs:.2}%")), (FALSE_LIT_INDEX, format!("lit {fl:.2}%"))]
     {
         img.fill_rect(x, y, side, side, index);
         x += (side + 3 * s) as i64;
-        img.draw_text(x, y, &text, s, LEGEND_TEXT);
-        x += (font::text_width(&text, s) + 10 * s) as i64;
+        img.draw_text(x, y, &label, s, LEGEND_TEXT);
+        x += (text::text_width(&label, s) + 10 * s) as i64;
     }
     img.draw_text(x, y, &format!("frame {frame}/{}", frames.saturating_sub(1)), s, LEGEND_TEXT);
 }

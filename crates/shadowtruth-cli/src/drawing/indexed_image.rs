@@ -4,7 +4,7 @@
 //! byte per pixel to draw and to compress and is written as an indexed PNG without a colour scan;
 //! decoders return the palette's RGB.
 
-use super::font;
+use super::text;
 use std::path::Path;
 
 /// The lightest grey (and the page white of grids and zoom frames): levels above it are drawn as it.
@@ -94,9 +94,10 @@ impl IndexedImage {
         self.fill_rect(x + w as i64 - 1, y, 1, h, index);
     }
 
-    /// Draws one line of `text` with its top-left corner at (`x`, `y`); see [`font::draw_text`].
-    pub fn draw_text(&mut self, x: i64, y: i64, text: &str, scale: u32, index: u8) -> usize {
-        font::draw_text(&mut self.pixels, self.width, self.height, x, y, text, scale, index)
+    /// Draws one line of `line` with its box's top-left corner at (`x`, `y`), antialiased over
+    /// what is there; see [`text::draw_text`].
+    pub fn draw_text(&mut self, x: i64, y: i64, line: &str, scale: u32, index: u8) -> usize {
+        text::draw_text(&mut self.pixels, self.width, self.height, x, y, line, scale, index)
     }
 
     /// PNG bytes: an indexed PNG with the fixed palette, the `Sub` filter (runs of one index become

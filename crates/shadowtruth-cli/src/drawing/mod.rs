@@ -2,10 +2,10 @@
 //! image), the plots (SVG and PNG, plotters), the animated error maps and flicker maps of runs
 //! over a path, the summaries and the HTML page (`index.html`, with `page.js`).
 
+mod bundled_font;
 mod cascades_section;
 pub mod figures;
 pub mod flicker_map;
-pub mod font;
 pub mod frame_movie;
 pub mod frame_plots;
 pub mod html;
@@ -13,6 +13,7 @@ pub mod indexed_image;
 mod path_section;
 pub mod plots;
 pub mod summary;
+pub mod text;
 mod tune_plot;
 
 pub use html::write_page;

@@ -2,6 +2,7 @@
 //! shadow-map resolution, and shading cost against error with the Pareto front marked.
 //! Drawn with plotters; text uses the bundled DejaVu Sans, so no system font is needed.
 
+use super::bundled_font::DEJAVU_SANS_TTF;
 use plotters::coord::CoordTranslate;
 use plotters::prelude::*;
 use shadowtruth::atomic_file::{encode_rgb_png, write_atomic};
@@ -64,13 +65,11 @@ pub struct Marks {
     pub band_label: String,
 }
 
-const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
-
 fn register_font() {
     static ONCE: std::sync::Once = std::sync::Once::new();
     ONCE.call_once(|| {
         // The bundled font parses; a failure would only lose the text, not the plot.
-        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, DEJAVU_SANS_TTF);
     });
 }
 
