@@ -4,6 +4,7 @@
 //! technique that reads them. What it produces goes to the sinks as events (`events.rs`); the
 //! schedule itself writes nothing.
 
+use super::backend::command::CommandBackend;
 use super::backend::cpu::CpuBackend;
 #[cfg(feature = "gpu")]
 use super::backend::gpu::GpuBackend;
@@ -92,7 +93,8 @@ fn shaded_backend<'p>(
 }
 
 /// Frames are shaded here, from buffers traced here: a plan over several frames cannot run on
-/// the GPU pipeline, read an imported shadow map or score imported buffers (one per view).
+/// the GPU pipeline, read an imported shadow map, score imported buffers (one per view) or run
+/// renderers' commands.
 fn check_frames(plan: &Plan) -> Result<(), PlanError> {
     if plan.frames <= 1 {
         return Ok(());
@@ -103,6 +105,8 @@ fn check_frames(plan: &Plan) -> Result<(), PlanError> {
         Some("an imported shadow map")
     } else if plan.techniques.iter().any(|t| matches!(t, TechniqueSpec::External(_))) {
         Some("`external` techniques (one imported buffer per view)")
+    } else if plan.techniques.iter().any(|t| matches!(t, TechniqueSpec::Command(_))) {
+        Some("`command` techniques (one export of the view per resolution)")
     } else {
         None
     };
@@ -229,6 +233,7 @@ impl Schedule<'_, '_, '_> {
         let (scene, light) = (traced.scene, traced.light);
         emit(self.sinks, &Event::ViewTraced(traced))?;
         let mut imported = ImportedBackend::load(self.plan, traced)?;
+        let mut commands = CommandBackend::new(self.plan);
         let bounds = scene.bounds();
         let key = traced.key();
         for &resolution in &self.plan.resolutions {
@@ -244,6 +249,7 @@ impl Schedule<'_, '_, '_> {
                 let recorder = &mut Recorder { sinks: &mut *self.sinks, traced, map: &map };
                 self.shaded.produce(traced, &map, recorder)?;
                 imported.produce(traced, &map, recorder)?;
+                commands.produce(traced, &map, recorder)?;
                 emit(self.sinks, &Event::MapsDone { view: traced, resolution, format })?;
             }
         }

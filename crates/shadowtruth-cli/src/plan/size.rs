@@ -2,6 +2,7 @@
 //! and the lazy expansion of a technique entry into its variants.
 
 use serde_json::{Map, Value};
+use shadowtruth::technique::COMMAND_LIST_FIELDS;
 
 /// One entry of a plan's `techniques`: a JSON object whose list-valued parameters sweep.
 #[derive(Clone, Debug)]
@@ -35,7 +36,17 @@ impl Variant {
 impl TechniqueEntry {
     /// The swept keys with their number of values, in the map's (alphabetical) order.
     fn sweeps(&self) -> impl Iterator<Item = (&String, usize)> {
-        self.map.iter().filter_map(|(k, v)| v.as_array().map(|list| (k, list.len())))
+        self.map
+            .iter()
+            .filter(|(k, _)| self.sweeps_key(k))
+            .filter_map(|(k, v)| v.as_array().map(|list| (k, list.len())))
+    }
+
+    /// Whether a list under `key` sweeps: not for a field whose value is itself a list (a
+    /// command technique's command line).
+    fn sweeps_key(&self, key: &str) -> bool {
+        let command = self.map.get("technique").and_then(Value::as_str) == Some("command");
+        !(command && COMMAND_LIST_FIELDS.contains(&key))
     }
 
     /// The number of variants (saturating).
@@ -55,7 +66,7 @@ impl TechniqueEntry {
         (0..count).map(move |mut n| {
             let mut map = self.map.clone();
             let mut swept = Vec::new();
-            for (key, value) in self.map.iter().rev() {
+            for (key, value) in self.map.iter().rev().filter(|(k, _)| self.sweeps_key(k)) {
                 if let Value::Array(list) = value {
                     let i = (n % list.len() as u128) as usize;
                     n /= list.len() as u128;
@@ -130,6 +141,18 @@ mod tests {
         let last = e.variants().last().unwrap();
         assert_eq!(last.path_of("techniques[0]", Some("bias_depth")), "techniques[0].bias_depth[2]");
         assert_eq!(last.path_of("techniques[0]", Some("technique")), "techniques[0].technique");
+    }
+
+    #[test]
+    fn a_command_line_is_one_value_and_its_settings_sweep() {
+        let run = json!(["node", "render.mjs", "{visibility}", "{bias}"]);
+        let e = entry(json!({"technique": "command", "name": "three", "run": run, "bias": [-0.001, 0]}));
+        assert_eq!(e.variant_count(), 2);
+        for v in e.variants() {
+            assert_eq!(v.map["run"], run);
+        }
+        // Elsewhere a list is a sweep, whatever its key.
+        assert_eq!(entry(json!({"technique": "pcf", "run": [1, 2, 3]})).variant_count(), 3);
     }
 
     #[test]

@@ -1,6 +1,6 @@
 //! The first channel of a PNG file as f32 in [0, 1], its IHDR checked before any pixel is
 //! decoded (the expected size, and a file long enough for it), decoded a row at a time into the
-//! final image.
+//! final image. A pixel whose alpha is 0 is background (NaN): a PNG has no other way to say so.
 
 use super::expected_size::{ExpectedSize, check_plausible_length};
 use png::{BitDepth, Decoder, Limits, Transformations};
@@ -14,7 +14,8 @@ const DECODER_BYTES: usize = 16 << 20;
 const DEFLATE_MAX_RATIO: u64 = 1032;
 
 /// The first channel of every pixel of the PNG `reader` holds (`file_bytes` long), scaled so that
-/// the largest code is 1, row 0 at the top. Errors are messages about the file.
+/// the largest code is 1, row 0 at the top; NaN where alpha is 0. Errors are messages about the
+/// file.
 pub(super) fn read_png_first_channel(
     reader: impl BufRead + Seek,
     file_bytes: u64,
@@ -36,6 +37,8 @@ pub(super) fn read_png_first_channel(
     let first = FirstChannel {
         bytes_per_pixel: color.samples() * depth_bytes(depth),
         sixteen: depth == BitDepth::Sixteen,
+        alpha_at: matches!(color, png::ColorType::Rgba | png::ColorType::GrayscaleAlpha)
+            .then(|| (color.samples() - 1) * depth_bytes(depth)),
     };
     let mut values = Vec::with_capacity(width as usize * height as usize);
     if reader.info().interlaced {
@@ -63,15 +66,26 @@ fn depth_bytes(depth: BitDepth) -> usize {
 struct FirstChannel {
     bytes_per_pixel: usize,
     sixteen: bool,
+    /// The byte offset of the alpha sample in a pixel, when the image has one.
+    alpha_at: Option<usize>,
 }
 
 impl FirstChannel {
     fn push_row(&self, row: &[u8], values: &mut Vec<f32>) {
+        let sample = |px: &[u8], at: usize| {
+            if self.sixteen {
+                u16::from_be_bytes([px[at], px[at + 1]]) as f32 / 65535.0
+            } else {
+                px[at] as f32 / 255.0
+            }
+        };
         let pixels = row.chunks_exact(self.bytes_per_pixel);
-        if self.sixteen {
-            values.extend(pixels.map(|px| u16::from_be_bytes([px[0], px[1]]) as f32 / 65535.0));
-        } else {
-            values.extend(pixels.map(|px| px[0] as f32 / 255.0));
+        match self.alpha_at {
+            Some(alpha) => values.extend(pixels.map(|px| {
+                let transparent = px[alpha] == 0 && (!self.sixteen || px[alpha + 1] == 0);
+                if transparent { f32::NAN } else { sample(px, 0) }
+            })),
+            None => values.extend(pixels.map(|px| sample(px, 0))),
         }
     }
 }

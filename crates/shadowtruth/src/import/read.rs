@@ -222,6 +222,26 @@ mod tests {
     }
 
     #[test]
+    fn png_alpha_zero_marks_background_and_any_other_alpha_keeps_the_value() {
+        let read = |color: png::ColorType, depth: png::BitDepth, raw: &[u8]| {
+            let mut bytes = Vec::new();
+            let mut encoder = png::Encoder::new(&mut bytes, 3, 1);
+            encoder.set_color(color);
+            encoder.set_depth(depth);
+            encoder.write_header().unwrap().write_image_data(raw).unwrap();
+            let source = ImageSource::Bytes { name: Path::new("alpha.png"), bytes: &bytes };
+            read_visibility_from(source, &ReadOptions::default(), ExpectedSize::ANY_CAMERA).unwrap().values
+        };
+        let rgba8 = [255, 0, 0, 0, 255, 9, 9, 1, 0, 0, 0, 255];
+        let v = read(png::ColorType::Rgba, png::BitDepth::Eight, &rgba8);
+        assert!(v[0].is_nan() && v[1] == 1.0 && v[2] == 0.0, "{v:?}");
+        // 16-bit grey and alpha: only both alpha bytes 0 is transparent.
+        let ga16 = [0x80, 0x00, 0x00, 0x00, 0xFF, 0xFF, 0x00, 0x01, 0x00, 0x00, 0xFF, 0xFF];
+        let v = read(png::ColorType::GrayscaleAlpha, png::BitDepth::Sixteen, &ga16);
+        assert!(v[0].is_nan() && v[1] == 1.0 && v[2] == 0.0, "{v:?}");
+    }
+
+    #[test]
     fn hostile_headers_are_refused_before_decoding() {
         let any = ExpectedSize::ANY_CAMERA;
         let e = from_bytes("huge_header.exr", None, false, any).unwrap_err().to_string();

@@ -21,7 +21,7 @@ pub const COMMAND_PLACEHOLDERS: [&str; 7] =
     ["view", "visibility", "depth", "resolution", "scene", "camera", "light"];
 
 /// The fields of a `command` entry that are never settings.
-const OWN_FIELDS: [&str; 5] = ["name", "run", "timeout_s", "flip_y", "depth_tolerance"];
+const OWN_FIELDS: [&str; 6] = ["name", "run", "timeout_s", "flip_y", "depth_tolerance", "visibility_format"];
 
 /// A fields whose list is one value, not a sweep: the command line.
 pub const COMMAND_LIST_FIELDS: [&str; 1] = ["run"];
@@ -37,8 +37,8 @@ const MAX_ARG_BYTES: usize = 4096;
 
 /// `command`: the renderer's `name`, its command line `run` (program and arguments, no shell),
 /// `timeout_s`, whether its images have row 0 at the bottom (`flip_y`), the relative
-/// `depth_tolerance` of its depth buffer, and its settings: every other field, a number, string
-/// or boolean that fills `{NAME}` in `run`.
+/// `depth_tolerance` of its depth buffer, the format of the visibility file it writes, and its
+/// settings: every other field, a number, string or boolean that fills `{NAME}` in `run`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CommandParams {
     pub name: String,
@@ -49,9 +49,35 @@ pub struct CommandParams {
     pub flip_y: bool,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub depth_tolerance: Option<f64>,
+    #[serde(default, skip_serializing_if = "VisibilityFormat::is_exr")]
+    pub visibility_format: VisibilityFormat,
     /// The renderer's own settings, by name (sorted).
     #[serde(flatten)]
     pub settings: Map<String, Value>,
+}
+
+/// The file a command writes its visibility to (`{visibility}`): an f32 or f16 EXR, or a PNG
+/// (alpha 0 marks background). The depth file is always an EXR.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VisibilityFormat {
+    #[default]
+    Exr,
+    Png,
+}
+
+impl VisibilityFormat {
+    fn is_exr(&self) -> bool {
+        *self == VisibilityFormat::Exr
+    }
+
+    /// The file extension, without its dot.
+    pub fn extension(self) -> &'static str {
+        match self {
+            VisibilityFormat::Exr => "exr",
+            VisibilityFormat::Png => "png",
+        }
+    }
 }
 
 /// What shadowtruth fills in for one run of a command.
@@ -111,7 +137,10 @@ impl CommandParams {
             ));
         }
         if !self.run.iter().any(|arg| placeholders(arg).any(|p| p == "visibility")) {
-            return Err(err("run", "never names `{visibility}`: the file the renderer writes its shadows to"));
+            return Err(err(
+                "run",
+                "never names `{visibility}`: the file the renderer writes its shadows to",
+            ));
         }
         for arg in &self.run {
             if arg.matches('{').count() != arg.matches('}').count() {
@@ -149,9 +178,14 @@ impl CommandParams {
             };
             let unused = !self.run.iter().any(|arg| placeholders(arg).any(|p| p == name));
             let problem =
-                problem.or(unused.then(|| format!("is never named as `{{{name}}}` in `run`, so it changes nothing")));
+                problem
+                    .or(unused
+                        .then(|| format!("is never named as `{{{name}}}` in `run`, so it changes nothing")));
             if let Some(problem) = problem {
-                return Err(TechniqueSpecError { field: None, message: format!("setting `{name}` {problem}") });
+                return Err(TechniqueSpecError {
+                    field: None,
+                    message: format!("setting `{name}` {problem}"),
+                });
             }
         }
         Ok(())
@@ -203,7 +237,10 @@ impl TechniqueParams for CommandParams {
         if let Some(t) = self.timeout_s
             && !(t > 0.0 && t <= MAX_COMMAND_TIMEOUT_S)
         {
-            return Err(err("timeout_s", format!("must be more than 0 and at most {MAX_COMMAND_TIMEOUT_S}, found {t}")));
+            return Err(err(
+                "timeout_s",
+                format!("must be more than 0 and at most {MAX_COMMAND_TIMEOUT_S}, found {t}"),
+            ));
         }
         if let Some(t) = self.depth_tolerance {
             super::params::non_negative("depth_tolerance", t)?;
@@ -224,6 +261,7 @@ impl TechniqueParams for CommandParams {
         f.named("run", canonical_json(&Value::from(self.run.clone())));
         f.number("timeout_s", self.timeout_s());
         f.flag("flip_y", self.flip_y);
+        f.named("visibility_format", self.visibility_format);
         if self.writes_depth() {
             f.number("depth_tolerance", self.depth_tolerance());
         }
@@ -273,8 +311,17 @@ mod tests {
         assert_eq!(
             argv,
             [
-                "node", "render.mjs", "--view", "v", "--visibility", "out/vis.exr", "--map-size=2048", "--bias",
-                "-0.0005", "--shadow-type", "pcf"
+                "node",
+                "render.mjs",
+                "--view",
+                "v",
+                "--visibility",
+                "out/vis.exr",
+                "--map-size=2048",
+                "--bias",
+                "-0.0005",
+                "--shadow-type",
+                "pcf"
             ]
         );
         assert!(!p.writes_depth());

@@ -34,11 +34,11 @@ pub use bias::{
 pub use built_layers::BuiltLayers;
 pub use canonical::canonical_json;
 pub use cascaded::CascadeOrders;
-pub use depth_layers::{DualDepth, DualParams, Midpoint, MidpointParams, SecondDepth, SecondDepthParams};
 pub use command::{
     COMMAND_LIST_FIELDS, COMMAND_PLACEHOLDERS, CommandParams, CommandRun, DEFAULT_COMMAND_TIMEOUT_S,
-    MAX_COMMAND_TIMEOUT_S,
+    MAX_COMMAND_TIMEOUT_S, VisibilityFormat,
 };
+pub use depth_layers::{DualDepth, DualParams, Midpoint, MidpointParams, SecondDepth, SecondDepthParams};
 pub use external::ExternalParams;
 pub use filter_params::{KernelSpec, TapBiasSpec};
 pub use kernel::{Kernel, POISSON_SIZES, poisson_set};

@@ -7,9 +7,9 @@
 
 use super::canonical::CanonicalFields;
 use super::{
-    AdaptiveParams, CommandParams, ConstantParams, DualParams, ExternalParams, MdsmParams, MidpointParams, NoneParams,
-    NormalOffsetParams, PcfParams, PcssParams, ReceiverPlaneParams, ReferenceKind, SecondDepthParams,
-    SlopeScaledParams, Technique, TechniqueParams, TechniqueSpecError,
+    AdaptiveParams, CommandParams, ConstantParams, DualParams, ExternalParams, MdsmParams, MidpointParams,
+    NoneParams, NormalOffsetParams, PcfParams, PcssParams, ReceiverPlaneParams, ReferenceKind,
+    SecondDepthParams, SlopeScaledParams, Technique, TechniqueParams, TechniqueSpecError,
 };
 use serde::{Deserialize, Serialize};
 

@@ -107,7 +107,8 @@ mod tests {
     fn a_failing_command_reports_its_status_and_stderr_tail() {
         let dir = tempfile::tempdir().unwrap();
         assert!(run_command(&sh("echo fine"), dir.path(), 10.0).is_ok());
-        let e = run_command(&sh("echo first >&2; echo 'no GPU here' >&2; exit 3"), dir.path(), 10.0).unwrap_err();
+        let e =
+            run_command(&sh("echo first >&2; echo 'no GPU here' >&2; exit 3"), dir.path(), 10.0).unwrap_err();
         let text = e.to_string();
         assert!(text.contains("exit status: 3") && text.ends_with("first\nno GPU here"), "{text}");
         let e = run_command(&["/nonexistent/renderer".to_string()], dir.path(), 10.0).unwrap_err();

@@ -1,8 +1,11 @@
 //! What produces the visibility of every technique at one map setting of a traced view: the
 //! CPU rasterizer and techniques (`cpu.rs`), a Vulkan device (`gpu.rs`, with the `gpu` feature),
-//! or another renderer's buffers read once per view (`imported.rs`). The schedule records the
-//! runs of any of them the same way (`execute.rs`).
+//! another renderer's buffers read once per view (`imported.rs`), or another renderer run by its
+//! command line per setting (`command.rs`). The schedule records the runs of any of them the
+//! same way (`execute.rs`).
 
+pub(super) mod command;
+mod command_process;
 pub(super) mod cpu;
 #[cfg(feature = "gpu")]
 pub(super) mod gpu;

@@ -1,0 +1,171 @@
+//! The command back-end: the plan's `command` techniques, each a renderer run by its command
+//! line (docs/engines.md). Per view and resolution the view is exported once (`view-export`'s
+//! folder, into a temporary folder of the view); per setting the command runs once, writes its
+//! visibility (and depth) there, and the files are read back and scored like `external`.
+
+use super::command_process::run_command;
+use super::{MapBackend, ProducedRun, RunRecorder};
+use crate::plan::events::TracedView;
+use crate::plan::map_setting::MapSetting;
+use crate::plan::{Plan, PlanError};
+use crate::view_export::write_view_export;
+use shadowtruth::import::{ExpectedSize, ImageSource, ReadOptions, evaluated_visibility, read_depth_from};
+use shadowtruth::import::{ImportedImage, read_visibility_from};
+use shadowtruth::metrics::Stopwatch;
+use shadowtruth::technique::{CommandParams, CommandRun, TechniqueSpec};
+use std::path::{Path, PathBuf};
+
+/// The command techniques of one view, and the view's temporary folder.
+pub(in crate::plan) struct CommandBackend<'p> {
+    techniques: Vec<&'p TechniqueSpec>,
+    /// Removed with the backend, after the view's last map.
+    folder: Option<tempfile::TempDir>,
+    /// The resolutions exported so far.
+    exported: Vec<u32>,
+    /// The last resolution's visibility of each technique and the time its run took: a
+    /// renderer draws its own maps, so the plan's depth formats score the same images.
+    ran: Option<(u32, Vec<(Vec<f32>, f64)>)>,
+}
+
+impl<'p> CommandBackend<'p> {
+    /// The plan's command techniques; nothing is exported or run until a map asks.
+    pub fn new(plan: &'p Plan) -> Self {
+        let techniques = plan.techniques.iter().filter(|t| matches!(t, TechniqueSpec::Command(_))).collect();
+        CommandBackend { techniques, folder: None, exported: Vec::new(), ran: None }
+    }
+
+    /// The exported view at `resolution`, written the first time it is asked for.
+    fn view_folder(&mut self, traced: &TracedView, resolution: u32) -> Result<PathBuf, PlanError> {
+        if self.folder.is_none() {
+            let folder = tempfile::Builder::new()
+                .prefix("shadowtruth-engine-")
+                .tempdir()
+                .map_err(|source| PlanError::Io { path: std::env::temp_dir(), source })?;
+            self.folder = Some(folder);
+        }
+        let dir = self.folder.as_ref().expect("made above").path().join(format!("view-r{resolution}"));
+        if !self.exported.contains(&resolution) {
+            write_view_export(traced.scene, traced.camera, traced.light, resolution, &dir, |_| ()).map_err(
+                |e| PlanError::Invalid(format!("exporting the view for a command technique: {e:#}")),
+            )?;
+            self.exported.push(resolution);
+        }
+        Ok(dir)
+    }
+}
+
+impl MapBackend for CommandBackend<'_> {
+    fn produce(
+        &mut self,
+        traced: &TracedView,
+        map: &MapSetting,
+        recorder: &mut dyn RunRecorder,
+    ) -> Result<(), PlanError> {
+        if self.techniques.is_empty() {
+            return Ok(());
+        }
+        if self.ran.as_ref().is_none_or(|(resolution, _)| *resolution != map.resolution) {
+            let runs = self.run_all(traced, map.resolution, recorder)?;
+            self.ran = Some((map.resolution, runs));
+        }
+        let (_, runs) = self.ran.as_ref().expect("run above");
+        for (spec, (visibility, ms)) in self.techniques.iter().zip(runs) {
+            let produced = ProducedRun {
+                spec,
+                visibility,
+                prepare_ms: *ms,
+                shade_ms: 0.0,
+                layer_memory_bytes: 0,
+                pipeline: None,
+            };
+            recorder.record(produced)?;
+        }
+        Ok(())
+    }
+}
+
+impl CommandBackend<'_> {
+    /// Every command technique's run at `resolution`: its visibility and its time, ms.
+    fn run_all(
+        &mut self,
+        traced: &TracedView,
+        resolution: u32,
+        recorder: &mut dyn RunRecorder,
+    ) -> Result<Vec<(Vec<f32>, f64)>, PlanError> {
+        let view_dir = self.view_folder(traced, resolution)?;
+        let view = format!("{}/{}/{}", traced.scene.name, traced.camera.name, traced.light.name);
+        let mut runs = Vec::with_capacity(self.techniques.len());
+        for (k, spec) in self.techniques.iter().enumerate() {
+            let TechniqueSpec::Command(params) = spec else { unreachable!("only command techniques") };
+            recorder.stage(&format!("{view}: running {}", spec.label()))?;
+            let run_dir = view_dir.with_file_name(format!("run-r{resolution}-{k}"));
+            let sw = Stopwatch::start();
+            let visibility = run_and_read(params, traced, resolution, &view_dir, &run_dir)
+                .map_err(|e| PlanError::Invalid(format!("{view}: technique {}: {e}", spec.label())))?;
+            runs.push((visibility, sw.ms()));
+        }
+        Ok(runs)
+    }
+}
+
+/// Runs one setting of a command for a view and reads back what it wrote, as the visibility of
+/// every evaluated pixel (NaN for a surface mismatch).
+pub(crate) fn run_and_read(
+    params: &CommandParams,
+    traced: &TracedView,
+    resolution: u32,
+    view_dir: &Path,
+    run_dir: &Path,
+) -> Result<Vec<f32>, String> {
+    std::fs::create_dir_all(run_dir).map_err(|e| format!("creating {}: {e}", run_dir.display()))?;
+    let visibility_file = run_dir.join(format!("visibility.{}", params.visibility_format.extension()));
+    let depth_file = run_dir.join("depth.exr");
+    let text = |p: &Path| p.to_string_lossy().into_owned();
+    let (view_text, visibility_text, depth_text) =
+        (text(view_dir), text(&visibility_file), text(&depth_file));
+    let argv = params.argv(&CommandRun {
+        view_dir: &view_text,
+        visibility_file: &visibility_text,
+        depth_file: &depth_text,
+        resolution,
+        scene: &traced.scene.name,
+        camera: &traced.camera.name,
+        light: &traced.light.name,
+    });
+    run_command(&argv, run_dir, params.timeout_s()).map_err(|e| format!("`{}`: {e}", shown(&argv)))?;
+    let read = || -> Result<Vec<f32>, shadowtruth::Error> {
+        let (visibility, depth) = read_buffers(params, traced, &visibility_file, &depth_file)?;
+        Ok(evaluated_visibility(
+            traced.gbuffer,
+            traced.camera,
+            &visibility,
+            depth.as_ref(),
+            params.depth_tolerance(),
+        )?)
+    };
+    read().map_err(|e| format!("`{}` ran, but what it wrote cannot be scored: {e}", shown(&argv)))
+}
+
+/// The visibility (and the depth, when the command line asks for one), each header checked to
+/// declare the camera's size before a pixel is decoded.
+fn read_buffers(
+    params: &CommandParams,
+    traced: &TracedView,
+    visibility_file: &Path,
+    depth_file: &Path,
+) -> Result<(ImportedImage, Option<ImportedImage>), shadowtruth::Error> {
+    let expected = ExpectedSize::of_camera(traced.camera);
+    let options = ReadOptions { channel: None, flip_y: params.flip_y };
+    let visibility = read_visibility_from(ImageSource::File(visibility_file), &options, expected)?;
+    let depth = params
+        .writes_depth()
+        .then(|| read_depth_from(ImageSource::File(depth_file), &options, expected))
+        .transpose()?;
+    Ok((visibility, depth))
+}
+
+/// A command line as a person would type it (arguments with spaces quoted).
+fn shown(argv: &[String]) -> String {
+    let quote = |a: &String| if a.contains([' ', '"']) { format!("{a:?}") } else { a.clone() };
+    argv.iter().map(quote).collect::<Vec<_>>().join(" ")
+}
