@@ -157,12 +157,74 @@ fn every_number_out_of_its_range_is_refused_by_its_option_before_anything_is_wri
         (&[&weighted[..], &["--weight", "NaN"]].concat(), "--weight NaN"),
         (&[&weighted[..], &["--weight", "inf"]].concat(), "--weight inf"),
         (&[&weighted[..], &["--weight=-1"]].concat(), "--weight -1"),
-        (&vec!["--param", "bias_depth=1e-200:1e200"], "--param bias_depth=1e-200:1e200"),
+        (&vec!["--param", "bias_depth=1e-200:1e200"], "invalid value 'bias_depth=1e-200:1e200' for '--param"),
         (&vec!["--param", "bias_depth", "--param", "bias_depth=1e-3:1e-2"], "bias_depth is given twice"),
         (&vec!["--param", "bias_depth", "--gate-slack", "NaN"], "--gate-slack NaN"),
         (&vec!["--param", "bias_depth", "--gate-slack=-1"], "--gate-slack -1"),
     ] {
         let err = tune_refused(dir.path(), options);
         assert!(err.contains(named), "{options:?}: {err}");
+    }
+}
+
+/// A renderer whose shadows are right only for a bias from -0.002 to -0.0005 (towards the
+/// light, as three.js's): inside, it writes the exact mask of the light asked for (by
+/// `shadowtruth reference`); outside, the mask of the scene's other light. (Its awk braces are
+/// doubled: single braces are the protocol's placeholders.)
+fn switching_renderer(scene: &Path) -> Value {
+    let script = format!(
+        "if awk -v b=\"$1\" 'BEGIN {{{{ exit !(b >= -0.002 && b <= -0.0005) }}}}'; then L=\"$3\"; \
+         elif [ \"$3\" = a ]; then L=b; else L=a; fi; \
+         exec '{}' reference '{}' --light \"$L\" -o \"$2\"",
+        env!("CARGO_BIN_EXE_shadowtruth"),
+        scene.display()
+    );
+    json!({"technique": "command", "name": "switch", "visibility_format": "png",
+           "run": ["sh", "-c", script, "renderer", "{bias}", "{visibility}", "{light}"]})
+}
+
+#[test]
+fn tune_runs_a_renderers_command_and_finds_its_bias_below_zero() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("two_suns.json");
+    let mut json: Value = {
+        write_contact_scene(&scene);
+        read_json(&scene)
+    };
+    json["lights"] = json!([{ "name": "a", "type": "directional", "direction": [0.6, -1, 0.3] },
+                            { "name": "b", "type": "directional", "direction": [-0.5, -1, -0.2] }]);
+    std::fs::write(&scene, json.to_string()).unwrap();
+    let technique = switching_renderer(&scene).to_string();
+    shadowtruth(
+        dir.path(),
+        &[
+            "tune",
+            "two_suns.json",
+            "--technique",
+            &technique,
+            "--param",
+            "bias=-0.01:-0.00001",
+            "-o",
+            "t",
+            "-q",
+        ],
+    );
+    let tuned = read_json(&dir.path().join("t/tune.json"));
+    let best = &tuned["suite"]["best"];
+    let bias = best["params"]["bias"].as_f64().unwrap();
+    assert!((-0.002..=-0.0005).contains(&bias), "{best}");
+    assert_eq!(best["objective"].as_f64(), Some(0.0), "the exact masks: {best}");
+    let safe = &tuned["suite"]["safe_range"]["bias"];
+    let (lo, hi) = (safe["lo"].as_f64().unwrap(), safe["hi"].as_f64().unwrap());
+    // The ends are placed to 0.02 decades (docs/tune.md): within 5 % of the switch's edges.
+    assert!((lo / -0.002 - 1.0).abs() < 0.05 && (hi / -0.0005 - 1.0).abs() < 0.05, "{safe}");
+    // The tuned setting's report: its runs are the renderer's, each exact.
+    let report = read_json(&dir.path().join("t/report.json"));
+    for run in report["runs"].as_array().unwrap() {
+        assert_eq!(run["technique"], "command");
+        assert_eq!(
+            (run["counts"]["false_shadow"].as_u64(), run["counts"]["false_lit"].as_u64()),
+            (Some(0), Some(0))
+        );
     }
 }

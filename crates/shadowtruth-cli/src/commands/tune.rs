@@ -36,7 +36,7 @@ pub(super) fn run_tune(a: TuneArgs) -> Result<u8> {
     let bar = progress_bar(a.quiet);
     let mut views = TuneViews::build(&plan, cache.as_ref(), &mut |s| bar.set_message(s.to_string()))?;
     bar.set_message("searching");
-    let result = tune(&mut views, &request, &mut || bar.inc(1));
+    let result = tune(&mut views, &request, &mut || bar.inc(1))?;
     bar.finish_and_clear();
     drop(views);
     let record = TuneRecord::new(&request, &result, &plan.resolutions, format.name());

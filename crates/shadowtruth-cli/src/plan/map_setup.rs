@@ -52,6 +52,11 @@ impl MapSetup {
     }
 
     /// The setting of one depth format.
+    /// The shadow map's resolution.
+    pub fn resolution(&self) -> u32 {
+        self.resolution
+    }
+
     pub fn setting(&self, format: DepthFormat, scene_bounds: (Vec3, Vec3)) -> MapSetting<'_> {
         MapSetting {
             view: &self.view,

@@ -25,6 +25,7 @@ mod size;
 mod spec;
 mod trace_shade_score;
 
+pub(crate) use backend::command::{ExportedViews, run_setting};
 pub use error::PlanError;
 #[cfg(test)]
 pub use events::Watch;

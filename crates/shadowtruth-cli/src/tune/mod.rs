@@ -64,7 +64,7 @@ impl TuneRequest {
         if let Some((name, _)) = self.params.iter().find(|(name, _)| !parameters.contains_key(name)) {
             return Err(format!("{} has no parameter {name}", spec.name()));
         }
-        if spec.build().is_none() {
+        if matches!(spec, TechniqueSpec::External(_)) {
             return Err(format!("{} reads another renderer's images: there is nothing to tune", spec.name()));
         }
         Ok(spec)
@@ -146,15 +146,31 @@ impl Evaluations<'_> {
 }
 
 /// Searches the suite's optimum, then each scene's (reusing every evaluation already made).
-/// `on_evaluation` is called after each new shading of a scene.
-pub fn tune(views: &mut TuneViews, request: &TuneRequest, on_evaluation: &mut dyn FnMut()) -> TuneResult {
+/// `on_evaluation` is called after each new shading of a scene. The first evaluation that fails
+/// (a renderer's command) ends the search with its error: every later one counts as the worst.
+pub fn tune(
+    views: &mut TuneViews,
+    request: &TuneRequest,
+    on_evaluation: &mut dyn FnMut(),
+) -> Result<TuneResult, crate::plan::PlanError> {
     let names: Vec<String> = views.scenes.iter().map(|s| s.name.clone()).collect();
+    let mut failure = None;
     let mut shade = |scene: usize, spec: &TechniqueSpec| {
-        let counts = views.counts(scene, spec);
+        if failure.is_some() {
+            return Counts::default();
+        }
+        let counts = views.counts(scene, spec).unwrap_or_else(|e| {
+            failure = Some(e);
+            Counts::default()
+        });
         on_evaluation();
         counts
     };
-    tune_with(request, &names, &mut shade)
+    let result = tune_with(request, &names, &mut shade);
+    match failure {
+        Some(e) => Err(e),
+        None => Ok(result),
+    }
 }
 
 /// `tune` on any scenes: `shade` gives the counts of a setting on the scene of that index in
@@ -171,12 +187,19 @@ pub fn tune_with(request: &TuneRequest, names: &[String], shade: &mut Shade<'_>)
 }
 
 /// The optimum of `point`'s objective over `ranges`, the safe range of each parameter, and the
-/// points evaluated.
+/// points evaluated. A range below zero (an engine's bias towards the light) is searched on the
+/// log scale of its magnitude: `magnitude` holds the searched ranges, `signed` turns a searched
+/// point back into the parameters' values.
 fn optimise(ranges: &[LogRange], point: &mut dyn FnMut(&[f64]) -> EvaluatedPoint) -> Tuned {
+    let negative: Vec<bool> = ranges.iter().map(LogRange::is_negative).collect();
+    let magnitude: Vec<LogRange> = ranges.iter().map(LogRange::magnitude).collect();
+    let signed = |p: &[f64]| -> Vec<f64> {
+        p.iter().zip(&negative).map(|(&x, &neg)| if neg { -x } else { x }).collect()
+    };
     // Shared by the objective (which records each point) and the safe ranges (which read them).
     let points: RefCell<Vec<EvaluatedPoint>> = RefCell::new(Vec::new());
     let mut f = |p: &[f64]| {
-        let e = point(&round_all(p));
+        let e = point(&round_all(&signed(p)));
         let value = e.objective;
         let mut points = points.borrow_mut();
         if !points.iter().any(|q| q.params == e.params) {
@@ -184,16 +207,19 @@ fn optimise(ranges: &[LogRange], point: &mut dyn FnMut(&[f64]) -> EvaluatedPoint
         }
         value
     };
-    let mut best = minimise(ranges, &mut f);
+    let mut best = minimise(&magnitude, &mut f);
     best.params = round_all(&best.params);
     let bound = best.value * (1.0 + SAFE_RANGE_SLACK);
     let safe = (0..ranges.len())
         .map(|axis| {
-            let known = on_axis(&points.borrow(), &best.params, axis);
-            let s = safe_range(&best, axis, ranges[axis], &known, bound, &mut f);
-            search::SafeRange { lo: round_significant(s.lo), hi: round_significant(s.hi), ..s }
+            let known: Vec<f64> =
+                on_axis(&points.borrow(), &signed(&best.params), axis).iter().map(|x| x.abs()).collect();
+            let s = safe_range(&best, axis, magnitude[axis], &known, bound, &mut f);
+            let s = search::SafeRange { lo: round_significant(s.lo), hi: round_significant(s.hi), ..s };
+            if negative[axis] { s.negated() } else { s }
         })
         .collect();
+    best.params = signed(&best.params);
     Tuned { best, safe, points: points.into_inner() }
 }
 
@@ -218,4 +244,43 @@ fn round_significant(x: f64) -> f64 {
 
 fn round_all(values: &[f64]) -> Vec<f64> {
     values.iter().map(|&v| round_significant(v)).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A renderer whose bias is below zero (towards the light): false shadow falls and false lit
+    /// rises as the bias grows in magnitude, crossing at 0.0005.
+    fn engine_counts(spec: &TechniqueSpec) -> Counts {
+        let bias = spec.parameters()["bias"].as_f64().unwrap();
+        assert!(bias < 0.0, "only negative values are asked for: {bias}");
+        let magnitude = -bias;
+        let evaluated = 1_000_000;
+        Counts {
+            evaluated,
+            false_shadow: (evaluated as f64 * (0.0005 / magnitude).powi(2) * 0.01) as u64,
+            false_lit: (evaluated as f64 * (magnitude / 0.0005).powi(2) * 0.01) as u64,
+            ..Counts::default()
+        }
+    }
+
+    #[test]
+    fn a_range_below_zero_is_searched_on_its_magnitude_and_reported_in_its_own_sign() {
+        let base = serde_json::json!({"technique": "command", "name": "engine",
+            "run": ["render", "{visibility}", "{bias}"]});
+        let request = TuneRequest {
+            base: base.as_object().unwrap().clone(),
+            params: vec![("bias".into(), LogRange { lo: -0.01, hi: -1e-5 })],
+            objective: Objective::Total,
+            aggregate: SuiteAggregate::Mean,
+        };
+        let result = tune_with(&request, &["s".to_string()], &mut |_, spec| engine_counts(spec));
+        let best = result.suite.best.params[0];
+        assert!((-0.00055..=-0.00045).contains(&best), "{best}");
+        let safe = result.suite.safe[0];
+        assert!(safe.lo < best && best < safe.hi && safe.hi < 0.0, "{safe:?}");
+        assert!(result.suite.points.iter().all(|p| p.params[0] < 0.0));
+        assert_eq!(request.spec(&[best]).unwrap().label(), format!("command(bias={best},name=engine)"));
+    }
 }

@@ -41,7 +41,8 @@ pub struct TuneArgs {
     #[arg(long)]
     pub technique: String,
     /// A parameter to tune, with its range searched on a log scale: NAME or NAME=LO:HI
-    /// (1e-12 ≤ LO < HI ≤ 1e12, HI/LO between 1.12 and 1e8). One to three, each once. Known
+    /// (1e-12 ≤ LO < HI ≤ 1e12, HI/LO between 1.12 and 1e8; or both below zero, as an engine's
+    /// bias towards the light, `bias=-0.01:-1e-5`, searched on its magnitude). One to three, each once. Known
     /// names have a default range (bias_depth 1e-6:0.1, bias_world 1e-5:1, scale_texels
     /// 0.01:10, factor 0.01:16, units 0.01:64, k 1e-6:0.1, z_offset 1e-5:0.1, radius_texels
     /// 0.25:8).
@@ -274,10 +275,16 @@ fn param_arg(text: &str) -> Result<ParamArg, String> {
     Ok(ParamArg { given: text.to_string(), name: name.to_string(), range })
 }
 
-fn check_range(LogRange { lo, hi }: LogRange) -> Result<(), String> {
-    if !(lo > 0.0 && hi > lo && hi.is_finite()) {
-        return Err("the range must satisfy 0 < LO < HI (it is searched on a log scale)".into());
+/// Both ends on one side of zero (a log scale of the magnitude), within the bounds.
+fn check_range(range: LogRange) -> Result<(), String> {
+    let ordered = range.lo < range.hi && range.lo.is_finite() && range.hi.is_finite();
+    if !ordered || (range.lo <= 0.0 && range.hi >= 0.0) {
+        return Err(
+            "the range must satisfy 0 < LO < HI or LO < HI < 0 (it is searched on a log scale of the magnitude)"
+                .into(),
+        );
     }
+    let LogRange { lo, hi } = range.magnitude();
     let within = |x: f64| (MIN_PARAM_VALUE..=MAX_PARAM_VALUE).contains(&x);
     if !within(lo) || !within(hi) {
         return Err(format!("LO and HI must lie from {MIN_PARAM_VALUE:e} to {MAX_PARAM_VALUE:e}"));

@@ -13,7 +13,8 @@
 //! Bounds): `MAX_EVALUATIONS` bounds the calls of a whole search with its safe ranges. An
 //! objective value that is NaN counts as the worst (+∞), so that no comparison silently fails.
 
-/// A positive interval searched on a log scale.
+/// An interval searched on a log scale: positive here; one below zero (`tune`'s options allow
+/// it) is searched on its magnitude.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LogRange {
     pub lo: f64,
@@ -21,6 +22,16 @@ pub struct LogRange {
 }
 
 impl LogRange {
+    /// Whether the range lies below zero.
+    pub fn is_negative(&self) -> bool {
+        self.hi < 0.0
+    }
+
+    /// The range of the values' magnitudes (itself when positive).
+    pub fn magnitude(&self) -> LogRange {
+        if self.is_negative() { LogRange { lo: -self.hi, hi: -self.lo } } else { *self }
+    }
+
     /// `count` points from `lo` to `hi`, evenly spaced in log (the ends exactly `lo` and `hi`).
     pub fn grid(&self, count: usize) -> Vec<f64> {
         let (a, b) = (self.lo.ln(), self.hi.ln());
@@ -170,6 +181,18 @@ pub struct SafeRange {
     /// Whether the range stops at the searched range's end rather than at a worse value.
     pub lo_at_range_end: bool,
     pub hi_at_range_end: bool,
+}
+
+impl SafeRange {
+    /// The same range of the negated parameter: its ends swapped.
+    pub fn negated(self) -> SafeRange {
+        SafeRange {
+            lo: -self.hi,
+            hi: -self.lo,
+            lo_at_range_end: self.hi_at_range_end,
+            hi_at_range_end: self.lo_at_range_end,
+        }
+    }
 }
 
 /// The contiguous interval of parameter `axis` around `best` (the others held) where `f` stays

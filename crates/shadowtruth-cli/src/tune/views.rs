@@ -5,12 +5,15 @@
 //! evaluation of a setting on one scene is then one shading pass and one scoring per view and
 //! resolution.
 
-use crate::plan::{BinnedView, MapSetup, Plan, PlanError, ViewReferences, build_layers_timed, load_selected};
+use crate::plan::{
+    BinnedView, ExportedViews, MapSetup, Plan, PlanError, TracedView, ViewReferences, build_layers_timed,
+    load_selected, run_setting,
+};
 use glam::Vec3;
 use shadowtruth::metrics::{Counts, add_false_counts};
 use shadowtruth::raster::{DepthFormat, LightView};
 use shadowtruth::scene::Scene;
-use shadowtruth::technique::{BuiltLayers, LayerNeeds, TechniqueSpec};
+use shadowtruth::technique::{BuiltLayers, CommandParams, LayerNeeds, TechniqueSpec};
 use shadowtruth::trace::{GBuffer, ReferenceCache, SceneBvh};
 
 /// Layer sets kept per map: the tuned setting's and one more, so that a parameter that changes
@@ -21,6 +24,8 @@ const KEPT_LAYER_SETS: usize = 2;
 pub struct TuneViews {
     pub scenes: Vec<SceneViews>,
     format: DepthFormat,
+    /// The views exported for a renderer's command, when the tuned technique is one.
+    exports: ExportedViews,
 }
 
 pub struct SceneViews {
@@ -31,6 +36,9 @@ pub struct SceneViews {
 }
 
 struct View {
+    /// The camera's and the light's index in the scene.
+    camera: usize,
+    light: usize,
     gbuffer: GBuffer,
     references: ViewReferences,
     maps: Vec<Map>,
@@ -73,16 +81,20 @@ impl TuneViews {
                         Ok(Map { setup, layers: Vec::new() })
                     })
                     .collect::<Result<_, PlanError>>()?;
-                views.push(View { gbuffer, references, maps });
+                views.push(View { camera: ci, light: li, gbuffer, references, maps });
             }
             scenes.push(SceneViews { name: scene.name.clone(), scene, bounds, views });
         }
-        Ok(TuneViews { scenes, format })
+        Ok(TuneViews { scenes, format, exports: ExportedViews::new() })
     }
 
-    /// The counts of `spec` on every view and resolution of scene `index`, summed.
-    pub fn counts(&mut self, index: usize, spec: &TechniqueSpec) -> Counts {
-        let technique = spec.build().expect("tune shades built-in techniques only");
+    /// The counts of `spec` on every view and resolution of scene `index`, summed: shaded here,
+    /// or rendered by the renderer's command (which may fail).
+    pub fn counts(&mut self, index: usize, spec: &TechniqueSpec) -> Result<Counts, PlanError> {
+        if let TechniqueSpec::Command(params) = spec {
+            return self.rendered_counts(index, spec, params);
+        }
+        let technique = spec.build().expect("tune shades built-in techniques or runs commands");
         let needs = technique.layer_needs();
         let format = self.format;
         let s = &mut self.scenes[index];
@@ -97,7 +109,36 @@ impl TuneViews {
                 add_false_counts(&mut total, &view.gbuffer, reference, &visibility);
             }
         }
-        total
+        Ok(total)
+    }
+
+    /// [`Self::counts`] of a renderer's command: one run per view and resolution.
+    fn rendered_counts(
+        &mut self,
+        index: usize,
+        spec: &TechniqueSpec,
+        params: &CommandParams,
+    ) -> Result<Counts, PlanError> {
+        let s = &self.scenes[index];
+        let mut total = Counts::default();
+        for view in &s.views {
+            let (camera, light) = (&s.scene.cameras[view.camera], &s.scene.lights[view.light]);
+            let traced = TracedView {
+                scene: &s.scene,
+                camera,
+                light,
+                gbuffer: &view.gbuffer,
+                references: &view.references,
+            };
+            let (reference, _, _) = view.references.for_kind(spec.reference_kind());
+            for map in &view.maps {
+                let resolution = map.setup.resolution();
+                let visibility = run_setting(&mut self.exports, params, &traced, resolution, 0, spec)?;
+                total.evaluated += view.gbuffer.evaluated.len() as u64;
+                add_false_counts(&mut total, &view.gbuffer, reference, &visibility);
+            }
+        }
+        Ok(total)
     }
 }
 

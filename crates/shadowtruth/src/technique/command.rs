@@ -136,6 +136,9 @@ impl CommandParams {
                 format!("at most {MAX_ARGS} arguments of at most {MAX_ARG_BYTES} bytes each, without NUL"),
             ));
         }
+        if let Some(e) = self.run.iter().find_map(|arg| pieces(arg).err()) {
+            return Err(err("run", e));
+        }
         if !self.run.iter().any(|arg| placeholders(arg).any(|p| p == "visibility")) {
             return Err(err(
                 "run",
@@ -143,9 +146,7 @@ impl CommandParams {
             ));
         }
         for arg in &self.run {
-            if arg.matches('{').count() != arg.matches('}').count() {
-                return Err(err("run", format!("\"{arg}\": unbalanced braces around a placeholder")));
-            }
+            pieces(arg).map_err(|e| err("run", e))?;
             for p in placeholders(arg) {
                 if !COMMAND_PLACEHOLDERS.contains(&p) && !self.settings.contains_key(p) {
                     return Err(err(
@@ -192,30 +193,71 @@ impl CommandParams {
     }
 }
 
-/// `{NAME}` placeholders of one argument, in order.
-fn placeholders(arg: &str) -> impl Iterator<Item = &str> {
-    arg.split('{').skip(1).filter_map(|rest| rest.split_once('}').map(|(name, _)| name))
+/// One piece of an argument: text as written, or a `{NAME}` placeholder.
+#[derive(Debug, PartialEq)]
+enum Piece<'a> {
+    Text(&'a str),
+    Placeholder(&'a str),
 }
 
-/// `arg` with every `{NAME}` replaced by `value(NAME)`.
-fn fill(arg: &str, value: impl Fn(&str) -> String) -> String {
-    let mut out = String::with_capacity(arg.len());
-    let mut rest = arg;
-    while let Some(open) = rest.find('{') {
-        out.push_str(&rest[..open]);
-        match rest[open + 1..].find('}') {
-            Some(close) => {
-                out.push_str(&value(&rest[open + 1..open + 1 + close]));
-                rest = &rest[open + close + 2..];
+/// The pieces of `arg`: `{NAME}` (NAME of letters, digits and `_`) is a placeholder, `{{` and
+/// `}}` are a literal brace (as in Rust's and Python's format strings), any other brace is an
+/// error, so that a brace meant literally is never read as a placeholder or dropped.
+fn pieces(arg: &str) -> Result<Vec<Piece<'_>>, String> {
+    let mut out = Vec::new();
+    let (bytes, mut start, mut i) = (arg.as_bytes(), 0, 0);
+    while i < bytes.len() {
+        let doubled = bytes.get(i + 1) == Some(&bytes[i]);
+        match bytes[i] {
+            b'{' | b'}' if doubled => {
+                out.push(Piece::Text(&arg[start..i + 1]));
+                i += 2;
+                start = i;
             }
-            None => {
-                out.push_str(&rest[open..]);
-                rest = "";
+            b'{' => {
+                let name_len =
+                    arg[i + 1..].bytes().take_while(|b| b.is_ascii_alphanumeric() || *b == b'_').count();
+                if name_len == 0 || bytes.get(i + 1 + name_len) != Some(&b'}') {
+                    return Err(format!(
+                        "\"{arg}\": a `{{` that opens no `{{NAME}}`; write `{{{{` for a literal brace"
+                    ));
+                }
+                out.push(Piece::Text(&arg[start..i]));
+                out.push(Piece::Placeholder(&arg[i + 1..i + 1 + name_len]));
+                i += name_len + 2;
+                start = i;
             }
+            b'}' => {
+                return Err(format!(
+                    "\"{arg}\": a `}}` that closes no `{{NAME}}`; write `}}}}` for a literal brace"
+                ));
+            }
+            _ => i += 1,
         }
     }
-    out.push_str(rest);
-    out
+    out.push(Piece::Text(&arg[start..]));
+    Ok(out)
+}
+
+/// `{NAME}` placeholders of one argument, in order (none when it is malformed: `validate`
+/// refuses it first).
+fn placeholders(arg: &str) -> impl Iterator<Item = &str> {
+    pieces(arg).unwrap_or_default().into_iter().filter_map(|p| match p {
+        Piece::Placeholder(name) => Some(name),
+        Piece::Text(_) => None,
+    })
+}
+
+/// `arg` with every `{NAME}` replaced by `value(NAME)` and every doubled brace made single.
+fn fill(arg: &str, value: impl Fn(&str) -> String) -> String {
+    let pieces = pieces(arg).expect("validated");
+    pieces
+        .into_iter()
+        .map(|p| match p {
+            Piece::Text(t) => t.to_string(),
+            Piece::Placeholder(name) => value(name),
+        })
+        .collect()
 }
 
 /// A setting as its command line reads it: strings bare, numbers and booleans as JSON prints
@@ -329,6 +371,24 @@ mod tests {
     }
 
     #[test]
+    fn doubled_braces_are_literal_braces() {
+        let mut v = three();
+        v["run"] = json!(["awk", "BEGIN {{ print \"{bias}\" }}", "{{visibility}}{visibility}"]);
+        v.as_object_mut().unwrap().remove("type");
+        let Ok(TechniqueSpec::Command(p)) = spec(v) else { panic!("a command") };
+        let run = CommandRun {
+            view_dir: "v",
+            visibility_file: "o.exr",
+            depth_file: "d.exr",
+            resolution: 1,
+            scene: "s",
+            camera: "c",
+            light: "l",
+        };
+        assert_eq!(p.argv(&run), ["awk", "BEGIN { print \"-0.0005\" }", "{visibility}o.exr"]);
+    }
+
+    #[test]
     fn labels_name_the_renderer_and_its_settings_and_records_keep_the_command_line() {
         let s = spec(three()).unwrap();
         assert_eq!(s.label(), "command(bias=-0.0005,name=three,type=pcf)");
@@ -353,7 +413,11 @@ mod tests {
         assert!(with("run", json!([])).contains("empty command line"));
         assert!(with("run", json!(["node", "x"])).contains("never names `{visibility}`"));
         assert!(with("run", json!(["node", "{visibility}", "{nope}"])).contains("`{nope}` is neither"));
-        assert!(with("run", json!(["node", "{visibility}", "{bias", "}"])).contains("unbalanced"));
+        assert!(with("run", json!(["node", "{visibility}", "{bias", "}"])).contains("opens no `{NAME}`"));
+        assert!(with("run", json!(["node", "{visibility}", "a}"])).contains("closes no `{NAME}`"));
+        assert!(
+            with("run", json!(["node", "{visibility}", "{ exit }"])).contains("write `{{` for a literal")
+        );
         assert!(with("timeout_s", json!(0)).contains("timeout_s"));
         assert!(with("depth_tolerance", json!(0.01)).contains("without `{depth}`"));
         assert!(with("name", json!(" ")).contains("name"));

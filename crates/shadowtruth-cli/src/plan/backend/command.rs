@@ -15,27 +15,28 @@ use shadowtruth::metrics::Stopwatch;
 use shadowtruth::technique::{CommandParams, CommandRun, TechniqueSpec};
 use std::path::{Path, PathBuf};
 
-/// The command techniques of one view, and the view's temporary folder.
-pub(in crate::plan) struct CommandBackend<'p> {
-    techniques: Vec<&'p TechniqueSpec>,
-    /// Removed with the backend, after the view's last map.
+/// Views exported for renderers' commands, each (view, resolution) once, into one temporary
+/// folder removed with this value. The schedule writes nothing of its own: these are the
+/// renderers' inputs and outputs, not the plan's.
+pub(crate) struct ExportedViews {
     folder: Option<tempfile::TempDir>,
-    /// The resolutions exported so far.
-    exported: Vec<u32>,
-    /// The last resolution's visibility of each technique and the time its run took: a
-    /// renderer draws its own maps, so the plan's depth formats score the same images.
-    ran: Option<(u32, Vec<(Vec<f32>, f64)>)>,
+    /// (view, resolution) of each export, its index the export's folder name.
+    exported: Vec<(String, u32)>,
 }
 
-impl<'p> CommandBackend<'p> {
-    /// The plan's command techniques; nothing is exported or run until a map asks.
-    pub fn new(plan: &'p Plan) -> Self {
-        let techniques = plan.techniques.iter().filter(|t| matches!(t, TechniqueSpec::Command(_))).collect();
-        CommandBackend { techniques, folder: None, exported: Vec::new(), ran: None }
+impl ExportedViews {
+    pub fn new() -> Self {
+        ExportedViews { folder: None, exported: Vec::new() }
     }
 
-    /// The exported view at `resolution`, written the first time it is asked for.
-    fn view_folder(&mut self, traced: &TracedView, resolution: u32) -> Result<PathBuf, PlanError> {
+    /// The folder of `traced` exported at `resolution`, written the first time it is asked for,
+    /// and a folder beside it for the `k`-th run of a command there.
+    pub fn folders(
+        &mut self,
+        traced: &TracedView,
+        resolution: u32,
+        k: usize,
+    ) -> Result<(PathBuf, PathBuf), PlanError> {
         if self.folder.is_none() {
             let folder = tempfile::Builder::new()
                 .prefix("shadowtruth-engine-")
@@ -43,14 +44,42 @@ impl<'p> CommandBackend<'p> {
                 .map_err(|source| PlanError::Io { path: std::env::temp_dir(), source })?;
             self.folder = Some(folder);
         }
-        let dir = self.folder.as_ref().expect("made above").path().join(format!("view-r{resolution}"));
-        if !self.exported.contains(&resolution) {
-            write_view_export(traced.scene, traced.camera, traced.light, resolution, &dir, |_| ()).map_err(
-                |e| PlanError::Invalid(format!("exporting the view for a command technique: {e:#}")),
-            )?;
-            self.exported.push(resolution);
-        }
-        Ok(dir)
+        let root = self.folder.as_ref().expect("made above").path();
+        let view = format!("{}/{}/{}", traced.scene.name, traced.camera.name, traced.light.name);
+        let key = (view, resolution);
+        let index = match self.exported.iter().position(|e| *e == key) {
+            Some(i) => i,
+            None => {
+                let dir = root.join(format!("view{}", self.exported.len()));
+                write_view_export(traced.scene, traced.camera, traced.light, resolution, &dir, |_| ())
+                    .map_err(|e| {
+                        PlanError::Invalid(format!("exporting {} for a command technique: {e:#}", key.0))
+                    })?;
+                self.exported.push(key);
+                self.exported.len() - 1
+            }
+        };
+        Ok((root.join(format!("view{index}")), root.join(format!("view{index}-run{k}"))))
+    }
+}
+
+/// One command's visibility of every evaluated pixel, and the time its run took, ms.
+type RenderedRun = (Vec<f32>, f64);
+
+/// The command techniques of one view.
+pub(in crate::plan) struct CommandBackend<'p> {
+    techniques: Vec<&'p TechniqueSpec>,
+    exports: ExportedViews,
+    /// The last resolution's visibility of each technique and the time its run took: a
+    /// renderer draws its own maps, so the plan's depth formats score the same images.
+    ran: Option<(u32, Vec<RenderedRun>)>,
+}
+
+impl<'p> CommandBackend<'p> {
+    /// The plan's command techniques; nothing is exported or run until a map asks.
+    pub fn new(plan: &'p Plan) -> Self {
+        let techniques = plan.techniques.iter().filter(|t| matches!(t, TechniqueSpec::Command(_))).collect();
+        CommandBackend { techniques, exports: ExportedViews::new(), ran: None }
     }
 }
 
@@ -91,26 +120,43 @@ impl CommandBackend<'_> {
         traced: &TracedView,
         resolution: u32,
         recorder: &mut dyn RunRecorder,
-    ) -> Result<Vec<(Vec<f32>, f64)>, PlanError> {
-        let view_dir = self.view_folder(traced, resolution)?;
-        let view = format!("{}/{}/{}", traced.scene.name, traced.camera.name, traced.light.name);
+    ) -> Result<Vec<RenderedRun>, PlanError> {
         let mut runs = Vec::with_capacity(self.techniques.len());
         for (k, spec) in self.techniques.iter().enumerate() {
             let TechniqueSpec::Command(params) = spec else { unreachable!("only command techniques") };
-            recorder.stage(&format!("{view}: running {}", spec.label()))?;
-            let run_dir = view_dir.with_file_name(format!("run-r{resolution}-{k}"));
+            recorder.stage(&format!("{}: running {}", view_name(traced), spec.label()))?;
             let sw = Stopwatch::start();
-            let visibility = run_and_read(params, traced, resolution, &view_dir, &run_dir)
-                .map_err(|e| PlanError::Invalid(format!("{view}: technique {}: {e}", spec.label())))?;
+            let visibility = run_setting(&mut self.exports, params, traced, resolution, k, spec)?;
             runs.push((visibility, sw.ms()));
         }
         Ok(runs)
     }
 }
 
+fn view_name(traced: &TracedView) -> String {
+    format!("{}/{}/{}", traced.scene.name, traced.camera.name, traced.light.name)
+}
+
+/// Runs one setting (`spec`, whose parameters are `params`) of a command for a view at
+/// `resolution`, as the `k`-th run there, and reads back what it wrote: the visibility of every
+/// evaluated pixel (NaN for a surface mismatch). Errors name the view, the technique and the
+/// command.
+pub(crate) fn run_setting(
+    exports: &mut ExportedViews,
+    params: &CommandParams,
+    traced: &TracedView,
+    resolution: u32,
+    k: usize,
+    spec: &TechniqueSpec,
+) -> Result<Vec<f32>, PlanError> {
+    let (view_dir, run_dir) = exports.folders(traced, resolution, k)?;
+    run_and_read(params, traced, resolution, &view_dir, &run_dir)
+        .map_err(|e| PlanError::Invalid(format!("{}: technique {}: {e}", view_name(traced), spec.label())))
+}
+
 /// Runs one setting of a command for a view and reads back what it wrote, as the visibility of
 /// every evaluated pixel (NaN for a surface mismatch).
-pub(crate) fn run_and_read(
+fn run_and_read(
     params: &CommandParams,
     traced: &TracedView,
     resolution: u32,
