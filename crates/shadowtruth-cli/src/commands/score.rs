@@ -120,7 +120,56 @@ pub(super) fn score(a: ScoreArgs) -> Result<u8> {
     };
     let cache = (!a.no_cache).then(|| shadowtruth::trace::ReferenceCache::new(&a.references));
     write_plan_report(&plan, &a.out, cache.as_ref(), a.quiet, false)?;
+    if let (Some(TechniqueSpec::External(params)), false) = (plan.techniques.first(), a.quiet) {
+        let (report, _) = shadowtruth::record::load_report(&a.out)?;
+        if let Some(hint) = flip_hint(&a.scene, &a.camera, &a.light, params, report.runs[0].rates.error)? {
+            eprintln!("{hint}");
+        }
+    }
     Ok(0)
+}
+
+/// Above this error rate a buffer is also scored upside down, in case it was.
+const FLIP_CHECK_ERROR_RATE: f64 = 0.01;
+
+/// A hint to (un)set `--flip-y` when the buffer read the other way up scores less than half the
+/// error it scored: the usual sign of an OpenGL read-back, whose row 0 is the bottom.
+fn flip_hint(
+    scene: &Path,
+    camera: &str,
+    light: &str,
+    params: &ExternalParams,
+    error_rate: f64,
+) -> Result<Option<String>> {
+    if error_rate <= FLIP_CHECK_ERROR_RATE {
+        return Ok(None);
+    }
+    let scene = shadowtruth::scene::load_scene(scene)?;
+    let (Some(camera), Some(light)) = (scene.camera(camera), scene.light(light)) else { return Ok(None) };
+    let flipped = ExternalParams { flip_y: !params.flip_y, ..params.clone() };
+    let (visibility, depth) = flipped.read_buffers(camera)?;
+    let bvh = shadowtruth::SceneBvh::build(&scene);
+    let gbuffer = shadowtruth::GBuffer::trace(&scene, &bvh, camera, light);
+    let reference = shadowtruth::trace_hard_reference(&scene, &bvh, &gbuffer, light);
+    let counts = shadowtruth::score_imported(
+        &gbuffer,
+        camera,
+        &reference,
+        &visibility,
+        depth.as_ref(),
+        flipped.depth_tolerance(),
+    )?;
+    let flipped_rate = counts.rates().error;
+    if flipped_rate >= 0.5 * error_rate {
+        return Ok(None);
+    }
+    let option = if params.flip_y { "without --flip-y" } else { "with --flip-y" };
+    Ok(Some(format!(
+        "hint: read {option}, the buffer scores {:.3}% error instead of {:.3}%: it looks upside down (an OpenGL \
+         or WebGL read-back has row 0 at the bottom)",
+        100.0 * flipped_rate,
+        100.0 * error_rate
+    )))
 }
 
 /// The `external` technique of the visibility (and depth) files, checked (against `camera`'s
