@@ -517,3 +517,45 @@ fn a_wrong_size_image_is_refused_before_its_pixels_are_allocated() {
     assert_eq!(pixels, (side * side) as usize);
     assert!((pixels * 4..pixels * 4 + (20 << 20)).contains(&peak), "{peak} bytes held for {pixels} pixels");
 }
+
+#[test]
+fn an_upside_down_buffer_scores_as_written_with_a_hint_to_flip_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_file(dir.path(), EYE);
+    let v = trace(&scene);
+    // The exact answer, background marked: upright it has no wrong pixel.
+    let visibility: Vec<f32> = (v.reference.lit.iter().zip(&v.gbuffer.class))
+        .map(|(&lit, &class)| if class == PixelClass::Background { f32::NAN } else { lit as f32 })
+        .collect();
+    let (upright, upside_down) = (dir.path().join("upright.exr"), dir.path().join("upside_down.exr"));
+    write_exr(&upright, "V", &visibility, false);
+    write_exr(&upside_down, "V", &flipped(&visibility), false);
+    let score = |file: &Path, extra: &[&str]| {
+        let out_dir =
+            dir.path().join(format!("out-{}-{}", file.file_stem().unwrap().to_str().unwrap(), extra.len()));
+        let mut args = vec!["score", scene.to_str().unwrap(), "--camera", "c", "--light", "sun"];
+        args.extend([
+            "--visibility",
+            file.to_str().unwrap(),
+            "--resolution",
+            "96",
+            "--no-cache",
+            "--no-figures",
+        ]);
+        args.extend(extra);
+        args.extend(["-o", out_dir.to_str().unwrap()]);
+        let out = shadowtruth(&args);
+        (String::from_utf8_lossy(&out.stderr).into_owned(), runs(&out_dir)[0]["counts"].clone())
+    };
+    let (hint, as_written) = score(&upside_down, &[]);
+    assert!(hint.contains("hint: read with --flip-y, 0.000% of the pixels are wrong"), "{hint} {as_written}");
+    assert!(as_written["false_shadow"].as_u64().unwrap() > 100, "scored as written: {as_written}");
+    let (quiet, flipped_back) = score(&upside_down, &["--flip-y"]);
+    assert!(!quiet.contains("hint"), "{quiet}");
+    assert_eq!(
+        (flipped_back["false_shadow"].as_u64(), flipped_back["false_lit"].as_u64()),
+        (Some(0), Some(0))
+    );
+    let (none, _) = score(&upright, &[]);
+    assert!(!none.contains("hint"), "an upright buffer gets no hint: {none}");
+}

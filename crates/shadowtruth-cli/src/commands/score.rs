@@ -122,26 +122,34 @@ pub(super) fn score(a: ScoreArgs) -> Result<u8> {
     write_plan_report(&plan, &a.out, cache.as_ref(), a.quiet, false)?;
     if let (Some(TechniqueSpec::External(params)), false) = (plan.techniques.first(), a.quiet) {
         let (report, _) = shadowtruth::record::load_report(&a.out)?;
-        if let Some(hint) = flip_hint(&a.scene, &a.camera, &a.light, params, report.runs[0].rates.error)? {
+        if let Some(hint) = flip_hint(&a.scene, &a.camera, &a.light, params, &report.runs[0].counts)? {
             eprintln!("{hint}");
         }
     }
     Ok(0)
 }
 
-/// Above this error rate a buffer is also scored upside down, in case it was.
-const FLIP_CHECK_ERROR_RATE: f64 = 0.01;
+/// Above this fraction of wrong pixels a buffer is also scored upside down, in case it was.
+const FLIP_CHECK_WRONG_FRACTION: f64 = 0.01;
 
-/// A hint to (un)set `--flip-y` when the buffer read the other way up scores less than half the
-/// error it scored: the usual sign of an OpenGL read-back, whose row 0 is the bottom.
+/// False shadow, false lit and surface mismatches (a flipped image's background lands on
+/// surfaces), as a fraction of the evaluated pixels.
+fn wrong_fraction(c: &shadowtruth::metrics::Counts) -> f64 {
+    (c.false_shadow + c.false_lit + c.surface_mismatch) as f64 / c.evaluated.max(1) as f64
+}
+
+/// A hint to (un)set `--flip-y` when the buffer read the other way up has less than half the
+/// wrong pixels it had as read (`counts`): the usual sign of an OpenGL read-back, whose row 0 is
+/// the bottom.
 fn flip_hint(
     scene: &Path,
     camera: &str,
     light: &str,
     params: &ExternalParams,
-    error_rate: f64,
+    counts: &shadowtruth::metrics::Counts,
 ) -> Result<Option<String>> {
-    if error_rate <= FLIP_CHECK_ERROR_RATE {
+    let wrong = wrong_fraction(counts);
+    if wrong <= FLIP_CHECK_WRONG_FRACTION {
         return Ok(None);
     }
     let scene = shadowtruth::scene::load_scene(scene)?;
@@ -151,24 +159,19 @@ fn flip_hint(
     let bvh = shadowtruth::SceneBvh::build(&scene);
     let gbuffer = shadowtruth::GBuffer::trace(&scene, &bvh, camera, light);
     let reference = shadowtruth::trace_hard_reference(&scene, &bvh, &gbuffer, light);
-    let counts = shadowtruth::score_imported(
-        &gbuffer,
-        camera,
-        &reference,
-        &visibility,
-        depth.as_ref(),
-        flipped.depth_tolerance(),
-    )?;
-    let flipped_rate = counts.rates().error;
-    if flipped_rate >= 0.5 * error_rate {
+    let tolerance = flipped.depth_tolerance();
+    let other =
+        shadowtruth::score_imported(&gbuffer, camera, &reference, &visibility, depth.as_ref(), tolerance)?;
+    let wrong_flipped = wrong_fraction(&other);
+    if wrong_flipped >= 0.5 * wrong {
         return Ok(None);
     }
     let option = if params.flip_y { "without --flip-y" } else { "with --flip-y" };
     Ok(Some(format!(
-        "hint: read {option}, the buffer scores {:.3}% error instead of {:.3}%: it looks upside down (an OpenGL \
-         or WebGL read-back has row 0 at the bottom)",
-        100.0 * flipped_rate,
-        100.0 * error_rate
+        "hint: read {option}, {:.3}% of the pixels are wrong (false or another surface) instead of {:.3}%: the \
+         buffer looks upside down (an OpenGL or WebGL read-back has row 0 at the bottom)",
+        100.0 * wrong_flipped,
+        100.0 * wrong
     )))
 }
 
