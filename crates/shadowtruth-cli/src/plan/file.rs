@@ -144,7 +144,9 @@ fn files_relative_to(technique: TechniqueSpec, base: &Path) -> TechniqueSpec {
 
 fn as_pipeline(v: &Value) -> Result<super::Pipeline, String> {
     let name = as_string(v)?;
-    super::Pipeline::parse(&name).ok_or_else(|| format!("unknown pipeline \"{name}\" (cpu, gpu)"))
+    // The names `--pipeline` takes, from the same `ValueEnum`.
+    <super::Pipeline as clap::ValueEnum>::from_str(&name, false)
+        .map_err(|_| format!("unknown pipeline \"{name}\" (cpu, gpu)"))
 }
 
 /// A list that selects (cameras, lights): absent means all (`Some(None)`); `None` when invalid.

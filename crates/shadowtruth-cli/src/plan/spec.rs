@@ -48,16 +48,6 @@ pub enum Pipeline {
     Gpu,
 }
 
-impl Pipeline {
-    pub fn parse(name: &str) -> Option<Self> {
-        match name {
-            "cpu" => Some(Pipeline::Cpu),
-            "gpu" => Some(Pipeline::Gpu),
-            _ => None,
-        }
-    }
-}
-
 /// The soft references' grids: the library's, which the Python package takes too.
 pub use shadowtruth::trace::{DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, MAX_REFERENCE_GRID};
 
