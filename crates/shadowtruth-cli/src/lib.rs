@@ -5,6 +5,7 @@
 //! tests.
 
 mod commands;
+mod decimals;
 mod drawing;
 mod escape;
 mod export;

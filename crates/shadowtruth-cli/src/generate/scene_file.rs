@@ -4,6 +4,7 @@
 
 use super::generated::GeneratedScene;
 use super::request::{GenerateOptions, SceneKind};
+use crate::decimals::rounded_vec3;
 use glam::{DVec3, Vec3};
 use shadowtruth::scene::{
     Camera, Geometry, Light, LightKind, ObjectPlacement, SceneFile, SceneFileObject, Transform,
@@ -70,7 +71,7 @@ pub(super) fn scene_json(options: &GenerateOptions, scene: &GeneratedScene, file
     file.to_json().expect("a generated scene has no paths and every instanced object has instances")
 }
 
-/// A transform with each component rounded to millimetres (`millimetre`).
+/// A transform with each component rounded to millimetres.
 fn millimetre_transform(t: &Transform) -> Transform {
     Transform {
         scale: millimetres(t.scale.as_dvec3()),
@@ -79,14 +80,7 @@ fn millimetre_transform(t: &Transform) -> Transform {
     }
 }
 
+/// `v` rounded to millimetres; below 16384 every component prints with at most three decimals.
 fn millimetres(v: DVec3) -> Vec3 {
-    Vec3::new(millimetre(v.x), millimetre(v.y), millimetre(v.z))
-}
-
-/// `x` rounded to three decimals, as printing it with three decimals does (the exact binary
-/// value, ties to even), and never -0. Below 16384 every such value is the shortest text of its
-/// f32, so the file shows it with at most three decimals.
-fn millimetre(x: f64) -> f32 {
-    let rounded: f64 = format!("{:.3}", x).parse().expect("a formatted number parses");
-    (rounded + 0.0) as f32
+    rounded_vec3(v, 3)
 }

@@ -57,8 +57,12 @@
 //!
 //! Objects are named `terrain`, `sea`, `tree00_trunk`, `tree00_crown`, `tree01_trunk`, …
 
-use glam::DVec3;
+use crate::decimals::{rounded, rounded_f32, rounded_vec3};
+use glam::{DVec3, Vec3};
 use shadowtruth::atomic_file::write_atomic;
+use shadowtruth::scene::{
+    Camera, Geometry, Light, LightKind, ObjectPlacement, SceneFile, SceneFileObject, Shape, Transform,
+};
 use shadowtruth::trace::splitmix::{SplitMix64, finalizer};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -295,7 +299,7 @@ impl Heightfield {
                 let falloff = (1.0 - r2).max(0.0);
                 let noise = NOISE_BASE + NOISE_AMPLITUDE * fbm.at(x, z);
                 let h = PEAK_HEIGHT_M * falloff * noise.max(0.0) - SEA_FLOOR_DEPTH_M;
-                heights.push(round_to(h, HEIGHT_DECIMALS));
+                heights.push(rounded(h, HEIGHT_DECIMALS));
             }
         }
         Heightfield { heights }
@@ -475,7 +479,7 @@ fn make_tree(
         .iter()
         .map(|[dx, dz]| terrain.height_at(x + dx * trunk_radius, z + dz * trunk_radius))
         .fold(ground.y, f64::min);
-    Tree { ground, trunk_radius, trunk_height, trunk_base_y: round_to(rim_low - TRUNK_SINK_M, 4), crown }
+    Tree { ground, trunk_radius, trunk_height, trunk_base_y: rounded(rim_low - TRUNK_SINK_M, 4), crown }
 }
 
 /// Distance from `p` to the segment [a, b], in the xz plane.
@@ -505,14 +509,14 @@ fn place_trees(seed: u64, terrain: &Heightfield, featured: DVec3, camera: DVec3)
         // Uniform in the island's disk by rejection from its square (no trigonometry).
         let (x, z) = (rng.range([-1.0, 1.0]), rng.range([-1.0, 1.0]));
         // Every candidate draws the same numbers, accepted or not, so streams stay aligned.
-        let trunk_radius = round_to(rng.range(TRUNK_RADIUS_M), 3);
-        let trunk_height = round_to(rng.range(TRUNK_HEIGHT_M), 2);
+        let trunk_radius = rounded(rng.range(TRUNK_RADIUS_M), 3);
+        let trunk_height = rounded(rng.range(TRUNK_HEIGHT_M), 2);
         let sphere = rng.next_f64() < SPHERE_CROWN_PROBABILITY;
         let (crown_a, crown_b) = (rng.next_f64(), rng.next_f64());
         if x * x + z * z > 1.0 {
             continue;
         }
-        let (x, z) = (round_to(x * ISLAND_RADIUS_M, 3), round_to(z * ISLAND_RADIUS_M, 3));
+        let (x, z) = (rounded(x * ISLAND_RADIUS_M, 3), rounded(z * ISLAND_RADIUS_M, 3));
         let p = DVec3::new(x, terrain.height_at(x, z), z);
         let crowded = trees.iter().any(|t| {
             let d = DVec3::new(t.ground.x - x, 0.0, t.ground.z - z);
@@ -525,7 +529,7 @@ fn place_trees(seed: u64, terrain: &Heightfield, featured: DVec3, camera: DVec3)
         {
             continue;
         }
-        let lerp = |[lo, hi]: [f64; 2], t: f64| round_to(lo + (hi - lo) * t, 3);
+        let lerp = |[lo, hi]: [f64; 2], t: f64| rounded(lo + (hi - lo) * t, 3);
         let crown = if sphere {
             Crown::Sphere { radius: lerp(SPHERE_RADIUS_M, crown_a) }
         } else {
@@ -536,98 +540,106 @@ fn place_trees(seed: u64, terrain: &Heightfield, featured: DVec3, camera: DVec3)
     trees
 }
 
+/// Decimals of the scene file's positions and sizes (0.1 mm).
+const POSITION_DECIMALS: usize = 4;
+/// Decimals of its angles and depth range.
+const ANGLE_DECIMALS: usize = 2;
+
 fn scene_json(light: &Spot, cameras: &[CameraSpec], trees: &[Tree]) -> String {
-    let mut out = String::new();
-    out.push_str("{\n  \"format\": \"shadowtruth/scene/v1\",\n  \"name\": \"island\",\n  \"objects\": [\n");
-    let _ = writeln!(
-        out,
-        "    {{ \"name\": \"terrain\", \"mesh\": \"{ISLAND_TERRAIN_FILE}\", \"closed\": false }},\n    \
-         {{ \"name\": \"sea\", \"shape\": {{ \"type\": \"plane\", \"size\": [{s}, {s}] }}, \"closed\": false }},",
-        s = short(SEA_SIZE_M, 1)
-    );
-    for (k, t) in trees.iter().enumerate() {
-        write_tree(&mut out, k, t, k + 1 == trees.len());
+    let mut objects = vec![
+        SceneFileObject {
+            name: "terrain".into(),
+            geometry: Geometry::Mesh(ISLAND_TERRAIN_FILE.into()),
+            closed: false,
+            placement: ObjectPlacement::Single(Transform::default()),
+        },
+        SceneFileObject {
+            name: "sea".into(),
+            geometry: Geometry::Shape(Shape::Plane { size: [rounded(SEA_SIZE_M, 1); 2], subdivisions: 1 }),
+            closed: false,
+            placement: ObjectPlacement::Single(Transform::default()),
+        },
+    ];
+    for (k, tree) in trees.iter().enumerate() {
+        objects.extend(tree_objects(k, tree));
     }
-    out.push_str("  ],\n  \"cameras\": [\n");
-    write_cameras(&mut out, cameras);
-    write_light(&mut out, light);
-    out
+    let file = SceneFile {
+        name: "island".into(),
+        objects,
+        cameras: cameras.iter().map(camera).collect(),
+        lights: vec![sun_spot(light)],
+    };
+    file.to_json().expect("the island has no paths and no instanced objects")
 }
 
-/// A position in the scene file's precision.
-fn v3(v: DVec3) -> String {
-    format!("[{}, {}, {}]", short(v.x, 4), short(v.y, 4), short(v.z, 4))
+/// An object placed at `at` (rounded to the file's precision), closed.
+fn placed_solid(name: String, shape: Shape, at: DVec3) -> SceneFileObject {
+    SceneFileObject {
+        name,
+        geometry: Geometry::Shape(shape),
+        closed: true,
+        placement: ObjectPlacement::Single(Transform {
+            translate: rounded_vec3(at, POSITION_DECIMALS),
+            ..Transform::default()
+        }),
+    }
 }
 
-/// Tree `k`'s trunk and crown objects (the crown without a trailing comma when `last`).
-fn write_tree(out: &mut String, k: usize, t: &Tree, last: bool) {
+/// Tree `k`'s trunk and crown objects.
+fn tree_objects(k: usize, t: &Tree) -> [SceneFileObject; 2] {
+    let size = |x: f64| rounded(x, POSITION_DECIMALS);
+    let trunk = Shape::Cylinder {
+        radius: size(t.trunk_radius),
+        height: size(t.ground.y - t.trunk_base_y + t.trunk_height),
+        segments: TRUNK_SEGMENTS,
+    };
     let base = DVec3::new(t.ground.x, t.trunk_base_y, t.ground.z);
-    let _ = writeln!(
-        out,
-        "    {{ \"name\": \"tree{k:02}_trunk\", \"shape\": {{ \"type\": \"cylinder\", \"radius\": {}, \"height\": {}, \
-         \"segments\": {TRUNK_SEGMENTS} }}, \"closed\": true, \"transform\": {{ \"translate\": {} }} }},",
-        short(t.trunk_radius, 4),
-        short(round_to(t.ground.y - t.trunk_base_y + t.trunk_height, 4), 4),
-        v3(base)
-    );
     let crown_y = t.ground.y + CROWN_START * t.trunk_height;
-    let (shape, centre_y) = match t.crown {
-        Crown::Cone { radius, height } => (
-            format!(
-                "{{ \"type\": \"cone\", \"radius\": {}, \"height\": {}, \"segments\": {CROWN_SEGMENTS} }}",
-                short(radius, 4),
-                short(height, 4)
-            ),
-            crown_y,
-        ),
+    let (crown, centre_y) = match t.crown {
+        Crown::Cone { radius, height } => {
+            (Shape::Cone { radius: size(radius), height: size(height), segments: CROWN_SEGMENTS }, crown_y)
+        }
         // The sphere's lower part wraps the trunk's top.
         Crown::Sphere { radius } => (
-            format!(
-                "{{ \"type\": \"sphere\", \"radius\": {}, \"segments\": {CROWN_SEGMENTS}, \"rings\": {SPHERE_RINGS} }}",
-                short(radius, 4)
-            ),
+            Shape::Sphere { radius: size(radius), segments: CROWN_SEGMENTS, rings: SPHERE_RINGS },
             crown_y + 0.7 * radius,
         ),
     };
-    let _ = writeln!(
-        out,
-        "    {{ \"name\": \"tree{k:02}_crown\", \"shape\": {shape}, \"closed\": true, \"transform\": {{ \"translate\": {} }} }}{}",
-        v3(DVec3::new(t.ground.x, centre_y, t.ground.z)),
-        if last { "" } else { "," }
-    );
+    [
+        placed_solid(format!("tree{k:02}_trunk"), trunk, base),
+        placed_solid(format!("tree{k:02}_crown"), crown, DVec3::new(t.ground.x, centre_y, t.ground.z)),
+    ]
 }
 
-fn write_cameras(out: &mut String, cameras: &[CameraSpec]) {
-    for (k, c) in cameras.iter().enumerate() {
-        let _ = writeln!(
-            out,
-            "    {{ \"name\": \"{}\", \"position\": {}, \"look_at\": {}, \"up\": [0, 1, 0],\n      \
-             \"fov_y_deg\": {}, \"width\": {IMAGE_WIDTH}, \"height\": {IMAGE_HEIGHT} }}{}",
-            c.name,
-            v3(c.position),
-            v3(c.look_at),
-            short(c.fov_y_deg, 2),
-            if k + 1 == cameras.len() { "" } else { "," }
-        );
+fn camera(c: &CameraSpec) -> Camera {
+    Camera {
+        name: c.name.into(),
+        position: rounded_vec3(c.position, POSITION_DECIMALS),
+        look_at: rounded_vec3(c.look_at, POSITION_DECIMALS),
+        up: Vec3::Y,
+        fov_y_deg: rounded_f32(c.fov_y_deg, ANGLE_DECIMALS),
+        width: IMAGE_WIDTH,
+        height: IMAGE_HEIGHT,
+        path: None,
     }
 }
 
-fn write_light(out: &mut String, light: &Spot) {
-    let _ = write!(
-        out,
-        "  ],\n  \"lights\": [\n    {{ \"name\": \"sun_spot\", \"type\": \"spot\", \"position\": {}, \"direction\": {},\n      \
-         \"cone_deg\": {}, \"near\": {}, \"far\": {}, \"radius\": {} }}\n  ]\n}}\n",
-        v3(light.position),
-        v3(light.target - light.position),
-        short(LIGHT_CONE_DEG, 2),
-        short(LIGHT_NEAR_M, 2),
-        short(LIGHT_FAR_M, 2),
-        short(LIGHT_RADIUS_M, 3)
-    );
+/// The spot light; its axis is written unnormalised, from the light to its target (the reader
+/// normalises it).
+fn sun_spot(light: &Spot) -> Light {
+    let kind = LightKind::Spot {
+        position: rounded_vec3(light.position, POSITION_DECIMALS),
+        direction: rounded_vec3(light.target - light.position, POSITION_DECIMALS),
+        cone_deg: rounded_f32(LIGHT_CONE_DEG, ANGLE_DECIMALS),
+        near: rounded_f32(LIGHT_NEAR_M, ANGLE_DECIMALS),
+        far: rounded_f32(LIGHT_FAR_M, ANGLE_DECIMALS),
+        radius: Some(rounded_f32(LIGHT_RADIUS_M, 3)),
+    };
+    Light { name: "sun_spot".into(), kind, path: None, cascades: None }
 }
 
 fn round3(v: DVec3) -> DVec3 {
-    DVec3::new(round_to(v.x, 3), round_to(v.y, 3), round_to(v.z, 3))
+    DVec3::new(rounded(v.x, 3), rounded(v.y, 3), rounded(v.z, 3))
 }
 
 /// `x` with exactly `decimals` decimals, never "-0.0…".
@@ -645,12 +657,6 @@ fn short(x: f64, decimals: usize) -> String {
     if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s }
 }
 
-/// `x` rounded to `decimals` decimals, as the value that text reads back as: what is written is
-/// what the rest of the generator uses.
-fn round_to(x: f64, decimals: usize) -> f64 {
-    fixed(x, decimals).parse().expect("a formatted f64 parses")
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -660,7 +666,6 @@ mod tests {
         assert_eq!(fixed(-0.000001, 5), "0.00000");
         assert_eq!(short(2.5000, 4), "2.5");
         assert_eq!(short(-3.0, 4), "-3");
-        assert_eq!(round_to(0.123456, 5), 0.12346);
     }
 
     #[test]
