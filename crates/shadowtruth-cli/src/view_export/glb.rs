@@ -180,7 +180,7 @@ fn frame_node(name: &str, position: Vec3, right: DVec3, up: DVec3, forward: DVec
 /// The light's `KHR_lights_punctual` entry and its node (rotation: the shadow map's view basis;
 /// translation: the spot light's position, or the directional map's eye).
 fn light_json(l: &GlbLight) -> (Value, Value) {
-    let ShadowEye { position: eye, right, up, forward } = ShadowEye::of(&l.view);
+    let ShadowEye { position: eye, right, up, forward } = ShadowEye::of(l.light, &l.view);
     let mut extras = json!({ "near": num(l.view.near), "far": num(l.view.far) });
     if let Ok(size) = l.light.size() {
         extras[match size {

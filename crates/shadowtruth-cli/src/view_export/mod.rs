@@ -210,7 +210,7 @@ fn light_json(light: &Light, view: &LightView, node: usize) -> Value {
             map["aspect"] = json!(1);
         }
     }
-    let eye = ShadowEye::of(view);
+    let eye = ShadowEye::of(light, view);
     map["eye"] = json!({
         "position": nums(&eye.position.to_array()),
         "target": nums(&eye.target(view).to_array()),

@@ -3,6 +3,7 @@
 
 use glam::{DVec3, Vec3};
 use shadowtruth::raster::LightView;
+use shadowtruth::scene::{Light, LightKind};
 
 /// The light view's frame in world space: the eye and the unit basis of its view space.
 pub(crate) struct ShadowEye {
@@ -14,16 +15,16 @@ pub(crate) struct ShadowEye {
 
 impl ShadowEye {
     /// The frame of `view.light_from_world`, read back from its inverse so that the glb's light
-    /// node and view.json's eye are the same basis as the matrix itself.
-    pub(crate) fn of(view: &LightView) -> ShadowEye {
+    /// node and view.json's eye are the same basis as the matrix itself. A spot light's eye is
+    /// its own position (the inverse would round it); a directional map's eye is the matrix's.
+    pub(crate) fn of(light: &Light, view: &LightView) -> ShadowEye {
         let world_from_light = view.light_from_world.as_dmat4().inverse();
         let basis = |i: usize| world_from_light.col(i).truncate().normalize();
-        ShadowEye {
-            position: world_from_light.col(3).truncate().as_vec3(),
-            right: basis(0),
-            up: basis(1),
-            forward: -basis(2),
-        }
+        let position = match light.kind {
+            LightKind::Spot { position, .. } => position,
+            LightKind::Directional { .. } => world_from_light.col(3).truncate().as_vec3(),
+        };
+        ShadowEye { position, right: basis(0), up: basis(1), forward: -basis(2) }
     }
 
     /// A point straight ahead of the eye, at the middle of the map's depth range: far enough
@@ -38,7 +39,6 @@ impl ShadowEye {
 mod tests {
     use super::*;
     use glam::{DMat4, Vec3};
-    use shadowtruth::scene::{Light, LightKind};
 
     /// gluLookAt: rows (s, u, −f) with f = normalize(target − eye), s = normalize(f × up),
     /// u = s × f, and the eye moved to the origin.
@@ -82,7 +82,7 @@ mod tests {
         ];
         for l in &lights {
             let view = LightView::new(l, bounds, 1024);
-            let eye = ShadowEye::of(&view);
+            let eye = ShadowEye::of(l, &view);
             let target = eye.target(&view);
             let rebuilt =
                 look_at(eye.position.as_dvec3(), target.as_dvec3(), eye.up.as_vec3().as_dvec3()).as_mat4();
