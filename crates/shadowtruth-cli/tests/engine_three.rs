@@ -16,6 +16,8 @@ const RESOLUTION: u32 = 2048;
 /// A three.js bias of −0.0005 moves the receiver's light depth 0.0005 towards the light; the
 /// emulation moves the map's depth away by as much, as a raster bias of this many unorm24 steps.
 const BIAS_DEPTH: f64 = 0.0005;
+/// three.js's normalBias: world units along the surface normal, no falloff.
+const NORMAL_BIAS_WORLD: f64 = 0.02;
 
 fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -74,6 +76,10 @@ fn render(view: &Path, out: &Path, name: &str, extra: &[&str]) -> (PathBuf, Path
     (visibility, depth)
 }
 
+fn view_json(exported: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(exported.join("view.json")).unwrap()).unwrap()
+}
+
 fn counts(report_dir: &Path) -> Vec<(Value, Value)> {
     let text = std::fs::read_to_string(report_dir.join("report.json")).unwrap();
     let report: Value = serde_json::from_str(&text).unwrap();
@@ -109,7 +115,8 @@ fn count(counts: &Value, key: &str) -> i64 {
 /// Bound on |three − emulation| for a count: 5 % of the emulation's count plus 100 pixels. At
 /// bias 0 (acne: which pixels self-shadow hangs on depth differences far below a texel's) three's
 /// 5-tap PCF and the emulation's single test differ by 2.3 % of about 250 000 false-shadow
-/// pixels; at bias −0.0005 the counts are tens of pixels apart, of 514 645 evaluated.
+/// pixels; at bias −0.0005 and with normalBias 0.02 the counts are tens of pixels apart, of
+/// 514 645 evaluated; a bias of the wrong sign gives 503 955 false-shadow pixels.
 fn assert_close(setting: &str, key: &str, three: &Value, emulation: &Value) {
     let (t, e) = (count(three, key), count(emulation, key));
     let bound = 0.05 * e as f64 + 100.0;
@@ -125,15 +132,14 @@ fn export(view: View, dir: &Path) -> PathBuf {
     out
 }
 
-/// The emulation's counts for a raster bias of each of `units` (unorm24 steps), keyed by it.
-/// three.js renders the back faces of one-sided (closed) objects into its maps (its default
-/// shadowSide), so the emulation culls their front faces.
-fn emulate(view: View, dir: &Path, units: &[f64]) -> impl Fn(f64) -> Value + use<> {
+/// The emulation's counts of each technique entry, in the plan's order (entries without lists
+/// run once each).
+fn emulate(view: View, dir: &Path, techniques: &[Value]) -> Vec<Value> {
     let plan = serde_json::json!({
         "format": "shadowtruth/plan/v1",
         "scenes": [workspace().join(view.scene)],
         "cameras": ["main"], "lights": [view.light],
-        "techniques": [{ "technique": "slope_scaled", "factor": 0.0, "units": units, "cull": "front" }],
+        "techniques": techniques,
         "resolutions": [RESOLUTION], "depth_formats": [THREE_DEPTH_FORMAT], "repeats": 1,
     });
     let plan_path = dir.join("plan.json");
@@ -142,16 +148,17 @@ fn emulate(view: View, dir: &Path, units: &[f64]) -> impl Fn(f64) -> Value + use
     let mut c = binary();
     c.args(["run", "--quiet", "--plan"]).arg(&plan_path).arg("-o").arg(&emulated);
     run_ok(c, "run (emulation)");
-    let runs = counts(&emulated);
-    move |u: f64| {
-        let (_, c) = runs.iter().find(|(p, _)| p["units"].as_f64() == Some(u)).expect("the plan's run");
-        c.clone()
-    }
+    let runs: Vec<Value> = counts(&emulated).into_iter().map(|(_, c)| c).collect();
+    assert_eq!(runs.len(), techniques.len());
+    runs
 }
 
-/// The emulation's raster bias equal to three.js's bias of −`BIAS_DEPTH`.
-fn bias_units() -> f64 {
-    BIAS_DEPTH * ((1u64 << 24) - 1) as f64
+/// three.js's depth bias of −`depth`: a raster bias of that many unorm24 steps. three.js renders
+/// the back faces of one-sided (closed) objects into its maps (its default shadowSide), so the
+/// emulation culls their front faces.
+fn three_bias(depth: f64) -> Value {
+    let units = depth * ((1u64 << 24) - 1) as f64;
+    serde_json::json!({ "technique": "slope_scaled", "factor": 0.0, "units": units, "cull": "front" })
 }
 
 fn assert_agrees(setting: &str, three: &Value, emulation: &Value) {
@@ -182,9 +189,21 @@ fn three_js_directional_shadows_score_like_the_emulation_and_render_deterministi
             b.display()
         );
     }
-    let emulation = emulate(view, dir.path(), &[0.0, bias_units()]);
-    for (setting, buffers, units) in [("bias 0", &defaults, 0.0), ("bias -0.0005", &biased, bias_units())] {
-        assert_agrees(setting, &score(view, dir.path(), setting, buffers), &emulation(units));
+    // normalBias moves the receiver along its normal, which the glb's NORMAL attribute gives.
+    let normal_bias =
+        render(&exported, dir.path(), "normal_bias", &["--normal-bias", &NORMAL_BIAS_WORLD.to_string()]);
+
+    // three.js's normalBias in the emulation's texels: the map's larger texel side.
+    let map = &view_json(&exported)["light"]["shadow_map"];
+    let side = |lo: &str, hi: &str| map[hi].as_f64().unwrap() - map[lo].as_f64().unwrap();
+    let texel_world = side("left", "right").max(side("bottom", "top")) / RESOLUTION as f64;
+    let normal_offset = serde_json::json!({
+        "technique": "normal_offset", "scale_texels": NORMAL_BIAS_WORLD / texel_world, "falloff": "none",
+    });
+    let emulation = emulate(view, dir.path(), &[three_bias(0.0), three_bias(BIAS_DEPTH), normal_offset]);
+    let cases = [("bias 0", &defaults), ("bias -0.0005", &biased), ("normalBias 0.02", &normal_bias)];
+    for ((setting, buffers), emulated) in cases.into_iter().zip(&emulation) {
+        assert_agrees(setting, &score(view, dir.path(), setting, buffers), emulated);
     }
 }
 
@@ -197,10 +216,6 @@ fn three_js_spot_shadows_score_like_the_emulation() {
     let dir = tempfile::tempdir().unwrap();
     let exported = export(view, dir.path());
     let biased = render(&exported, dir.path(), "basic", &["--shadow-type", "basic", "--bias", "-0.0005"]);
-    let emulation = emulate(view, dir.path(), &[bias_units()]);
-    assert_agrees(
-        "spot, basic, bias -0.0005",
-        &score(view, dir.path(), "basic", &biased),
-        &emulation(bias_units()),
-    );
+    let emulation = emulate(view, dir.path(), &[three_bias(BIAS_DEPTH)]);
+    assert_agrees("spot, basic, bias -0.0005", &score(view, dir.path(), "basic", &biased), &emulation[0]);
 }
