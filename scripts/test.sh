@@ -6,7 +6,7 @@
 #   --quick   leave out the MSRV check, the benchmarks' build, the portable node test's reruns,
 #             the Python package's tests and the Slurm cluster test (and what only they install)
 #
-# Installing needs root (apt-get); elsewhere a missing tool fails here, naming what to install.
+# Installing needs root (apt-get) and npm's registry; elsewhere a missing tool fails here, naming what to install.
 # A test never passes by skipping: without its tool it fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -100,6 +100,10 @@ install_missing() {
   install_rust_parts
   have_chromium || apt_install "Chromium (the report page's tests)" chromium
   have_lavapipe || apt_install "a Vulkan driver (the GPU pipeline's tests)" mesa-vulkan-drivers libvulkan1
+  command -v npm >/dev/null 2>&1 || apt_install "Node.js and npm (the three.js engine's test)" nodejs npm
+  # The three.js engine's packages, exactly as its package-lock.json pins them.
+  echo "installing engines/three's packages (npm ci)"
+  npm ci --prefix engines/three --no-audit --no-fund --loglevel=error
   if [[ $quick -eq 0 ]]; then
     have_slurm ||
       apt_install "Slurm (the cluster test)" --no-install-recommends munge slurmctld slurmd slurm-client

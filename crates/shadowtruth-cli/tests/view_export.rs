@@ -257,9 +257,18 @@ fn the_glb_reloads_as_the_scene() {
             assert_eq!(primitive.material().double_sided(), !object.closed);
             let reader = primitive.reader(|b| Some(buffers[b.index()].as_slice()));
             let positions: Vec<[f32; 3]> = reader.read_positions().unwrap().collect();
+            let normals: Vec<[f32; 3]> = reader.read_normals().expect("a NORMAL attribute").collect();
             let indices: Vec<u32> = reader.read_indices().unwrap().into_u32().collect();
             for t in indices.chunks(3) {
-                triangles.push(t.iter().map(|&i| Vec3::from(positions[i as usize])).collect::<Vec<_>>());
+                let triangle: Vec<Vec3> = t.iter().map(|&i| Vec3::from(positions[i as usize])).collect();
+                // Flat: each corner carries the triangle's own unit geometric normal.
+                let (a, b, c) = (triangle[0].as_dvec3(), triangle[1].as_dvec3(), triangle[2].as_dvec3());
+                let face = (b - a).cross(c - a).normalize().as_vec3();
+                for &i in t {
+                    let n = Vec3::from(normals[i as usize]);
+                    assert_eq!(n, face, "{}: corner {i}", object.name);
+                }
+                triangles.push(triangle);
             }
         }
         let first = object.first_triangle as usize;

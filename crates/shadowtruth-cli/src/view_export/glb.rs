@@ -3,11 +3,11 @@
 //! container (12-byte header, a JSON chunk padded with spaces, a BIN chunk padded with zeros).
 
 use super::json_number::{num, nums};
+use super::shadow_eye::ShadowEye;
 use glam::{DMat3, DQuat, DVec3, Vec3};
 use serde_json::{Value, json};
 use shadowtruth::raster::LightView;
 use shadowtruth::scene::{Camera, Light, LightKind, LightSize, Scene};
-use std::collections::HashMap;
 
 const GLB_MAGIC: u32 = 0x4654_6C67; // "glTF"
 const CHUNK_JSON: u32 = 0x4E4F_534A; // "JSON"
@@ -102,8 +102,11 @@ pub(crate) fn scene_glb(scene: &Scene, cameras: &[GlbCamera], lights: &[GlbLight
     glb_container(&serde_json::to_vec(&document).expect("JSON of plain values"), &bin)
 }
 
-/// Writes one object's vertices (deduplicated by their bits, in order of first use) and
-/// indices into `bin`; returns its primitive.
+/// Writes one object's vertices and indices into `bin`; returns its primitive. Every triangle
+/// has its own three vertices, each with the triangle's geometric normal: the reference shades
+/// with that flat normal (docs/conventions.md, "The surface point"), and an engine's normal-offset
+/// bias does nothing without a NORMAL attribute, while smoothed normals would push points along
+/// directions the reference never uses.
 fn write_mesh(
     scene: &Scene,
     object: usize,
@@ -112,26 +115,27 @@ fn write_mesh(
     accessors: &mut Vec<Value>,
 ) -> Value {
     let triangles: Vec<[Vec3; 3]> = scene.object_triangles(object).collect();
-    let mut index_of: HashMap<[u32; 3], u32> = HashMap::new();
-    let (mut vertices, mut indices) = (Vec::<Vec3>::new(), Vec::<u32>::with_capacity(3 * triangles.len()));
-    for v in triangles.iter().flatten() {
-        let next = vertices.len() as u32;
-        let i = *index_of.entry(v.to_array().map(f32::to_bits)).or_insert_with(|| {
-            vertices.push(*v);
-            next
-        });
-        indices.push(i);
-    }
-    let (lo, hi) =
-        vertices.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
-    let positions: Vec<u8> = vertices.iter().flat_map(|v| v.to_array()).flat_map(f32::to_le_bytes).collect();
+    let vertices: Vec<Vec3> = triangles.iter().flatten().copied().collect();
+    let normals: Vec<Vec3> = triangles.iter().flat_map(|t| [face_normal(t); 3]).collect();
+    let indices: Vec<u32> = (0..vertices.len() as u32).collect();
+    let bounds = |points: &[Vec3]| {
+        points.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)))
+    };
+    let as_bytes = |points: &[Vec3]| -> Vec<u8> {
+        points.iter().flat_map(|v| v.to_array()).flat_map(f32::to_le_bytes).collect()
+    };
+    let mut vec3_accessor = |points: &[Vec3]| {
+        let (lo, hi) = bounds(points);
+        push_view(bin, buffer_views, &as_bytes(points), ARRAY_BUFFER);
+        accessors.push(json!({
+            "bufferView": buffer_views.len() - 1, "componentType": FLOAT, "count": points.len(),
+            "type": "VEC3", "min": nums(&lo.to_array()), "max": nums(&hi.to_array()),
+        }));
+        accessors.len() - 1
+    };
+    let position_accessor = vec3_accessor(&vertices);
+    let normal_accessor = vec3_accessor(&normals);
     let index_bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
-    let position_accessor = accessors.len();
-    push_view(bin, buffer_views, &positions, ARRAY_BUFFER);
-    accessors.push(json!({
-        "bufferView": buffer_views.len() - 1, "componentType": FLOAT, "count": vertices.len(),
-        "type": "VEC3", "min": nums(&lo.to_array()), "max": nums(&hi.to_array()),
-    }));
     push_view(bin, buffer_views, &index_bytes, ELEMENT_ARRAY_BUFFER);
     accessors.push(json!({
         "bufferView": buffer_views.len() - 1, "componentType": UNSIGNED_INT, "count": indices.len(),
@@ -139,11 +143,20 @@ fn write_mesh(
     }));
     let material = if scene.objects[object].closed { CLOSED_MATERIAL } else { OPEN_MATERIAL };
     json!({
-        "attributes": { "POSITION": position_accessor },
-        "indices": position_accessor + 1,
+        "attributes": { "POSITION": position_accessor, "NORMAL": normal_accessor },
+        "indices": accessors.len() - 1,
         "material": material,
         "mode": 4,
     })
+}
+
+/// The unit geometric normal `normalize((v1 − v0) × (v2 − v0))`, in f64 rounded once to f32, as
+/// the G-buffer computes it (before it is turned towards the camera). glTF requires unit normals,
+/// so a degenerate triangle (which covers no pixel) gets +z.
+pub(crate) fn face_normal([v0, v1, v2]: &[Vec3; 3]) -> Vec3 {
+    let (v0, v1, v2) = (v0.as_dvec3(), v1.as_dvec3(), v2.as_dvec3());
+    let n = (v1 - v0).cross(v2 - v0).normalize_or_zero();
+    if n == DVec3::ZERO || !n.is_finite() { Vec3::Z } else { n.as_vec3() }
 }
 
 /// Appends `bytes` (a multiple of 4 long, so every view stays 4-byte aligned) as a buffer view.
@@ -167,10 +180,7 @@ fn frame_node(name: &str, position: Vec3, right: DVec3, up: DVec3, forward: DVec
 /// The light's `KHR_lights_punctual` entry and its node (rotation: the shadow map's view basis;
 /// translation: the spot light's position, or the directional map's eye).
 fn light_json(l: &GlbLight) -> (Value, Value) {
-    let world_from_light = l.view.light_from_world.as_dmat4().inverse();
-    let basis = |i: usize| world_from_light.col(i).truncate().normalize();
-    let eye = world_from_light.col(3).truncate().as_vec3();
-    let (right, up, forward) = (basis(0), basis(1), -basis(2));
+    let ShadowEye { position: eye, right, up, forward } = ShadowEye::of(l.light, &l.view);
     let mut extras = json!({ "near": num(l.view.near), "far": num(l.view.far) });
     if let Ok(size) = l.light.size() {
         extras[match size {

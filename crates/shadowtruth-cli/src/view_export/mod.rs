@@ -8,6 +8,7 @@ mod glb;
 pub(crate) use glb::glb_container;
 mod json_number;
 mod matrices;
+mod shadow_eye;
 
 use anyhow::{Context, Result};
 use gbuffer_exr::{IDS_FILE, NORMAL_FILE, POSITION_FILE};
@@ -16,6 +17,7 @@ use glb::{GlbCamera, GlbLight};
 use json_number::{num, nums};
 use matrices::{ViewMatrices, camera_depth_range, camera_matrices, light_matrices};
 use serde_json::{Map, Value, json};
+use shadow_eye::ShadowEye;
 use shadowtruth::atomic_file::write_atomic;
 use shadowtruth::raster::{LightView, Projection};
 use shadowtruth::scene::{Camera, Light, LightKind, LightSize, Scene};
@@ -46,7 +48,10 @@ rasterizer's clip_from_world bit for bit (src/raster/projection.rs); u = clip.x/
 v = clip.y/clip.w·½ + ½ upwards and depth d = clip.z/clip.w ∈ [0, 1], smaller is closer. Texel (x, row) covers u ∈ \
 [x/N, (x + 1)/N) and v ∈ [1 − (row + 1)/N, 1 − row/N): row 0 holds the largest v. texture_from_world gives (s·w, \
 t·w, depth·w, w) for a map rendered with that API: s = u; t = v for opengl (window row 0 at the bottom), t = 1 − v \
-for vulkan and d3d (framebuffer row 0 at the top); depth = d in every form (opengl's window depth ½·z/w + ½).";
+for vulkan and d3d (framebuffer row 0 at the top); depth = d in every form (opengl's window depth ½·z/w + ½). \
+eye (position, target, up; world space) is the map's camera for engines that place one by lookAt: lookAt(position, \
+target, up) gives view_from_world; left/right/bottom/top/near/far are an orthographic camera's box, fov_y_deg and \
+aspect (1) a perspective one's.";
 
 /// Exports the view of `camera` under `light` into `dir` (created if missing); returns the
 /// files written.
@@ -200,8 +205,19 @@ fn light_json(light: &Light, view: &LightView, node: usize) -> Value {
         Projection::Perspective { tan_half_fov } => {
             map["projection"] = json!("perspective");
             map["tan_half_fov"] = num(tan_half_fov);
+            // The square map's full field of view, as engines' perspective cameras take it.
+            map["fov_y_deg"] = num((2.0 * (tan_half_fov as f64).atan()).to_degrees() as f32);
+            map["aspect"] = json!(1);
         }
     }
+    let eye = ShadowEye::of(light, view);
+    map["eye"] = json!({
+        "position": nums(&eye.position.to_array()),
+        "target": nums(&eye.target(view).to_array()),
+        "up": nums(&eye.up.as_vec3().to_array()),
+        "rule": "lookAt(position, target, up) (f = normalize(target − position), s = normalize(f × up), u = s × f, \
+                 rows s, u, −f) gives view_from_world to f32 rounding; up is the view's unit y axis",
+    });
     map.as_object_mut().expect("an object").extend(matrices_json(&light_matrices(view)));
     object["shadow_map"] = map;
     object
