@@ -10,7 +10,8 @@ use crate::drawing::figures::{
     reference_visibility, run_images, run_stem, view_stem, visibility_image, write_reference_figure,
     write_run_figures, zoom,
 };
-use crate::drawing::indexed_image::{FALSE_LIT, FALSE_SHADOW, IndexedImage};
+use crate::drawing::indexed_image::IndexedImage;
+use crate::drawing::palette::{FALSE_LIT, FALSE_SHADOW};
 use crate::drawing::text;
 use common::{bundled, trace_first};
 use shadowtruth::metrics::{Counts, Rates};

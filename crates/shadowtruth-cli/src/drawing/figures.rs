@@ -6,12 +6,13 @@
 //! What depends only on the view (the base image, the error map's background): build a
 //! [`ViewCanvas`] once per (scene, camera, light) and pass it to every run's figures.
 //!
-//! The error map keeps the image area exact: every pixel coloured exactly [`FALSE_SHADOW`](super::indexed_image::FALSE_SHADOW) or
-//! [`FALSE_LIT`](super::indexed_image::FALSE_LIT) is a false-shadow or false-lit pixel of the run, and every such pixel is coloured.
+//! The error map keeps the image area exact: every pixel coloured exactly [`FALSE_SHADOW`](super::palette::FALSE_SHADOW) or
+//! [`FALSE_LIT`](super::palette::FALSE_LIT) is a false-shadow or false-lit pixel of the run, and every such pixel is coloured.
 //! Its legend (swatches in the same two colours, with the counts) is drawn on a strip added *below*
 //! the camera image, never over it.
 
-pub use super::indexed_image::{FALSE_LIT_INDEX, FALSE_SHADOW_INDEX, GREY_MAX, IndexedImage, grey, is_grey};
+pub use super::indexed_image::IndexedImage;
+pub use super::palette::{FALSE_LIT_INDEX, FALSE_SHADOW_INDEX, GREY_MAX, grey, is_grey};
 use super::text;
 use glam::Vec3;
 use rayon::prelude::*;
@@ -245,8 +246,8 @@ pub(super) fn legend_scale(width: u32) -> u32 {
 #[cfg(test)]
 /// The error map of a run: `base` dimmed (×[`ERROR_DIM`], and ×[`ERROR_REFERENCE_SHADOW`] more
 /// where the reference is shadowed, so the true shadows show), false-shadow pixels exactly
-/// [`FALSE_SHADOW`](super::indexed_image::FALSE_SHADOW), false-lit pixels exactly
-/// [`FALSE_LIT`](super::indexed_image::FALSE_LIT) (the thresholds of `metrics::score_hard`), and a
+/// [`FALSE_SHADOW`](super::palette::FALSE_SHADOW), false-lit pixels exactly
+/// [`FALSE_LIT`](super::palette::FALSE_LIT) (the thresholds of `metrics::score_hard`), and a
 /// legend strip of [`legend_strip_height`] rows added below the image; the image area is the top
 /// `gbuffer.height` rows.
 pub fn error_map(

@@ -8,7 +8,8 @@
 //! flickered.
 
 use super::figures::{ERROR_DIM, LEGEND_BACKGROUND, LEGEND_TEXT, legend_scale, legend_strip_height, lut};
-use super::indexed_image::{IndexedImage, palette_rgb};
+use super::indexed_image::IndexedImage;
+use super::palette::palette_rgb;
 use super::text;
 use shadowtruth::atomic_file::{encode_rgb_png, write_atomic_unsynced};
 use std::path::Path;

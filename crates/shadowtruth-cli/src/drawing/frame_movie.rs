@@ -12,7 +12,8 @@ use super::figures::{
     FALSE_LIT_INDEX, FALSE_SHADOW_INDEX, LEGEND_BACKGROUND, LEGEND_TEXT, ViewCanvas, downscale,
     error_map_unlabelled, legend_scale, legend_strip_height, run_stem, view_stem,
 };
-use super::indexed_image::{IndexedImage, palette_bytes};
+use super::indexed_image::IndexedImage;
+use super::palette::palette_bytes;
 use super::text;
 use crate::plan::TracedView;
 use shadowtruth::record::RunRecord;

@@ -10,6 +10,7 @@ pub mod frame_movie;
 pub mod frame_plots;
 pub mod html;
 pub mod indexed_image;
+pub mod palette;
 mod path_section;
 pub mod plots;
 pub mod summary;

@@ -6,7 +6,7 @@
 //! apart. Characters the font lacks draw as `?`.
 
 use super::bundled_font::dejavu_sans;
-use super::indexed_image::is_grey;
+use super::palette::is_grey;
 use ab_glyph::{Font, GlyphId, PxScale, ScaleFont, point};
 
 /// Height of a line's box in pixels per unit of scale: from its top to the baseline.
@@ -153,7 +153,7 @@ pub fn wrap(text: &str, max_width: u32, scale: u32) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::drawing::indexed_image::{FALSE_LIT_INDEX, GREY_MAX};
+    use crate::drawing::palette::{FALSE_LIT_INDEX, GREY_MAX};
 
     fn drawn(width: u32, height: u32, background: u8, x: i64, y: i64, text: &str, ink: u8) -> Vec<u8> {
         let mut pixels = vec![background; (width * height) as usize];
