@@ -4,15 +4,14 @@
 //! visibility (and depth) there, and the files are read back and scored like `external`.
 
 use super::command_process::run_command;
+use super::imported::read_external;
 use super::{MapBackend, ProducedRun, RunRecorder};
 use crate::plan::events::TracedView;
 use crate::plan::map_setting::MapSetting;
 use crate::plan::{Plan, PlanError};
 use crate::view_export::write_view_export;
-use shadowtruth::import::{ExpectedSize, ImageSource, ReadOptions, evaluated_visibility, read_depth_from};
-use shadowtruth::import::{ImportedImage, read_visibility_from};
 use shadowtruth::metrics::Stopwatch;
-use shadowtruth::technique::{CommandParams, CommandRun, TechniqueSpec};
+use shadowtruth::technique::{CommandParams, CommandRun, ExternalParams, TechniqueSpec};
 use std::path::{Path, PathBuf};
 
 /// Views exported for renderers' commands, each (view, resolution) once, into one temporary
@@ -179,35 +178,17 @@ fn run_and_read(
         light: &traced.light.name,
     });
     run_command(&argv, run_dir, params.timeout_s()).map_err(|e| format!("`{}`: {e}", shown(&argv)))?;
-    let read = || -> Result<Vec<f32>, shadowtruth::Error> {
-        let (visibility, depth) = read_buffers(params, traced, &visibility_file, &depth_file)?;
-        Ok(evaluated_visibility(
-            traced.gbuffer,
-            traced.camera,
-            &visibility,
-            depth.as_ref(),
-            params.depth_tolerance(),
-        )?)
+    // What it wrote is read as an `external` technique's files.
+    let files = ExternalParams {
+        name: params.name.clone(),
+        visibility: visibility_text,
+        depth: params.writes_depth().then_some(depth_text),
+        depth_tolerance: params.depth_tolerance,
+        channel: None,
+        flip_y: params.flip_y,
     };
-    read().map_err(|e| format!("`{}` ran, but what it wrote cannot be scored: {e}", shown(&argv)))
-}
-
-/// The visibility (and the depth, when the command line asks for one), each header checked to
-/// declare the camera's size before a pixel is decoded.
-fn read_buffers(
-    params: &CommandParams,
-    traced: &TracedView,
-    visibility_file: &Path,
-    depth_file: &Path,
-) -> Result<(ImportedImage, Option<ImportedImage>), shadowtruth::Error> {
-    let expected = ExpectedSize::of_camera(traced.camera);
-    let options = ReadOptions { channel: None, flip_y: params.flip_y };
-    let visibility = read_visibility_from(ImageSource::File(visibility_file), &options, expected)?;
-    let depth = params
-        .writes_depth()
-        .then(|| read_depth_from(ImageSource::File(depth_file), &options, expected))
-        .transpose()?;
-    Ok((visibility, depth))
+    read_external(&files, traced)
+        .map_err(|e| format!("`{}` ran, but what it wrote cannot be scored: {e}", shown(&argv)))
 }
 
 /// A command line as a person would type it (arguments with spaces quoted).

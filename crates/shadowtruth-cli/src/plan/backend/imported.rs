@@ -62,7 +62,11 @@ impl MapBackend for ImportedBackend {
     }
 }
 
-fn read_external(params: &ExternalParams, traced: &TracedView) -> Result<Vec<f32>, shadowtruth::Error> {
+/// The visibility of every evaluated pixel of `params`' files (NaN for a surface mismatch).
+pub(super) fn read_external(
+    params: &ExternalParams,
+    traced: &TracedView,
+) -> Result<Vec<f32>, shadowtruth::Error> {
     // Both checked against the camera's size before a pixel is decoded.
     let (visibility, depth) = params.read_buffers(traced.camera)?;
     Ok(evaluated_visibility(
