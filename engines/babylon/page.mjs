@@ -1,6 +1,6 @@
 // The page render.mjs drives: loads scene.glb with Babylon's glTF loader into a right-handed
-// scene (glTF and view.json are right-handed), places the camera and the directional light from
-// view.json, and renders two float passes into render targets: Babylon's own shadow factor for
+// scene (glTF and view.json are right-handed), places the camera and the light (directional or
+// spot) from view.json, and renders two float passes into render targets: Babylon's own shadow factor for
 // the light (StandardMaterial's `shadow`, so its bias, normalBias, depth metric and filters run
 // unchanged) and the camera-to-surface distance. window.renderView(view, settings) returns both,
 // rows from the top, as base64 f32.
@@ -9,6 +9,7 @@ import { Engine } from '@babylonjs/core/Engines/engine.js';
 import { Scene } from '@babylonjs/core/scene.js';
 import { FreeCamera } from '@babylonjs/core/Cameras/freeCamera.js';
 import { DirectionalLight } from '@babylonjs/core/Lights/directionalLight.js';
+import { SpotLight } from '@babylonjs/core/Lights/spotLight.js';
 import { ShadowGenerator } from '@babylonjs/core/Lights/Shadows/shadowGenerator.js';
 import '@babylonjs/core/Lights/Shadows/shadowGeneratorSceneComponent.js';
 import { Vector3, Matrix } from '@babylonjs/core/Maths/math.vector.js';
@@ -94,16 +95,28 @@ const FILTERS = {
 };
 const QUALITIES = { low: ShadowGenerator.QUALITY_LOW, medium: ShadowGenerator.QUALITY_MEDIUM, high: ShadowGenerator.QUALITY_HIGH };
 
-function makeLight(scene, view, settings) {
+function makeLight(scene, view) {
   const sm = view.light.shadow_map;
-  if (view.light.type !== 'directional') throw new Error(`light type ${view.light.type}: only directional lights are rendered`);
   const eye = sm.eye;
-  const direction = vec3(eye.target).subtract(vec3(eye.position)).normalize();
-  const light = new DirectionalLight('light', direction, scene);
-  light.position = vec3(eye.position);
+  const position = vec3(eye.position);
+  const direction = vec3(eye.target).subtract(position).normalize();
+  let light;
+  if (view.light.type === 'directional') {
+    light = new DirectionalLight('light', direction, scene);
+    light.position = position;
+    light.autoUpdateExtends = false;
+    light.shadowOrthoScale = 0;
+  } else if (view.light.type === 'spot') {
+    // The cone does not reach the shadow factor; the projection below replaces the one Babylon
+    // would build from it.
+    light = new SpotLight('light', position, direction, (sm.fov_y_deg * Math.PI) / 180, 0, scene);
+  } else {
+    throw new Error(`light type ${view.light.type}: only directional and spot lights are rendered`);
+  }
   light.intensity = 1;
-  light.autoUpdateExtends = false;
-  light.shadowOrthoScale = 0;
+  // A spot's depth metric is (clip z + shadowMinZ) / (shadowMinZ + shadowMaxZ): with the exported
+  // OpenGL projection, the view depth's (d − near) / (far − near). A directional light's is the
+  // window depth, (z_ndc + 1) / 2, whatever these are.
   light.shadowMinZ = sm.near;
   light.shadowMaxZ = sm.far;
   // Babylon builds the light's view itself (LookAtLH with world up); the projection undoes it, so
@@ -184,7 +197,7 @@ async function renderView(view, settings) {
   camera.maxZ = c.far;
   scene.activeCamera = camera;
 
-  const light = makeLight(scene, view, settings);
+  const light = makeLight(scene, view);
   const generator = new ShadowGenerator(settings.mapSize, light, settings.float32);
   FILTERS[settings.filter](generator);
   generator.filteringQuality = QUALITIES[settings.pcfQuality];
