@@ -1,9 +1,9 @@
 // The page render.mjs drives: loads scene.glb with Babylon's glTF loader into a right-handed
 // scene (glTF and view.json are right-handed), places the camera and the light (directional or
-// spot) from view.json, and renders two float passes into render targets: Babylon's own shadow factor for
-// the light (StandardMaterial's `shadow`, so its bias, normalBias, depth metric and filters run
-// unchanged) and the camera-to-surface distance. window.renderView(view, settings) returns both,
-// rows from the top, as base64 f32.
+// spot) from view.json, and renders two float passes into render targets: Babylon's own shadow
+// factor for the light (StandardMaterial's `shadow`, so its bias, normalBias, depth metric and
+// filters run unchanged) and the camera-to-surface distance. window.renderView(view, settings)
+// returns both, rows from the top, as base64 f32.
 
 import { Engine } from '@babylonjs/core/Engines/engine.js';
 import { Scene } from '@babylonjs/core/scene.js';
