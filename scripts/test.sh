@@ -100,10 +100,12 @@ install_missing() {
   install_rust_parts
   have_chromium || apt_install "Chromium (the report page's tests)" chromium
   have_lavapipe || apt_install "a Vulkan driver (the GPU pipeline's tests)" mesa-vulkan-drivers libvulkan1
-  command -v npm >/dev/null 2>&1 || apt_install "Node.js and npm (the three.js engine's test)" nodejs npm
-  # The three.js engine's packages, exactly as its package-lock.json pins them.
+  command -v npm >/dev/null 2>&1 || apt_install "Node.js and npm (the three.js and Babylon.js engines' tests)" nodejs npm
+  # The engines' packages, exactly as their package-lock.json files pin them.
   echo "installing engines/three's packages (npm ci)"
   npm ci --prefix engines/three --no-audit --no-fund --loglevel=error
+  echo "installing engines/babylon's packages (npm ci)"
+  npm ci --prefix engines/babylon --no-audit --no-fund --loglevel=error
   if [[ $quick -eq 0 ]]; then
     have_slurm ||
       apt_install "Slurm (the cluster test)" --no-install-recommends munge slurmctld slurmd slurm-client
