@@ -19,8 +19,9 @@ use std::path::{Path, PathBuf};
 /// renderers' inputs and outputs, not the plan's.
 pub(crate) struct ExportedViews {
     folder: Option<tempfile::TempDir>,
-    /// (view, resolution) of each export, its index the export's folder name.
-    exported: Vec<(String, u32)>,
+    /// (camera, light, resolution) of each export, its index the export's folder name. The
+    /// camera and light by identity (their addresses): names need not be unique across scenes.
+    exported: Vec<(usize, usize, u32)>,
 }
 
 impl ExportedViews {
@@ -44,15 +45,17 @@ impl ExportedViews {
             self.folder = Some(folder);
         }
         let root = self.folder.as_ref().expect("made above").path();
-        let view = format!("{}/{}/{}", traced.scene.name, traced.camera.name, traced.light.name);
-        let key = (view, resolution);
+        let (camera, light) =
+            (std::ptr::from_ref(traced.camera) as usize, std::ptr::from_ref(traced.light) as usize);
+        let key = (camera, light, resolution);
         let index = match self.exported.iter().position(|e| *e == key) {
             Some(i) => i,
             None => {
                 let dir = root.join(format!("view{}", self.exported.len()));
                 write_view_export(traced.scene, traced.camera, traced.light, resolution, &dir, |_| ())
                     .map_err(|e| {
-                        PlanError::Invalid(format!("exporting {} for a command technique: {e:#}", key.0))
+                        let view = view_name(traced);
+                        PlanError::Invalid(format!("exporting {view} for a command technique: {e:#}"))
                     })?;
                 self.exported.push(key);
                 self.exported.len() - 1
