@@ -41,9 +41,12 @@ fn check_search(request: &TuneRequest) {
             let best = tuned.best.params[axis];
             let safe = tuned.safe[axis];
             // Values are rounded to three significant digits: an end may round past the range.
-            let slack = 1.0 + 5e-3;
+            // A range below zero holds the magnitudes of its values.
+            let (slack, magnitude) = (1.0 + 5e-3, range.magnitude());
             assert!(
-                range.lo / slack <= best && best <= range.hi * slack,
+                (best < 0.0) == range.is_negative()
+                    && magnitude.lo / slack <= best.abs()
+                    && best.abs() <= magnitude.hi * slack,
                 "{name} = {best} outside {range:?}"
             );
             assert!(safe.lo <= best && best <= safe.hi, "{name} = {best} outside its safe range {safe:?}");
@@ -61,10 +64,12 @@ fn tuned_values(request: &TuneRequest, spec: &TechniqueSpec) -> Vec<f64> {
 }
 
 /// A scene whose error curve is a bias's: false shadow (acne) falls and false lit (a leak)
-/// grows with each parameter, in whole pixels, crossing at a point that differs per scene.
+/// grows with each parameter's magnitude, in whole pixels, crossing at a point that differs per
+/// scene.
 fn synthetic_counts(scene: usize, values: &[f64]) -> Counts {
     let crossing_log10 = -3.0 + scene as f64;
-    let x: f64 = values.iter().map(|v| v.log10() - crossing_log10).sum::<f64>() / values.len().max(1) as f64;
+    let x: f64 =
+        values.iter().map(|v| v.abs().log10() - crossing_log10).sum::<f64>() / values.len().max(1) as f64;
     let pixels = |rate: f64| (rate.clamp(0.0, 1.0) * SYNTHETIC_PIXELS as f64) as u64;
     Counts {
         evaluated: SYNTHETIC_PIXELS,
