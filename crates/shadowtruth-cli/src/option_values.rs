@@ -13,8 +13,8 @@ pub fn threads_parser() -> RangedU64ValueParser<usize> {
     RangedU64ValueParser::<usize>::new().range(1..=MAX_THREADS as u64)
 }
 
-/// A depth format by its name (`f32`, `unorm24`, `unorm16`).
+/// A depth format by its name (`f32`, `unorm24`, `unorm16`, `f16`).
 pub fn depth_format_parser() -> impl TypedValueParser<Value = DepthFormat> {
-    let names = [DepthFormat::F32, DepthFormat::Unorm24, DepthFormat::Unorm16].map(DepthFormat::name);
+    let names = DepthFormat::ALL.map(DepthFormat::name);
     PossibleValuesParser::new(names).map(|name| DepthFormat::parse(&name).expect("one of the names above"))
 }

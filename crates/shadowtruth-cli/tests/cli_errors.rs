@@ -121,7 +121,7 @@ fn bad_plan_files_exit_2_naming_the_file() {
         ),
         (r#"{ "format": "shadowtruth/plan/v2", "techniques": [], "resolutions": [64] }"#, "format"),
         (
-            r#"{ "format": "shadowtruth/plan/v1", "techniques": [{ "technique": "none" }], "resolutions": [64], "depth_formats": ["f16"] }"#,
+            r#"{ "format": "shadowtruth/plan/v1", "techniques": [{ "technique": "none" }], "resolutions": [64], "depth_formats": ["f64"] }"#,
             "depth_formats[0]",
         ),
     ];

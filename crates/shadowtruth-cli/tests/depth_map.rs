@@ -55,7 +55,7 @@ fn bad_depth_map_arguments_exit_2() {
     let s = scene_path.to_str().unwrap();
     for args in [
         vec!["depth-map", s, "--resolution", "0", "-o", "x.exr"],
-        vec!["depth-map", s, "--resolution", "64", "--format", "f16", "-o", "x.exr"],
+        vec!["depth-map", s, "--resolution", "64", "--format", "f64", "-o", "x.exr"],
         vec!["depth-map", s, "--resolution", "64", "--layer", "3", "-o", "x.exr"],
         vec!["depth-map", s, "--resolution", "64", "--light", "moon", "-o", "x.exr"],
     ] {

@@ -159,8 +159,10 @@ fn absent_means_all(field: Option<Option<Vec<String>>>) -> Option<Option<Vec<Str
 
 fn as_depth_format(v: &Value) -> Result<DepthFormat, String> {
     let name = as_string(v)?;
-    DepthFormat::parse(&name)
-        .ok_or_else(|| format!("unknown depth format \"{name}\" (f32, unorm24, unorm16)"))
+    DepthFormat::parse(&name).ok_or_else(|| {
+        let names: Vec<&str> = DepthFormat::ALL.map(DepthFormat::name).to_vec();
+        format!("unknown depth format \"{name}\" ({})", names.join(", "))
+    })
 }
 
 /// The `techniques` array: each entry an object, its list-valued parameters non-empty.

@@ -66,7 +66,7 @@ pub struct TuneArgs {
     #[arg(long, value_delimiter = ',', default_value = "1024",
           value_parser = clap::value_parser!(u32).range(1..=MAX_SHADOW_MAP_RESOLUTION as i64))]
     pub resolutions: Vec<u32>,
-    /// Depth format of the shadow maps: f32, unorm24 or unorm16.
+    /// Depth format of the shadow maps: f32, unorm24, unorm16 or f16.
     #[arg(long, default_value = "f32", value_parser = depth_format_parser())]
     pub depth_format: DepthFormat,
     /// Output folder: tune.json, tune-gate.toml, plots/tune.png and the tuned settings' report.

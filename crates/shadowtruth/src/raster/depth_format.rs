@@ -1,37 +1,51 @@
 //! Depth buffer formats: how a depth in [0, 1] is stored, and the minimum resolvable difference r
 //! that glPolygonOffset's `units` multiply.
 
+use half::f16;
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum DepthFormat {
     F32,
     Unorm24,
     Unorm16,
+    /// A half float, as engines that write the depth into an RGBA16F colour target store it
+    /// (Babylon.js's default shadow map where the device renders half floats).
+    F16,
 }
 
 impl DepthFormat {
+    /// Every format, in the order help texts list them.
+    pub const ALL: [DepthFormat; 4] =
+        [DepthFormat::F32, DepthFormat::Unorm24, DepthFormat::Unorm16, DepthFormat::F16];
+
     pub fn name(self) -> &'static str {
         match self {
             DepthFormat::F32 => "f32",
             DepthFormat::Unorm24 => "unorm24",
             DepthFormat::Unorm16 => "unorm16",
+            DepthFormat::F16 => "f16",
         }
     }
 
     pub fn parse(name: &str) -> Option<Self> {
-        match name {
-            "f32" => Some(DepthFormat::F32),
-            "unorm24" => Some(DepthFormat::Unorm24),
-            "unorm16" => Some(DepthFormat::Unorm16),
-            _ => None,
+        Self::ALL.into_iter().find(|f| f.name() == name)
+    }
+
+    /// Bits of a unorm format, None for the float formats.
+    fn unorm_bits(self) -> Option<i32> {
+        match self {
+            DepthFormat::F32 | DepthFormat::F16 => None,
+            DepthFormat::Unorm24 => Some(24),
+            DepthFormat::Unorm16 => Some(16),
         }
     }
 
-    /// Bits of a unorm format, None for f32.
-    fn unorm_bits(self) -> Option<i32> {
+    /// Explicit mantissa bits of a float format, None for unorm.
+    fn mantissa_bits(self) -> Option<i32> {
         match self {
-            DepthFormat::F32 => None,
-            DepthFormat::Unorm24 => Some(24),
-            DepthFormat::Unorm16 => Some(16),
+            DepthFormat::F32 => Some(23),
+            DepthFormat::F16 => Some(10),
+            DepthFormat::Unorm24 | DepthFormat::Unorm16 => None,
         }
     }
 
@@ -39,7 +53,12 @@ impl DepthFormat {
     ///
     /// Unorm: q = round(d·(2^b − 1)) (ties away from zero), decoded as q/(2^b − 1); computed in
     /// f64 and rounded once to f32. NaN stores as 0, as D3D's float-to-unorm conversion does.
+    /// f16: rounded to the nearest half float, ties to even (IEEE 754's default, the GPU's
+    /// conversion on a write to a half-float target), not clamped.
     pub fn store(self, depth: f32) -> f32 {
+        if self == DepthFormat::F16 {
+            return f16::from_f32(depth).to_f32();
+        }
         let Some(bits) = self.unorm_bits() else {
             return depth;
         };
@@ -51,18 +70,21 @@ impl DepthFormat {
         (q / max_code) as f32
     }
 
-    /// r: 1/(2^b − 1) for unorm, 2^(e − 23) for f32 where e is the exponent of `max_depth`.
+    /// r: 1/(2^b − 1) for unorm, 2^(e − m) for a float format of m mantissa bits (23 for f32, 10
+    /// for f16) where e is the exponent of `max_depth`.
     ///
-    /// e = floor(log2(max_depth)) (z ∈ [0.5, 1) gives r = 2^−24). Zero, negative, subnormal and
-    /// NaN depths use the smallest normal exponent (−126), so r is never zero; infinity uses 127.
+    /// e = floor(log2(max_depth)) (z ∈ [0.5, 1) gives r = 2^−24 in f32), taken from the depth as
+    /// an f32. Zero, negative, subnormal and NaN depths use f32's smallest normal exponent (−126),
+    /// so r is never zero; infinity uses 127.
     pub fn min_resolvable_difference(self, max_depth: f32) -> f32 {
         if let Some(bits) = self.unorm_bits() {
             return (1.0 / ((1u64 << bits) - 1) as f64) as f32;
         }
+        let mantissa_bits = self.mantissa_bits().expect("a format is unorm or float");
         let biased = ((max_depth.to_bits() >> 23) & 0xff) as i32;
         let e = if max_depth.is_nan() || max_depth <= 0.0 || biased == 0 { -126 } else { biased - 127 };
-        // 2^(e − 23) ≥ 2^−149, the smallest subnormal: exact in f32.
-        2f64.powi(e - 23) as f32
+        // 2^(e − m) ≥ 2^−149, the smallest subnormal: exact in f32.
+        2f64.powi(e - mantissa_bits) as f32
     }
 }
 
@@ -72,9 +94,36 @@ mod tests {
 
     #[test]
     fn names_round_trip() {
-        for f in [DepthFormat::F32, DepthFormat::Unorm24, DepthFormat::Unorm16] {
+        for f in DepthFormat::ALL {
             assert_eq!(DepthFormat::parse(f.name()), Some(f));
         }
+        assert_eq!(DepthFormat::parse("F16"), None);
+    }
+
+    #[test]
+    fn f16_rounds_to_the_nearest_half_ties_to_even() {
+        let f = DepthFormat::F16;
+        // In [0.5, 1) a half's step is 2^-11: 0.5 + 2^-12 is a tie that goes to the even 0.5,
+        // 0.5 + 3·2^-12 a tie that goes to the even 0.5 + 2^-10.
+        assert_eq!(f.store(0.5 + 2f32.powi(-12)), 0.5);
+        assert_eq!(f.store(0.5 + 3.0 * 2f32.powi(-12)), 0.5 + 2f32.powi(-10));
+        assert_eq!(f.store(0.5 + 1.1 * 2f32.powi(-12)), 0.5 + 2f32.powi(-11));
+        assert_eq!(f.store(0.75), 0.75);
+        // Not clamped: a half holds values outside [0, 1].
+        assert_eq!(f.store(-0.25), -0.25);
+        assert_eq!(f.store(2.0), 2.0);
+        assert!(f.store(f32::NAN).is_nan());
+    }
+
+    #[test]
+    fn f16_r_is_one_half_step() {
+        let f = DepthFormat::F16;
+        assert_eq!(f.min_resolvable_difference(0.5), 2f32.powi(-11));
+        assert_eq!(f.min_resolvable_difference(0.999), 2f32.powi(-11));
+        assert_eq!(f.min_resolvable_difference(0.3), 2f32.powi(-12));
+        // The step is what store rounds to: the next half above 0.6 is one r away.
+        let d = f.store(0.6);
+        assert_eq!(f.store(d + f.min_resolvable_difference(d)), d + f.min_resolvable_difference(d));
     }
 
     #[test]
