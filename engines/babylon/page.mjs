@@ -11,6 +11,7 @@ import { FreeCamera } from '@babylonjs/core/Cameras/freeCamera.js';
 import { DirectionalLight } from '@babylonjs/core/Lights/directionalLight.js';
 import { SpotLight } from '@babylonjs/core/Lights/spotLight.js';
 import { ShadowGenerator } from '@babylonjs/core/Lights/Shadows/shadowGenerator.js';
+import { CascadedShadowGenerator } from '@babylonjs/core/Lights/Shadows/cascadedShadowGenerator.js';
 import '@babylonjs/core/Lights/Shadows/shadowGeneratorSceneComponent.js';
 import { Vector3, Matrix } from '@babylonjs/core/Maths/math.vector.js';
 import { Color3, Color4 } from '@babylonjs/core/Maths/math.color.js';
@@ -22,16 +23,14 @@ import { Constants } from '@babylonjs/core/Engines/constants.js';
 import { LoadAssetContainerAsync } from '@babylonjs/core/Loading/sceneLoader.js';
 import '@babylonjs/loaders/glTF/2.0/index.js';
 import '@babylonjs/loaders/glTF/glTFFileLoader.js';
+import { captureWarnings, rowsFromTop, base64 } from '/common/page_util.mjs';
 
-const warnings = [];
-const originalWarn = console.warn;
-console.warn = (...args) => {
-  warnings.push(args.join(' '));
-  originalWarn(...args);
-};
+const warnings = captureWarnings();
 
 // StandardMaterial computes `shadow`, the light's shadow factor (darkness 0: 0 in shadow), in its
 // light loop; its output is replaced by that factor, unlit, before image processing can reach it.
+// Clamped to [0, 1]: the cascaded generator's blend between two cascades rounds to 1 + 2⁻²³ on
+// lit pixels (a factor is in [0, 1], and `score` refuses anything else).
 class ShadowFactorOutput extends MaterialPluginBase {
   constructor(material) {
     super(material, 'ShadowFactorOutput', 1000, {}, true, true);
@@ -40,7 +39,7 @@ class ShadowFactorOutput extends MaterialPluginBase {
     return 'ShadowFactorOutput';
   }
   getCustomCode(shaderType) {
-    return shaderType === 'fragment' ? { CUSTOM_FRAGMENT_BEFORE_FRAGCOLOR: 'color = vec4(shadow, 0.0, 0.0, 1.0);' } : null;
+    return shaderType === 'fragment' ? { CUSTOM_FRAGMENT_BEFORE_FRAGCOLOR: 'color = vec4(clamp(shadow, 0.0, 1.0), 0.0, 0.0, 1.0);' } : null;
   }
 }
 
@@ -93,9 +92,31 @@ const FILTERS = {
   'close-esm': (g) => (g.useCloseExponentialShadowMap = true),
   'blur-close-esm': (g) => (g.useBlurCloseExponentialShadowMap = true),
 };
+const FILTER_NAMES = {
+  [ShadowGenerator.FILTER_NONE]: 'none',
+  [ShadowGenerator.FILTER_POISSONSAMPLING]: 'poisson',
+  [ShadowGenerator.FILTER_PCF]: 'pcf',
+  [ShadowGenerator.FILTER_PCSS]: 'pcss',
+  [ShadowGenerator.FILTER_EXPONENTIALSHADOWMAP]: 'esm',
+  [ShadowGenerator.FILTER_BLUREXPONENTIALSHADOWMAP]: 'blur-esm',
+  [ShadowGenerator.FILTER_CLOSEEXPONENTIALSHADOWMAP]: 'close-esm',
+  [ShadowGenerator.FILTER_BLURCLOSEEXPONENTIALSHADOWMAP]: 'blur-close-esm',
+};
 const QUALITIES = { low: ShadowGenerator.QUALITY_LOW, medium: ShadowGenerator.QUALITY_MEDIUM, high: ShadowGenerator.QUALITY_HIGH };
 
-function makeLight(scene, view) {
+/** A directional light for the cascaded generator, which fits each cascade's box to a slice of
+ * the camera's frustum itself (CascadedShadowGenerator._computeMatrices) and ignores the export's
+ * box. */
+function cascadedLight(scene, view) {
+  const eye = view.light.shadow_map.eye;
+  const direction = vec3(eye.target).subtract(vec3(eye.position)).normalize();
+  const light = new DirectionalLight('light', direction, scene);
+  light.intensity = 1;
+  return light;
+}
+
+/** A light whose map is the exported one: the box (directional) or the frustum (spot). */
+function exportedLight(scene, view) {
   const sm = view.light.shadow_map;
   const eye = sm.eye;
   const position = vec3(eye.position);
@@ -133,25 +154,6 @@ function makeLight(scene, view) {
   return light;
 }
 
-function readRows(rgba, width, height, fill) {
-  const out = new Float32Array(width * height);
-  for (let y = 0; y < height; y++) {
-    // WebGL reads bottom-up; row 0 of the output is the top.
-    const src = (height - 1 - y) * width;
-    for (let x = 0; x < width; x++) {
-      const i = 4 * (src + x);
-      out[y * width + x] = rgba[i + 3] === 0 ? fill : rgba[i];
-    }
-  }
-  return out;
-}
-
-function base64(f32) {
-  const bytes = new Uint8Array(f32.buffer);
-  let text = '';
-  for (let i = 0; i < bytes.length; i += 0x8000) text += String.fromCharCode(...bytes.subarray(i, i + 0x8000));
-  return btoa(text);
-}
 
 async function renderPass(scene, camera, width, height) {
   const target = new RenderTargetTexture('pass', { width, height }, scene, false, true, Constants.TEXTURETYPE_FLOAT, false, Constants.TEXTURE_NEAREST_SAMPLINGMODE);
@@ -197,9 +199,16 @@ async function renderView(view, settings) {
   camera.maxZ = c.far;
   scene.activeCamera = camera;
 
-  const light = makeLight(scene, view);
-  const generator = new ShadowGenerator(settings.mapSize, light, settings.float32);
-  FILTERS[settings.filter](generator);
+  let generator;
+  if (settings.cascades !== undefined) {
+    generator = new CascadedShadowGenerator(settings.mapSize, cascadedLight(scene, view), settings.float32, camera);
+    generator.numCascades = settings.cascades;
+    if (settings.lambda !== undefined) generator.lambda = settings.lambda;
+    if (settings.stabilize !== undefined) generator.stabilizeCascades = settings.stabilize;
+  } else {
+    generator = new ShadowGenerator(settings.mapSize, exportedLight(scene, view), settings.float32);
+  }
+  if (settings.filter !== undefined) FILTERS[settings.filter](generator);
   generator.filteringQuality = QUALITIES[settings.pcfQuality];
   if (settings.bias !== undefined) generator.bias = settings.bias;
   if (settings.normalBias !== undefined) generator.normalBias = settings.normalBias;
@@ -214,15 +223,17 @@ async function renderView(view, settings) {
 
   const started = performance.now();
   for (const mesh of meshes) mesh.material = visibilityMaterial(scene, culling.get(mesh));
-  const visibility = readRows(await renderPass(scene, camera, width, height), width, height, NaN);
+  const visibility = rowsFromTop(await renderPass(scene, camera, width, height), width, height, NaN);
   const visibilityMs = performance.now() - started;
   for (const mesh of meshes) mesh.material = distanceMaterial(scene, culling.get(mesh), camera.position);
-  const depth = readRows(await renderPass(scene, camera, width, height), width, height, Infinity);
+  const depth = rowsFromTop(await renderPass(scene, camera, width, height), width, height, Infinity);
   const renderMs = performance.now() - started;
   const map = generator.getShadowMap();
   const types = { [Constants.TEXTURETYPE_FLOAT]: 'float32', [Constants.TEXTURETYPE_HALF_FLOAT]: 'float16', [Constants.TEXTURETYPE_UNSIGNED_BYTE]: 'rgba8' };
   return {
     version: Engine.Version,
+    generator: settings.cascades !== undefined ? `CascadedShadowGenerator (${generator.numCascades} cascades, lambda ${generator.lambda})` : 'ShadowGenerator',
+    filter: FILTER_NAMES[generator.filter] ?? String(generator.filter),
     mapType: types[map.textureType] ?? String(map.textureType),
     bias: generator.bias,
     normalBias: generator.normalBias,

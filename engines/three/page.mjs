@@ -6,13 +6,9 @@
 
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { captureWarnings, rowsFromTop, base64 } from '/common/page_util.mjs';
 
-const warnings = [];
-const originalWarn = console.warn;
-console.warn = (...args) => {
-  warnings.push(args.join(' '));
-  originalWarn(...args);
-};
+const warnings = captureWarnings();
 
 // three's ShadowMaterial shader with its output replaced by the shadow factor itself, unlit and
 // without tone mapping or colour-space conversion.
@@ -81,23 +77,7 @@ function makeLight(light, settings) {
 function readRows(renderer, target, width, height, fill) {
   const rgba = new Float32Array(4 * width * height);
   renderer.readRenderTargetPixels(target, 0, 0, width, height, rgba);
-  const out = new Float32Array(width * height);
-  for (let y = 0; y < height; y++) {
-    // OpenGL reads bottom-up; row 0 of the output is the top.
-    const src = (height - 1 - y) * width;
-    for (let x = 0; x < width; x++) {
-      const i = 4 * (src + x);
-      out[y * width + x] = rgba[i + 3] === 0 ? fill : rgba[i];
-    }
-  }
-  return out;
-}
-
-function base64(f32) {
-  const bytes = new Uint8Array(f32.buffer);
-  let text = '';
-  for (let i = 0; i < bytes.length; i += 0x8000) text += String.fromCharCode(...bytes.subarray(i, i + 0x8000));
-  return btoa(text);
+  return rowsFromTop(rgba, width, height, fill);
 }
 
 async function renderView(view, settings) {
