@@ -147,7 +147,7 @@ export async function renderInChromium({ puppeteer, opts, pageFile, importMap, r
 <script type="importmap">${JSON.stringify({ imports: importMap })}</script>
 <script type="module" src="/page.mjs"></script></head><body></body></html>`;
   const server = await serve(pageHtml, await readFile(pageFile, 'utf8'), { ...roots, '/view/': opts.view });
-  const profile = await mkdtemp(join(tmpdir(), 'shadowtruth-engine-'));
+  const profile = await mkdtemp(join(tmpdir(), 'shadowtruth-chromium-'));
   let browser;
   try {
     browser = await puppeteer.launch({

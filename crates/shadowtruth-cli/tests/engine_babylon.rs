@@ -130,3 +130,41 @@ fn babylon_js_cascades_render_deterministically_and_score_their_edges() {
     );
     assert!(count(&defaults, "false_shadow") > 10_000, "4 cascades, bias 0.00005: {defaults}");
 }
+
+/// Every filter the harness offers reaches Babylon: each draws other pixels than no filter, and
+/// the two names of one filter (`pcss`, `contact-hardening`: `useContactHardeningShadow`) the
+/// same bytes. A filter the page dropped would render no filter's image. A 512² map, since
+/// only the filters differ.
+#[test]
+fn every_babylon_js_filter_changes_the_image() {
+    require_tools();
+    let dir = tempfile::tempdir().unwrap();
+    let exported = export(PLANE_BOX, dir.path());
+    let filters = [
+        "none",
+        "poisson",
+        "pcf",
+        "pcss",
+        "contact-hardening",
+        "esm",
+        "blur-esm",
+        "close-esm",
+        "blur-close-esm",
+    ];
+    let images: Vec<Vec<u8>> = filters
+        .iter()
+        .map(|filter| {
+            let args = ["--filter", filter, "--map-size", "512", "--bias", "0.0005"];
+            std::fs::read(render_babylon(&exported, dir.path(), filter, &args).0).unwrap()
+        })
+        .collect();
+    let image = |name: &str| &images[filters.iter().position(|f| *f == name).unwrap()];
+    assert!(image("pcss") == image("contact-hardening"), "pcss and contact-hardening are one filter");
+    // Every pair of filters draws different pixels ("none" included), but the one alias.
+    for (i, a) in filters.iter().enumerate() {
+        for b in &filters[i + 1..] {
+            let aliases = matches!((*a, *b), ("pcss", "contact-hardening"));
+            assert!(aliases || image(a) != image(b), "--filter {a} and --filter {b} rendered the same image");
+        }
+    }
+}

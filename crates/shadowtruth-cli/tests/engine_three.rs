@@ -99,3 +99,20 @@ fn three_js_spot_shadows_score_like_the_emulation() {
     let emulation = emulate_three(view, dir.path(), &[three_bias(BIAS_DEPTH)]);
     assert_agrees("spot, basic, bias -0.0005", &score(view, dir.path(), "basic", &biased), &emulation[0]);
 }
+
+/// Every shadow type reaches three.js: BasicShadowMap, PCFShadowMap and VSMShadowMap each draw
+/// other pixels, and PCFSoftShadowMap, which r187 removed, renders PCF (three warns) — the same
+/// bytes. A type the page dropped would render three's default, PCF.
+#[test]
+fn every_three_js_shadow_type_changes_the_image() {
+    require_tools();
+    let dir = tempfile::tempdir().unwrap();
+    let exported = export(PLANE_BOX, dir.path());
+    let image = |shadow_type: &str| {
+        let args = ["--shadow-type", shadow_type, "--map-size", "512", "--bias", "-0.0005"];
+        std::fs::read(render_three(&exported, dir.path(), shadow_type, &args).0).unwrap()
+    };
+    let (basic, pcf, pcfsoft, vsm) = (image("basic"), image("pcf"), image("pcfsoft"), image("vsm"));
+    assert!(pcfsoft == pcf, "r187 renders PCFSoftShadowMap as PCFShadowMap");
+    assert!(basic != pcf && basic != vsm && pcf != vsm, "two shadow types rendered the same image");
+}
