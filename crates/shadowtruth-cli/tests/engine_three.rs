@@ -6,9 +6,7 @@
 
 mod engine_harness;
 
-use engine_harness::{
-    Buffers, PLANE_BOX, RESOLUTION, SPOT, View, count, emulate, export, render, score, view_json,
-};
+use engine_harness::{Buffers, PLANE_BOX, RESOLUTION, SPOT, View, emulate, export, render, score, view_json};
 use serde_json::Value;
 use std::path::Path;
 
