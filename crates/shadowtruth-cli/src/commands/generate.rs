@@ -13,7 +13,7 @@ pub(super) struct GenerateArgs {
     /// city or forest.
     #[arg(value_enum)]
     kind: crate::generate::SceneKind,
-    /// Triangles to generate: a count such as 500000, 250K or 10M (1000 to 16.7M; up to 2147M
+    /// Triangles to generate: a count such as 500000, 250K or 10M (1000 to 16.7M; 200K to 2147M
     /// with --instanced).
     #[arg(long, value_parser = crate::generate::parse_triangle_count)]
     triangles: u64,

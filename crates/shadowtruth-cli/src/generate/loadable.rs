@@ -4,7 +4,7 @@
 //! by the tolerance. Errors name the option at fault.
 
 use super::generated::GeneratedScene;
-use super::request::{GenerateOptions, SceneKind};
+use super::request::{GenerateOptions, MIN_INSTANCED_TRIANGLES, MIN_TRIANGLES, SceneKind};
 use shadowtruth::scene::{
     MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE, MAX_INSTANCED_TRIANGLES, MAX_INSTANCES, MAX_SCENE_TRIANGLES,
 };
@@ -24,6 +24,13 @@ pub(crate) fn check_options(options: &GenerateOptions) -> Result<(), String> {
     }
     if options.instanced && options.kind != SceneKind::Forest {
         return Err("--instanced makes a forest of one tree: give `forest`".into());
+    }
+    if options.instanced && options.triangles < MIN_INSTANCED_TRIANGLES {
+        return Err(format!(
+            "--triangles {} with --instanced: at least {MIN_INSTANCED_TRIANGLES} (the instanced \
+             forest's terrain alone is 131 072); without --instanced from {MIN_TRIANGLES}",
+            options.triangles
+        ));
     }
     let most = if options.instanced { MAX_INSTANCED_TRIANGLES } else { MAX_SCENE_TRIANGLES };
     if options.triangles > most {

@@ -7,6 +7,9 @@ pub(crate) const COUNT_TOLERANCE: f64 = 0.02;
 pub(crate) const MIN_COUNT_FOR_TOLERANCE: u64 = 20_000;
 /// The smallest request accepted: a terrain and a few casters.
 pub(crate) const MIN_TRIANGLES: u64 = 1_000;
+/// The smallest `--instanced` request: its terrain alone is 131 072 triangles and its tree at
+/// least 2 000, so that below this the count could not be met within the tolerance.
+pub(crate) const MIN_INSTANCED_TRIANGLES: u64 = 200_000;
 
 /// What kind of scene to generate.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
