@@ -48,8 +48,8 @@ fn plan_errors_name_the_file_and_the_json_path() {
     let e = problems(&plan(r#"{ "technique": "none" }"#, r#", "repeats": 0, "coverage_grid": 65"#));
     assert!(message_at(&e, "repeats").contains("between 1 and 1000"), "{e}");
     assert!(message_at(&e, "coverage_grid").contains("between 1 and 64"), "{e}");
-    let e = problems(&plan(r#"{ "technique": "none" }"#, r#", "depth_formats": ["f32", "f16"], "lamps": 1"#));
-    assert!(message_at(&e, "depth_formats[1]").contains("f16"), "{e}");
+    let e = problems(&plan(r#"{ "technique": "none" }"#, r#", "depth_formats": ["f32", "f64"], "lamps": 1"#));
+    assert!(message_at(&e, "depth_formats[1]").contains("f64"), "{e}");
     assert!(message_at(&e, "lamps").contains("unknown field"), "{e}");
     let e = problems(&plan(r#"{ "technique": "none" }"#, r#", "cameras": []"#));
     assert!(message_at(&e, "cameras").contains("empty list"), "{e}");
