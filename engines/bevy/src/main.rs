@@ -11,6 +11,7 @@ mod scene;
 mod view;
 
 use clap::Parser;
+use std::panic::AssertUnwindSafe;
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -32,7 +33,14 @@ fn run(args: &options::Args) -> Result<(), String> {
     let settings = args.settings(view.light.shadow_map().resolution, spot)?;
     let objects = scene::read(&glb)?;
     let (width, height) = (view.camera.width, view.camera.height);
-    let pixels = render::render(view, objects, settings)?;
+    // Bevy panics where it cannot start (no Vulkan adapter, a shader that does not compile); its
+    // panic hook has printed the cause, this adds what to check and the exit status.
+    let rendered = std::panic::catch_unwind(AssertUnwindSafe(|| render::render(view, objects, settings)));
+    let pixels = rendered.map_err(|_| {
+        "Bevy stopped (see above); a Vulkan driver is needed: `apt-get install mesa-vulkan-drivers \
+         libvulkan1` gives lavapipe"
+            .to_string()
+    })??;
     let buffers = output::decode(&pixels)?;
     if buffers.covered_pixels == 0 {
         return Err("Bevy drew no surface: the image is all background".into());
