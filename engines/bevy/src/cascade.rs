@@ -4,7 +4,7 @@
 use crate::view::OrthoBox;
 use bevy::math::{Mat4, Vec4};
 use bevy::pbr::Cascades;
-use bevy::reflect::{PartialReflect, ReflectMut};
+use bevy::reflect::{PartialReflect, ReflectMut, Struct};
 
 /// The four fields of bevy_pbr's `Cascade` (light/mod.rs, `calculate_cascade`).
 pub struct ExportCascade {
@@ -45,45 +45,50 @@ fn reverse_z_orthographic(b: OrthoBox) -> Mat4 {
 /// Writes `fitted` into every cascade of every view in `cascades`; returns how many it wrote
 /// (0 if `Cascades` no longer has the layout of bevy_pbr 0.16).
 pub fn overwrite(cascades: &mut Cascades, fitted: &ExportCascade) -> usize {
-    let ReflectMut::Struct(light) = cascades.reflect_mut() else {
-        return 0;
-    };
-    let Some(per_view) = light.field_mut("cascades") else {
-        return 0;
-    };
-    // `EntityHashMap` is a newtype over a `HashMap` (bevy_ecs entity/hash_map.rs).
-    let per_view = match per_view.reflect_mut() {
-        ReflectMut::TupleStruct(newtype) => match newtype.field_mut(0) {
-            Some(inner) => inner,
-            None => return 0,
-        },
-        _ => return 0,
-    };
-    let ReflectMut::Map(per_view) = per_view.reflect_mut() else {
-        return 0;
-    };
     let mut written = 0;
-    for i in 0..per_view.len() {
-        let Some((_, list)) = per_view.get_at_mut(i) else {
-            continue;
-        };
-        let ReflectMut::List(list) = list.reflect_mut() else {
-            continue;
-        };
-        for j in 0..list.len() {
-            if let Some(cascade) = list.get_mut(j) {
-                written += usize::from(write_fields(cascade, fitted));
-            }
-        }
-    }
+    for_each_cascade(cascades, |cascade| written += usize::from(write_fields(cascade, fitted)));
     written
 }
 
-/// True when all four fields were found and written.
-fn write_fields(cascade: &mut dyn PartialReflect, fitted: &ExportCascade) -> bool {
-    let ReflectMut::Struct(cascade) = cascade.reflect_mut() else {
-        return false;
+/// The texel size of the first cascade, world units (what Bevy fitted, or the export's).
+pub fn texel_size_world(cascades: &mut Cascades) -> Option<f32> {
+    let mut size = None;
+    for_each_cascade(cascades, |cascade| {
+        let field = cascade.field("texel_size").and_then(|f| f.try_downcast_ref::<f32>());
+        size = size.or(field.copied());
+    });
+    size
+}
+
+/// Calls `f` on every cascade of every view, through `Reflect` (the fields are crate-private).
+fn for_each_cascade(cascades: &mut Cascades, mut f: impl FnMut(&mut dyn Struct)) {
+    let ReflectMut::Struct(light) = cascades.reflect_mut() else {
+        return;
     };
+    let Some(per_view) = light.field_mut("cascades") else {
+        return;
+    };
+    // `EntityHashMap` is a newtype over a `HashMap` (bevy_ecs entity/hash_map.rs).
+    let ReflectMut::TupleStruct(newtype) = per_view.reflect_mut() else {
+        return;
+    };
+    let Some(ReflectMut::Map(per_view)) = newtype.field_mut(0).map(|m| m.reflect_mut()) else {
+        return;
+    };
+    for i in 0..per_view.len() {
+        let Some(ReflectMut::List(list)) = per_view.get_at_mut(i).map(|(_, l)| l.reflect_mut()) else {
+            continue;
+        };
+        for j in 0..list.len() {
+            if let Some(ReflectMut::Struct(cascade)) = list.get_mut(j).map(|c| c.reflect_mut()) {
+                f(cascade);
+            }
+        }
+    }
+}
+
+/// True when all four fields were found and written.
+fn write_fields(cascade: &mut dyn Struct, fitted: &ExportCascade) -> bool {
     let mut set = |name: &str, value: &dyn PartialReflect| {
         cascade.field_mut(name).and_then(|field| field.try_apply(value).ok()).is_some()
     };

@@ -49,9 +49,10 @@ fn run(args: &options::Args) -> Result<(), String> {
     if let Some(depth) = &args.depth {
         output::write_exr(depth, buffers.depth_world, width, height)?;
     }
+    let texel = pixels.texel_size_world.map_or(String::new(), |t| format!(" (texel {t} world)"));
     eprintln!(
-        "shadowtruth-bevy: {width}×{height}, map {0}×{0}, {1:?} fit, {2:?} filter, depth bias {3}, \
-         normal bias {4}: {5:.2} s",
+        "shadowtruth-bevy: {width}×{height}, map {0}×{0}{texel}, {1:?} fit, {2:?} filter, depth bias \
+         {3}, normal bias {4}: {5:.2} s",
         settings.map_size_texels,
         settings.fit,
         settings.filter,

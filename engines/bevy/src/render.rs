@@ -21,7 +21,7 @@ use bevy::render::render_resource::{Extent3d, TextureDimension, TextureFormat, T
 use bevy::render::settings::{Backends, RenderCreation, WgpuSettings};
 use bevy::render::view::NoFrustumCulling;
 use bevy_window::{ExitCondition, WindowPlugin};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicU32, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
 /// Frames rendered before the read-back: the first frames upload meshes and compile pipelines
@@ -38,6 +38,8 @@ pub struct Pixels {
     pub bytes: Vec<u8>,
     pub width: u32,
     pub height: u32,
+    /// A directional light's map texel, world units (None for a spot light).
+    pub texel_size_world: Option<f32>,
 }
 
 /// What the app hands back: the read-back bytes, and how many cascades `--fit export` wrote.
@@ -45,6 +47,8 @@ pub struct Pixels {
 struct Capture {
     bytes: Arc<Mutex<Option<Vec<u8>>>>,
     fitted_cascades: Arc<AtomicUsize>,
+    /// The directional map's texel size in world units, as Bevy samples it (f32 bits).
+    texel_size_bits: Arc<AtomicU32>,
 }
 
 #[derive(Resource)]
@@ -84,12 +88,19 @@ pub fn render(view: View, objects: Vec<scene::Object>, settings: Settings) -> Re
     app.insert_resource(Job { view, settings, objects: Mutex::new(objects), target })
         .add_systems(Startup, (spawn_camera, spawn_light, spawn_objects))
         .add_systems(Update, request_readback);
+    app.add_systems(
+        PostUpdate,
+        record_texel_size
+            .after(SimulationLightSystems::UpdateDirectionalLightCascades)
+            .before(SimulationLightSystems::UpdateLightFrusta),
+    );
     if settings.fit == Fit::Export {
         app.add_systems(
             PostUpdate,
             fit_cascades_to_export
                 .after(SimulationLightSystems::UpdateDirectionalLightCascades)
-                .before(SimulationLightSystems::UpdateLightFrusta),
+                .before(SimulationLightSystems::UpdateLightFrusta)
+                .before(record_texel_size),
         );
     }
     match app.run() {
@@ -106,7 +117,9 @@ pub fn render(view: View, objects: Vec<scene::Object>, settings: Settings) -> Re
     }
     let bytes = capture.bytes.lock().map_err(|_| "the read-back lock is poisoned")?.take();
     let bytes = bytes.ok_or(format!("no read-back after {MAX_FRAMES} frames"))?;
-    Ok(Pixels { bytes, width, height })
+    let bits = capture.texel_size_bits.load(Ordering::Relaxed);
+    let texel_size_world = (bits != 0).then(|| f32::from_bits(bits));
+    Ok(Pixels { bytes, width, height, texel_size_world })
 }
 
 /// Bevy's plugins without a window (no `bevy_window` feature: `ScheduleRunnerPlugin` loops),
@@ -285,5 +298,14 @@ fn fit_cascades_to_export(job: Res<Job>, capture: Res<Capture>, mut lights: Quer
         let written = cascade::overwrite(cascades.bypass_change_detection(), &fitted);
         capture.fitted_cascades.fetch_add(written, Ordering::Relaxed);
         cascades.set_changed();
+    }
+}
+
+/// Keeps the cascade's texel size for the report line: at `--fit cascade` it is Bevy's own.
+fn record_texel_size(capture: Res<Capture>, mut lights: Query<&mut Cascades>) {
+    for mut cascades in &mut lights {
+        if let Some(size) = cascade::texel_size_world(cascades.bypass_change_detection()) {
+            capture.texel_size_bits.store(size.to_bits(), Ordering::Relaxed);
+        }
     }
 }
