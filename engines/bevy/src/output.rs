@@ -1,5 +1,6 @@
 //! The read-back pixels as the two buffers `shadowtruth score` reads, and their EXR files: one
-//! f32 channel, uncompressed scanlines, row 0 at the top (as the three.js and Babylon.js harnesses write them).
+//! f32 channel, uncompressed scanlines, row 0 at the top (as the three.js and Babylon.js
+//! harnesses write them).
 
 use crate::render::Pixels;
 use exr::prelude::{
