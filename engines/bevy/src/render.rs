@@ -59,11 +59,6 @@ struct Job {
     target: Handle<Image>,
 }
 
-enum LightKind {
-    Directional,
-    Spot,
-}
-
 /// The parts of the view the systems need (`View` itself holds strings and options).
 struct ViewParts {
     camera: crate::view::Camera,
@@ -72,6 +67,7 @@ struct ViewParts {
 
 pub fn render(view: View, objects: Vec<scene::Object>, settings: Settings) -> Result<Pixels, String> {
     let (width, height) = (view.camera.width, view.camera.height);
+    let directional = matches!(view.light, Light::Directional { .. });
     let capture = Capture::default();
     let mut app = App::new();
     app.add_plugins(default_plugins())
@@ -80,37 +76,14 @@ pub fn render(view: View, objects: Vec<scene::Object>, settings: Settings) -> Re
         .insert_resource(capture.clone());
     material::add_shader(&mut app);
     let target = app.world_mut().resource_mut::<Assets<Image>>().add(target_image(width, height));
-    let job_light_kind = match view.light {
-        Light::Directional { .. } => LightKind::Directional,
-        Light::Spot { .. } => LightKind::Spot,
-    };
     let view = ViewParts { camera: view.camera, light: view.light };
-    app.insert_resource(Job { view, settings, objects: Mutex::new(objects), target })
-        .add_systems(Startup, (spawn_camera, spawn_light, spawn_objects))
-        .add_systems(Update, request_readback);
-    app.add_systems(
-        PostUpdate,
-        record_texel_size
-            .after(SimulationLightSystems::UpdateDirectionalLightCascades)
-            .before(SimulationLightSystems::UpdateLightFrusta),
-    );
-    if settings.fit == Fit::Export {
-        app.add_systems(
-            PostUpdate,
-            fit_cascades_to_export
-                .after(SimulationLightSystems::UpdateDirectionalLightCascades)
-                .before(SimulationLightSystems::UpdateLightFrusta)
-                .before(record_texel_size),
-        );
-    }
+    app.insert_resource(Job { view, settings, objects: Mutex::new(objects), target });
+    add_systems(&mut app, settings.fit);
     match app.run() {
         AppExit::Success => {}
         AppExit::Error(code) => return Err(format!("the Bevy app exited with code {code}")),
     }
-    if settings.fit == Fit::Export
-        && matches!(job_light_kind, LightKind::Directional)
-        && capture.fitted_cascades.load(Ordering::Relaxed) == 0
-    {
+    if settings.fit == Fit::Export && directional && capture.fitted_cascades.load(Ordering::Relaxed) == 0 {
         return Err(
             "--fit export: Bevy's cascade could not be replaced (bevy_pbr's Cascade layout changed?)".into(),
         );
@@ -120,6 +93,28 @@ pub fn render(view: View, objects: Vec<scene::Object>, settings: Settings) -> Re
     let bits = capture.texel_size_bits.load(Ordering::Relaxed);
     let texel_size_world = (bits != 0).then(|| f32::from_bits(bits));
     Ok(Pixels { bytes, width, height, texel_size_world })
+}
+
+/// The scene's set-up, the read-back, and the cascade systems, which run between Bevy's fitting
+/// of the cascades and its culling for them (bevy_pbr lib.rs orders those two sets).
+fn add_systems(app: &mut App, fit: Fit) {
+    app.add_systems(Startup, (spawn_camera, spawn_light, spawn_objects))
+        .add_systems(Update, request_readback)
+        .add_systems(
+            PostUpdate,
+            record_texel_size
+                .after(SimulationLightSystems::UpdateDirectionalLightCascades)
+                .before(SimulationLightSystems::UpdateLightFrusta),
+        );
+    if fit == Fit::Export {
+        app.add_systems(
+            PostUpdate,
+            fit_cascades_to_export
+                .after(SimulationLightSystems::UpdateDirectionalLightCascades)
+                .before(SimulationLightSystems::UpdateLightFrusta)
+                .before(record_texel_size),
+        );
+    }
 }
 
 /// Bevy's plugins without a window (no `bevy_window` feature: `ScheduleRunnerPlugin` loops),
