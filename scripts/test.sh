@@ -179,6 +179,14 @@ step "rustdoc" env RUSTDOCFLAGS='-D warnings' cargo doc "${rust_packages[@]}" --
 [[ $quick -eq 1 ]] || step "Rust $msrv (MSRV)" cargo "+$msrv" check --workspace --all-targets --locked
 # The benchmarks are built, not run, so that they cannot rot.
 [[ $quick -eq 1 ]] || step "benchmarks build" cargo bench --no-run "${rust_packages[@]}" --locked
+# --- The Bevy engine harness (engines/bevy): a package of its own with its own Cargo.lock and
+# target folder, built before the tests because crates/shadowtruth-cli/tests/engine_bevy.rs runs
+# its binary (on lavapipe, installed above, where there is no GPU).
+bevy_manifest=(--manifest-path engines/bevy/Cargo.toml)
+step "Bevy harness: formatting" cargo fmt "${bevy_manifest[@]}" --check
+step "Bevy harness: build" cargo build "${bevy_manifest[@]}" --release --locked
+# --- End of the Bevy engine harness.
+
 # The unit, integration and doctests (the README's Rust examples among them).
 step "tests" cargo test "${rust_packages[@]}" --release --locked
 if [[ $quick -eq 0 ]]; then
