@@ -6,26 +6,19 @@
 //! the two agree pixel for pixel up to the bounds below; the same inputs give the same bytes.
 //! Needs the harness built: `cargo build --release --locked --manifest-path engines/bevy/Cargo.toml`.
 
+mod engine_harness;
+
+use engine_harness::{
+    PLANE_BOX, RESOLUTION, SPOT, View, assert_same_bytes, binary, count, export, render_logged, run_ok,
+    view_json, workspace,
+};
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-/// The map the test renders and emulates at, the export's default resolution.
-const RESOLUTION: u32 = 2048;
 /// Bevy's map is a `Depth32Float` texture (bevy_core_pipeline's `CORE_3D_DEPTH_FORMAT`, which
 /// bevy_pbr's render/light.rs uses for shadow maps).
 const BEVY_DEPTH_FORMAT: &str = "f32";
 const BUILD: &str = "cargo build --release --locked --manifest-path engines/bevy/Cargo.toml";
-
-fn workspace() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn binary() -> Command {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_shadowtruth"));
-    c.current_dir(workspace());
-    c
-}
 
 /// The harness's binary; fails, saying how to build it, when it is missing.
 fn harness() -> PathBuf {
@@ -33,29 +26,6 @@ fn harness() -> PathBuf {
     assert!(path.is_file(), "{} is missing: build it with `{BUILD}`", path.display());
     path
 }
-
-fn run_ok(mut c: Command, what: &str) -> String {
-    let out = c.output().unwrap_or_else(|e| panic!("{what}: cannot start: {e}"));
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(
-        out.status.success(),
-        "{what} failed ({}):\n{}{stderr}",
-        out.status,
-        String::from_utf8_lossy(&out.stdout)
-    );
-    eprint!("{stderr}");
-    stderr
-}
-
-/// One of the bundled scenes, with the light the test renders.
-#[derive(Clone, Copy)]
-struct View {
-    scene: &'static str,
-    light: &'static str,
-}
-
-const PLANE_BOX: View = View { scene: "scenes/plane_box.json", light: "sun" };
-const SPOT: View = View { scene: "scenes/spot.json", light: "lamp" };
 
 /// Bevy's defaults as shadowtruth emulates them (docs/engine-defaults.md, "Bevy").
 fn bevy_defaults_emulated() -> Value {
@@ -146,34 +116,8 @@ fn disagreeing_pixels(a: &image::RgbImage, b: &image::RgbImage, image_height: u3
     rows(a).iter().zip(rows(b).iter()).filter(|(x, y)| x != y).count() as u64
 }
 
-fn count(counts: &Value, key: &str) -> i64 {
-    counts[key].as_i64().unwrap_or(0)
-}
-
-fn export(view: View, dir: &Path) -> PathBuf {
-    let out = dir.join("view");
-    let mut c = binary();
-    c.args(["view-export", view.scene, "--camera", "main", "--light", view.light, "--quiet"]);
-    c.args(["--resolution", &RESOLUTION.to_string(), "-o"]).arg(&out);
-    run_ok(c, "view-export");
-    out
-}
-
 fn camera_height(exported: &Path) -> u32 {
-    let view: Value =
-        serde_json::from_str(&std::fs::read_to_string(exported.join("view.json")).unwrap()).unwrap();
-    view["camera"]["height"].as_u64().unwrap() as u32
-}
-
-/// Renders with the harness directly; returns the visibility and depth files and the stderr.
-fn render(harness: &Path, view: &Path, out: &Path, name: &str, extra: &[&str]) -> (PathBuf, PathBuf, String) {
-    let (visibility, depth) =
-        (out.join(format!("{name}.visibility.exr")), out.join(format!("{name}.depth.exr")));
-    let mut c = Command::new(harness);
-    c.args(["--view".as_ref(), view.as_os_str(), "--visibility".as_ref(), visibility.as_os_str()]);
-    c.args(["--depth".as_ref(), depth.as_os_str()]).args(extra);
-    let stderr = run_ok(c, &format!("shadowtruth-bevy {extra:?}"));
-    (visibility, depth, stderr)
+    view_json(exported)["camera"]["height"].as_u64().unwrap() as u32
 }
 
 struct Bound {
@@ -266,17 +210,11 @@ fn bevy_renders_deterministically() {
     let harness = harness();
     let dir = tempfile::tempdir().unwrap();
     let exported = export(PLANE_BOX, dir.path());
-    let first = render(&harness, &exported, dir.path(), "first", &["--fit", "export"]);
-    let again = render(&harness, &exported, dir.path(), "again", &["--fit", "export"]);
-    for (a, b) in [(&first.0, &again.0), (&first.1, &again.1)] {
-        assert!(
-            std::fs::read(a).unwrap() == std::fs::read(b).unwrap(),
-            "{} and {} differ",
-            a.display(),
-            b.display()
-        );
-    }
-    assert!(first.2.contains("shadowtruth-bevy:") && first.2.contains(" s"), "no timing line: {}", first.2);
+    let program = [harness.to_str().unwrap()];
+    let (first, log) = render_logged(&program, &exported, dir.path(), "first", &["--fit", "export"]);
+    let (again, _) = render_logged(&program, &exported, dir.path(), "again", &["--fit", "export"]);
+    assert_same_bytes(&first, &again);
+    assert!(log.contains("shadowtruth-bevy:") && log.contains(" s"), "no timing line: {log}");
 }
 
 /// A command that fails stops the plan with its command line and its stderr.

@@ -44,16 +44,18 @@ pub fn require_browser_engine(engine: &str, packages: &[&str]) {
     );
 }
 
-pub fn run_ok(mut c: Command, what: &str) {
+/// Runs `c`, failing with its output unless it succeeds; returns (and echoes) its stderr.
+pub fn run_ok(mut c: Command, what: &str) -> String {
     let out = c.output().unwrap_or_else(|e| panic!("{what}: cannot start: {e}"));
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
     assert!(
         out.status.success(),
-        "{what} failed ({}):\n{}{}",
+        "{what} failed ({}):\n{}{stderr}",
         out.status,
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
+        String::from_utf8_lossy(&out.stdout)
     );
-    eprint!("{}", String::from_utf8_lossy(&out.stderr));
+    eprint!("{stderr}");
+    stderr
 }
 
 /// A visibility and a depth buffer an engine wrote.
@@ -62,14 +64,25 @@ pub type Buffers = (PathBuf, PathBuf);
 /// Renders the exported view with `program` (its first element the command, the rest leading
 /// arguments, run from the workspace) into `out/NAME.{visibility,depth}.exr`.
 pub fn render(program: &[&str], view: &Path, out: &Path, name: &str, extra: &[&str]) -> Buffers {
+    render_logged(program, view, out, name, extra).0
+}
+
+/// `render`, and the renderer's stderr (its render line).
+pub fn render_logged(
+    program: &[&str],
+    view: &Path,
+    out: &Path,
+    name: &str,
+    extra: &[&str],
+) -> (Buffers, String) {
     let (visibility, depth) =
         (out.join(format!("{name}.visibility.exr")), out.join(format!("{name}.depth.exr")));
     let mut c = Command::new(program[0]);
     c.current_dir(workspace()).args(&program[1..]);
     c.args(["--view".as_ref(), view.as_os_str(), "--visibility".as_ref(), visibility.as_os_str()]);
     c.args(["--depth".as_ref(), depth.as_os_str()]).args(extra);
-    run_ok(c, &format!("{program:?} {extra:?}"));
-    (visibility, depth)
+    let stderr = run_ok(c, &format!("{program:?} {extra:?}"));
+    ((visibility, depth), stderr)
 }
 
 /// Asserts that two renders of the same inputs wrote the same bytes.
