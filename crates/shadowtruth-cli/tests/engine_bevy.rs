@@ -104,16 +104,29 @@ const FALSE_LIT: [u8; 3] = [0x00, 0x72, 0xB2];
 /// in one and a false lit in the other, where their decisions differ. The legend strip below
 /// the image is left out (its text names each run's counts).
 fn disagreeing_pixels(a: &image::RgbImage, b: &image::RgbImage, image_height: u32) -> u64 {
+    assert_eq!(a.dimensions(), b.dimensions());
+    let (a, b) = (error_classes(a, image_height), error_classes(b, image_height));
+    a.iter().zip(b.iter()).filter(|(x, y)| x != y).count() as u64
+}
+
+/// Each image pixel of an error map: 1 false shadow, 2 false lit, 0 anything else.
+fn error_classes(map: &image::RgbImage, image_height: u32) -> Vec<u8> {
     let class = |p: &image::Rgb<u8>| match p.0 {
         FALSE_SHADOW => 1,
         FALSE_LIT => 2,
         _ => 0,
     };
-    assert_eq!(a.dimensions(), b.dimensions());
-    let rows = |img: &image::RgbImage| {
-        img.rows().take(image_height as usize).flatten().map(class).collect::<Vec<_>>()
-    };
-    rows(a).iter().zip(rows(b).iter()).filter(|(x, y)| x != y).count() as u64
+    map.rows().take(image_height as usize).flatten().map(class).collect()
+}
+
+/// The map's false-shadow and false-lit pixels are the run's counts: the colours above are the
+/// report's, so the pixel comparison sees every error (and finds none missing by a palette change).
+fn assert_map_holds_counts(setting: &str, map: &image::RgbImage, counts: &Value, image_height: u32) {
+    let classes = error_classes(map, image_height);
+    for (class, key) in [(1, "false_shadow"), (2, "false_lit")] {
+        let in_map = classes.iter().filter(|&&c| c == class).count() as i64;
+        assert_eq!(in_map, count(counts, key), "{setting}: {key} pixels in the error map");
+    }
 }
 
 fn camera_height(exported: &Path) -> u32 {
@@ -135,6 +148,8 @@ fn assert_agrees(
     bound: Bound,
 ) {
     let evaluated = count(emulation, "evaluated");
+    assert_map_holds_counts(setting, bevy_map, bevy, height);
+    assert_map_holds_counts(setting, emulation_map, emulation, height);
     let disagreeing = disagreeing_pixels(bevy_map, emulation_map, height);
     eprintln!(
         "{setting}: Bevy {bevy}\n{setting}: emulation {emulation}\n{setting}: {disagreeing} pixels disagree"
