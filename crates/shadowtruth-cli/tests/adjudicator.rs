@@ -67,7 +67,16 @@ fn parallel_segments_meet_it_only_in_its_plane() {
 }
 
 fn point_below(x: f32, z: f32) -> SurfacePoint {
-    SurfacePoint { position: vec3(x, 0.0, z), error: Vec3::splat(1e-8), normal: Vec3::Y, triangle: u32::MAX }
+    // Exactly the first vertex of a small triangle around it (barycentrics 0, 0).
+    let position = vec3(x, 0.0, z);
+    SurfacePoint {
+        position,
+        error: Vec3::splat(1e-8),
+        normal: Vec3::Y,
+        triangle: u32::MAX,
+        barycentric: [0.0, 0.0],
+        vertices: [position, position + Vec3::Z, position + Vec3::X],
+    }
 }
 
 #[test]

@@ -216,6 +216,7 @@ fn the_exrs_are_the_gbuffer_bit_for_bit() {
             PixelClass::FacingAway => 1,
             PixelClass::OutsideLight => 2,
             PixelClass::Evaluated => 3,
+            PixelClass::Uncertain => 4,
         })
         .collect();
     assert_eq!(u32s("class"), classes);

@@ -145,6 +145,8 @@ fn occluder_5e_5_above_the_surface_is_found() {
             error: position_error(p, &tris[triangle]),
             normal: up,
             triangle: triangle as u32,
+            barycentric: [0.0, 0.0],
+            vertices: tris[triangle],
         };
         let origin = offset_ray_origin(&point);
         assert!(origin.y < 5e-5, "the offset origin must stay below the occluder");

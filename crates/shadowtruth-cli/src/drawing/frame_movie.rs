@@ -232,13 +232,14 @@ mod tests {
             height,
             class: vec![PixelClass::Evaluated; n],
             position: vec![Vec3::ZERO; n],
+            barycentric: vec![[0.0; 2]; n],
             normal: vec![Vec3::Y; n],
             triangle: vec![0; n],
             object: vec![0; n],
             evaluated: (0..n as u32).collect(),
         };
         let lit = (0..n).map(|i| ((i as u32 % width) < width / 2) as u8).collect();
-        let reference = HardReference { width, height, lit };
+        let reference = HardReference { width, height, lit, uncertain: Vec::new() };
         let kind = LightKind::Directional { direction: -Vec3::Y, angular_diameter_deg: None };
         (gbuffer, reference, Light { name: "sun".into(), kind, path: None, cascades: None })
     }

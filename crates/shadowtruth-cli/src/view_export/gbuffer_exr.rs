@@ -18,6 +18,7 @@ pub(crate) fn class_code(class: PixelClass) -> u32 {
         PixelClass::FacingAway => 1,
         PixelClass::OutsideLight => 2,
         PixelClass::Evaluated => 3,
+        PixelClass::Uncertain => 4,
     }
 }
 

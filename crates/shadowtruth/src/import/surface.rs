@@ -81,6 +81,7 @@ mod tests {
             height: 1,
             class: vec![PixelClass::Evaluated; 2],
             position: vec![Vec3::new(0.0, 3.0, -4.0), Vec3::new(0.0, 0.0, -10.0)],
+            barycentric: vec![[0.0; 2]; 2],
             normal: vec![Vec3::Z; 2],
             triangle: vec![0, 1],
             object: vec![0, 0],

@@ -352,6 +352,7 @@ mod tests {
             height,
             class: vec![PixelClass::Background; pixels.len()],
             position: vec![Vec3::ZERO; pixels.len()],
+            barycentric: vec![[0.0; 2]; pixels.len()],
             normal: vec![Vec3::Z; pixels.len()],
             triangle: vec![u32::MAX; pixels.len()],
             object: vec![u32::MAX; pixels.len()],
@@ -370,7 +371,7 @@ mod tests {
     }
 
     fn reference(lit: &[u8], g: &GBuffer) -> HardReference {
-        HardReference { width: g.width, height: g.height, lit: lit.to_vec() }
+        HardReference { width: g.width, height: g.height, lit: lit.to_vec(), uncertain: Vec::new() }
     }
 
     /// One row of 8 pixels on object 0, half a texel apart (R = ceil(1/0.5) + 1 = 3), and a

@@ -13,6 +13,10 @@ pub struct Counts {
     pub facing_away: u64,
     pub outside_light: u64,
     pub evaluated: u64,
+    /// Pixels the reference cannot decide beyond doubt (`PixelClass::Uncertain`): left out of
+    /// every score, not part of `evaluated`, counted here so that a report shows them.
+    #[serde(default)]
+    pub uncertain: u64,
     pub false_shadow: u64,
     pub false_lit: u64,
     /// False pixels within one texel footprint of a reference shadow boundary (see
@@ -66,6 +70,7 @@ impl Counts {
             facing_away,
             outside_light,
             evaluated,
+            uncertain,
             false_shadow,
             false_lit,
             aliasing,
@@ -78,6 +83,7 @@ impl Counts {
         self.facing_away += facing_away;
         self.outside_light += outside_light;
         self.evaluated += evaluated;
+        self.uncertain += uncertain;
         self.false_shadow += false_shadow;
         self.false_lit += false_lit;
         self.aliasing += aliasing;
@@ -105,6 +111,7 @@ pub fn score_hard(gbuffer: &GBuffer, reference: &HardReference, visibility: &[f3
             PixelClass::FacingAway => c.facing_away += 1,
             PixelClass::OutsideLight => c.outside_light += 1,
             PixelClass::Evaluated => c.evaluated += 1,
+            PixelClass::Uncertain => c.uncertain += 1,
         }
     }
     add_false_counts(&mut c, gbuffer, reference, visibility);

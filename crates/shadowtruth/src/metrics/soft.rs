@@ -37,5 +37,10 @@ pub fn score_soft(gbuffer: &GBuffer, reference: &[f32], visibility: &[f32]) -> S
 
 /// A fractional reference thresholded at ½ (lit when r ≥ ½), for the hard counts and attribution.
 pub fn thresholded(width: u32, height: u32, reference: &[f32]) -> HardReference {
-    HardReference { width, height, lit: reference.iter().map(|&r| (r >= 0.5) as u8).collect() }
+    HardReference {
+        width,
+        height,
+        lit: reference.iter().map(|&r| (r >= 0.5) as u8).collect(),
+        uncertain: Vec::new(),
+    }
 }

@@ -18,6 +18,11 @@ pub struct SurfacePoint {
     pub normal: Vec3,
     /// Scene id of the triangle the point lies on; shadow rays skip it.
     pub triangle: u32,
+    /// The hit's barycentrics (b1, b2) on `vertices`: the exact point is
+    /// v0 + b1·(v1 − v0) + b2·(v2 − v0) (docs/reference.md, "The definition").
+    pub barycentric: [f32; 2],
+    /// The f32 world vertices of `triangle`.
+    pub vertices: [Vec3; 3],
 }
 
 /// A bound, per axis, on the distance between `p` (the f32 rounding of `barycentric_point`,

@@ -21,6 +21,10 @@ pub enum PixelClass {
     OutsideLight,
     /// Scored: lit or shadowed by occluders only.
     Evaluated,
+    /// Lit by the light's cone and facing it, but the reference cannot decide beyond doubt
+    /// which surface the pixel sees or whether its point is lit (docs/reference.md, "The
+    /// reference's uncertainty"): left out of every score, and counted.
+    Uncertain,
 }
 
 /// Per-pixel surface data in row-major order (row 0 at the top).
@@ -32,6 +36,10 @@ pub struct GBuffer {
     /// bound is a function of it and the triangle, computed where a shadow ray needs it rather
     /// than stored (at 4096² that is 192 MiB).
     pub position: Vec<Vec3>,
+    /// The hit's barycentrics (b1, b2) on its triangle's f32 vertices: the surface point the
+    /// reference is about is exactly v0 + b1·(v1 − v0) + b2·(v2 − v0), on the triangle's plane;
+    /// `position` is its rounding to f32.
+    pub barycentric: Vec<[f32; 2]>,
     /// Unit geometric normal, turned towards the camera.
     pub normal: Vec<Vec3>,
     /// Scene triangle id (u32::MAX for background).
@@ -55,12 +63,28 @@ impl GBuffer {
     /// it: the same error bound as the primary hit computed.
     pub fn surface_point(&self, scene: &Scene, i: usize) -> SurfacePoint {
         let (position, triangle) = (self.position[i], self.triangle[i]);
+        let vertices = scene.triangle(triangle);
         SurfacePoint {
             position,
-            error: position_error(position, &scene.triangle(triangle)),
+            error: position_error(position, &vertices),
             normal: self.normal[i],
             triangle,
+            barycentric: self.barycentric[i],
+            vertices,
         }
+    }
+
+    /// Leaves `pixels` (evaluated ones, ascending) out of every score: their class becomes
+    /// `Uncertain` (the reference could not decide them beyond doubt).
+    pub fn leave_out(&mut self, pixels: &[u32]) {
+        if pixels.is_empty() {
+            return;
+        }
+        for &i in pixels {
+            self.class[i as usize] = PixelClass::Uncertain;
+        }
+        let class = &self.class;
+        self.evaluated.retain(|&i| class[i as usize] == PixelClass::Evaluated);
     }
 }
 
@@ -144,6 +168,8 @@ pub(in crate::trace) fn surface_sample(hit: &Hit, dir: Vec3, light: &LightSight)
         error: position_error(p32, verts),
         normal: ng.as_vec3(),
         triangle: hit.triangle,
+        barycentric: [hit.barycentric[1], hit.barycentric[2]],
+        vertices: *verts,
     };
     SurfaceSample { class, point }
 }
@@ -158,19 +184,21 @@ impl GBuffer {
         let sight = LightSight::of(light);
         let mut class = filled(PixelClass::Background, n);
         let mut position = filled(Vec3::ZERO, n);
+        let mut barycentric = filled([0.0f32; 2], n);
         let mut normal = filled(Vec3::ZERO, n);
         let mut triangle = filled(u32::MAX, n);
         let mut object = filled(u32::MAX, n);
         class
             .par_chunks_mut(w as usize)
             .zip(position.par_chunks_mut(w as usize))
+            .zip(barycentric.par_chunks_mut(w as usize))
             .zip(normal.par_chunks_mut(w as usize))
             .zip(triangle.par_chunks_mut(w as usize))
             .zip(object.par_chunks_mut(w as usize))
             .enumerate()
             .for_each_init(
                 || (bvh.scratch(), vec![Vec3::ZERO; w as usize], vec![None; w as usize]),
-                |(scratch, dirs, hits), (y, ((((cls, pos), nrm), tri), obj))| {
+                |(scratch, dirs, hits), (y, (((((cls, pos), bary), nrm), tri), obj))| {
                     row_directions(&film, &columns, y, dirs);
                     bvh.closest_hits(scratch, camera.position, dirs, hits);
                     for (x, hit) in hits.iter().enumerate() {
@@ -179,6 +207,7 @@ impl GBuffer {
                         let p = sample.point;
                         cls[x] = sample.class;
                         pos[x] = p.position;
+                        bary[x] = p.barycentric;
                         nrm[x] = p.normal;
                         tri[x] = p.triangle;
                         obj[x] = scene.object_of(p.triangle);
@@ -186,7 +215,7 @@ impl GBuffer {
                 },
             );
         let evaluated = (0..n as u32).filter(|&i| class[i as usize] == PixelClass::Evaluated).collect();
-        GBuffer { width: w, height: h, class, position, normal, triangle, object, evaluated }
+        GBuffer { width: w, height: h, class, position, barycentric, normal, triangle, object, evaluated }
     }
 }
 

@@ -16,6 +16,7 @@ use rayon::prelude::*;
 pub enum MaskCode {
     Shadowed = 0,
     FacingAway = 64,
+    Uncertain = 96,
     Background = 128,
     OutsideLight = 192,
     Lit = 255,
@@ -26,12 +27,15 @@ pub struct HardReference {
     pub width: u32,
     pub height: u32,
     pub lit: Vec<u8>,
+    /// Evaluated pixels (ascending) whose answer the tracer could not decide beyond doubt; `lit`
+    /// holds its best guess there. `GBuffer::leave_out` takes them out of every score.
+    pub uncertain: Vec<u32>,
 }
 
 impl HardReference {
     /// The mask in the PNG encoding of `MaskCode`.
     pub fn mask_codes(&self, gbuffer: &GBuffer) -> Vec<u8> {
-        gbuffer
+        let mut codes = gbuffer
             .class
             .iter()
             .zip(&self.lit)
@@ -40,11 +44,16 @@ impl HardReference {
                     PixelClass::Background => MaskCode::Background,
                     PixelClass::FacingAway => MaskCode::FacingAway,
                     PixelClass::OutsideLight => MaskCode::OutsideLight,
+                    PixelClass::Uncertain => MaskCode::Uncertain,
                     PixelClass::Evaluated if lit != 0 => MaskCode::Lit,
                     PixelClass::Evaluated => MaskCode::Shadowed,
                 }) as u8
             })
-            .collect()
+            .collect::<Vec<u8>>();
+        for &i in &self.uncertain {
+            codes[i as usize] = MaskCode::Uncertain as u8;
+        }
+        codes
     }
 
     /// Rebuilds the visibility from a mask in the PNG encoding.
@@ -53,6 +62,9 @@ impl HardReference {
             width,
             height,
             lit: codes.iter().map(|&c| (c == MaskCode::Lit as u8) as u8).collect(),
+            uncertain: (0..codes.len() as u32)
+                .filter(|&i| codes[i as usize] == MaskCode::Uncertain as u8)
+                .collect(),
         }
     }
 }
@@ -107,5 +119,5 @@ pub fn trace_hard_reference(
             batch.finish(bvh, scratch, |x, lit| row[x] = lit as u8);
         },
     );
-    HardReference { width: gbuffer.width, height: gbuffer.height, lit }
+    HardReference { width: gbuffer.width, height: gbuffer.height, lit, uncertain: Vec::new() }
 }
