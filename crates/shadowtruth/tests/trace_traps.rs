@@ -12,9 +12,7 @@ use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
 use obvhs::ploc::PlocBuilder;
 use obvhs::ray::{Ray, RayHit};
 use obvhs::triangle::Triangle;
-use shadowtruth::trace::{
-    SceneBvh, ShadowRay, SurfacePoint, WatertightRay, offset_ray_origin, position_error,
-};
+use shadowtruth::trace::{SceneBvh, ShadowRay, SurfacePoint, WatertightRay, position_error};
 use std::time::Duration;
 
 fn quad(y: f32, half: f32) -> Vec<[Vec3; 3]> {
@@ -140,16 +138,19 @@ fn occluder_5e_5_above_the_surface_is_found() {
     for p in [vec3(0.0, 0.0, 0.0), vec3(0.25, 0.0, -0.3), vec3(-0.4, 0.0, 0.45)] {
         // The ground triangle under p (quad's first triangle covers x ≥ z).
         let triangle = if p.x >= p.z { 0 } else { 1 };
+        // p's barycentrics on that triangle ([a, c, b] and [a, d, c] of `quad`, half-size 10).
+        let (h2, (x, z)) = (20.0, (p.x, p.z));
+        let barycentric =
+            if triangle == 0 { [(z + 10.0) / h2, (x - z) / h2] } else { [(z - x) / h2, (x + 10.0) / h2] };
         let point = SurfacePoint {
             position: p,
             error: position_error(p, &tris[triangle]),
             normal: up,
             triangle: triangle as u32,
-            barycentric: [0.0, 0.0],
+            barycentric,
             vertices: tris[triangle],
         };
-        let origin = offset_ray_origin(&point);
-        assert!(origin.y < 5e-5, "the offset origin must stay below the occluder");
+        let origin = p;
         let dir = vec3(0.1, 1.0, 0.05).normalize();
         let shadow = ShadowRay::along(&point, dir.as_dvec3());
         assert!(bvh.shadow_occluder(&mut scratch, &shadow).is_some(), "occluder above {p} missed");

@@ -11,8 +11,8 @@ mod reference;
 pub mod splitmix;
 
 pub use bvh::{
-    Hit, RayTriangleHit, SceneBvh, ShadowRay, SurfacePoint, TraversalScratch, WatertightRay, node_test_name,
-    offset_ray_origin, position_error,
+    Hit, RayTriangleHit, SceneBvh, ShadowAnswer, ShadowBits, ShadowRay, SurfacePoint, TraversalScratch,
+    WatertightRay, exact_point, node_test_name, position_error,
 };
 pub use reference::{
     AreaLightError, CachedReference, DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, EXR_ENCODING, GBuffer,
@@ -23,4 +23,4 @@ pub use reference::{
 };
 
 /// Bumped whenever a change to the tracer could change a reference bit.
-pub const TRACER_VERSION: &str = "shadowtruth-tracer/2";
+pub const TRACER_VERSION: &str = "shadowtruth-tracer/3";

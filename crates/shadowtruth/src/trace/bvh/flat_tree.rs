@@ -22,7 +22,8 @@ pub(in crate::trace) struct FlatTree {
 }
 
 impl FlatTree {
-    pub(in crate::trace) fn build(tris: &[[Vec3; 3]]) -> Self {
+    /// The tree of `tris`, each leaf box widened outwards by `widen` (0 for exact f32 boxes).
+    pub(in crate::trace) fn build(tris: &[[Vec3; 3]], widen: f32) -> Self {
         if tris.is_empty() {
             return FlatTree {
                 tree: WideBvh::default(),
@@ -42,12 +43,23 @@ impl FlatTree {
             .collect();
         let tree = WideBvh::from_cwbvh(&cwbvh, |i| {
             let [a, b, c] = triangles[i];
-            (a.min(b).min(c), a.max(b).max(c))
+            let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
+            match widen > 0.0 {
+                true => (outwards(lo, -widen), outwards(hi, widen)),
+                false => (lo, hi),
+            }
         });
         let scene_ids = cwbvh.primitive_indices;
         let depth = tree_depth(&tree);
         FlatTree { tree, triangles, scene_ids, depth }
     }
+}
+
+/// `v + step` per axis, rounded away from `v` (one f32 step further), so that the result is
+/// at least `|step|` from `v`.
+fn outwards(v: Vec3A, step: f32) -> Vec3A {
+    let moved = v + Vec3A::splat(step);
+    Vec3A::from_array(moved.to_array().map(|m| if step > 0.0 { m.next_up() } else { m.next_down() }))
 }
 
 /// A scene triangle as obvhs bounds it: the builder reads the scene's own triangles, with no

@@ -45,6 +45,8 @@ struct Placement {
     /// ‖local_from_world‖∞ · max |world coordinate| + max |local coordinate|: the part of the
     /// margin that does not depend on the ray.
     fixed_extent: f64,
+    /// The scene's segment margin carried into the mesh's space (times ‖local_from_world‖∞).
+    segment_margin_local: f64,
 }
 
 /// The tree of one shared mesh, over its vertices rounded to f32 in its own space, with the
@@ -56,13 +58,18 @@ struct MeshTree {
 }
 
 impl InstanceLevel {
-    pub(in crate::trace) fn build(scene: &Scene) -> Option<Self> {
+    /// The level of `scene`'s instances; every box grows by `segment_margin` world units more,
+    /// as the flat tree's do (`SceneBvh::build`).
+    pub(in crate::trace) fn build(scene: &Scene, segment_margin: f32) -> Option<Self> {
         if scene.instances.is_empty() {
             return None;
         }
         let meshes: Vec<MeshTree> = scene.meshes.iter().map(MeshTree::build).collect();
-        let placements: Vec<Placement> =
-            scene.instances.iter().map(|i| Placement::new(i, &scene.meshes[i.mesh as usize])).collect();
+        let placements: Vec<Placement> = scene
+            .instances
+            .iter()
+            .map(|i| Placement::new(i, &scene.meshes[i.mesh as usize], segment_margin))
+            .collect();
         let boxes: Vec<Aabb> =
             placements.iter().map(|p| Aabb::new(p.world_lo.as_vec3a(), p.world_hi.as_vec3a())).collect();
         let top_order = build_cwbvh(&boxes);
@@ -119,37 +126,29 @@ impl InstanceLevel {
         });
     }
 
-    /// An instanced triangle other than `skip` hit within [tmin, tmax]; with `beyond_error`,
-    /// only a hit whose distance is certainly positive counts (the shadow-ray test).
-    pub(in crate::trace) fn any_hit(
+    /// Calls `visit(id, world vertices)` for every non-degenerate instanced triangle the ray
+    /// may meet within [0, tmax] (in no particular order) until it returns true; returns
+    /// whether it did.
+    pub(in crate::trace) fn any_triangle(
         &self,
         scratch: &mut TraversalScratch,
         ray: &WatertightRay,
-        tmin: f32,
         tmax: f32,
-        skip: u32,
-        beyond_error: bool,
-    ) -> Option<u32> {
+        mut visit: impl FnMut(u32, &[Vec3A; 3]) -> bool,
+    ) -> bool {
         let TraversalScratch { outer, inner, .. } = scratch;
         let top_ray = NodeRay::new(ray.origin, ray.direction);
-        let mut found = None;
-        walk::<ANY_ORDER>(&self.top, outer, &top_ray, tmin, &mut tmax.clone(), 0.0, |i, _| {
+        let mut stopped = false;
+        walk::<ANY_ORDER>(&self.top, outer, &top_ray, 0.0, &mut tmax.clone(), 0.0, |i, _| {
             let placement = &self.placements[i];
             let mesh = &self.meshes[placement.mesh as usize];
-            placement.walk::<ANY_ORDER>(mesh, inner, ray, tmin, &mut tmax.clone(), |local, _| {
-                let [v0, v1, v2] = local.world;
-                let hit = match beyond_error {
-                    true => ray.intersect_beyond_error(v0, v1, v2, tmax).is_some(),
-                    false => ray.intersect(v0, v1, v2, tmin, tmax).is_some(),
-                };
-                if local.id != skip && hit && !local.degenerate() {
-                    found = Some(local.id);
-                }
-                found.is_some()
+            placement.walk::<ANY_ORDER>(mesh, inner, ray, 0.0, &mut tmax.clone(), |local, _| {
+                stopped = !local.degenerate() && visit(local.id, &local.world);
+                stopped
             });
-            found.is_some()
+            stopped
         });
-        found
+        stopped
     }
 }
 
@@ -170,7 +169,7 @@ impl MeshTree {
     fn build(mesh: &SharedMesh) -> Self {
         let local = |t: &[u32; 3]| t.map(|i| mesh.positions[i as usize]);
         let rounded: Vec<[Vec3; 3]> = mesh.triangles.iter().map(|t| local(t).map(|p| p.as_vec3())).collect();
-        let mut tree = FlatTree::build(&rounded);
+        let mut tree = FlatTree::build(&rounded, 0.0);
         drop(rounded);
         // The walk tests world triangles: the f32 local copies were for the build only.
         tree.triangles = Vec::new();
@@ -181,13 +180,14 @@ impl MeshTree {
 }
 
 impl Placement {
-    fn new(instance: &crate::scene::Instance, mesh: &SharedMesh) -> Self {
+    fn new(instance: &crate::scene::Instance, mesh: &SharedMesh, segment_margin: f32) -> Self {
         let (lo, hi) = mesh.bounds();
         let world = box_corners(lo, hi).map(|c| instance.world_from_local.transform_point3(c));
         let world_lo = world.iter().fold(DVec3::INFINITY, |a, &c| a.min(c));
         let world_hi = world.iter().fold(DVec3::NEG_INFINITY, |a, &c| a.max(c));
         let world_extent = world_lo.abs().max(world_hi.abs()).max_element();
-        let widen = DVec3::splat(world_extent * SLACK + f64::from(f32::MIN_POSITIVE));
+        let widen =
+            DVec3::splat(world_extent * SLACK + f64::from(f32::MIN_POSITIVE) + f64::from(segment_margin));
         let local_from_world = instance.world_from_local.inverse();
         let inverse_norm = row_sum_norm(&local_from_world);
         Placement {
@@ -199,6 +199,7 @@ impl Placement {
             world_lo: world_lo - widen,
             world_hi: world_hi + widen,
             fixed_extent: inverse_norm * world_extent + lo.abs().max(hi.abs()).max_element(),
+            segment_margin_local: inverse_norm * f64::from(segment_margin),
         }
     }
 
@@ -221,7 +222,7 @@ impl Placement {
         let origin = self.local_from_world.transform_point3(ray.origin.as_dvec3());
         let direction = self.local_from_world.transform_vector3(ray.direction.as_dvec3());
         let extent = self.fixed_extent + origin.abs().max_element() + t_exit * direction.abs().max_element();
-        let margin = (extent * SLACK) as f32;
+        let margin = (extent * SLACK + self.segment_margin_local) as f32;
         let local_ray = NodeRay::new(origin.as_vec3a(), direction.as_vec3a());
         let mut local_tmax = tmax.min(t_exit as f32);
         let mut stopped = false;

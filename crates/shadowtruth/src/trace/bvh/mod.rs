@@ -5,16 +5,19 @@
 //! sit behind a second level (instances.rs). Shadow rays (shadow_ray.rs) are answered one at a
 //! time or a row at once (shadow_batch.rs).
 
+pub(in crate::trace) mod certified;
 pub(in crate::trace) mod cwbvh_convert;
 pub(in crate::trace) mod flat_tree;
 pub(in crate::trace) mod hit;
 pub(in crate::trace) mod instances;
 pub(in crate::trace) mod node_test;
 pub(in crate::trace) mod packet;
+pub(in crate::trace) mod primary_certificate;
 pub(in crate::trace) mod scene_bvh;
 pub(in crate::trace) mod scratch;
 pub(in crate::trace) mod shadow_batch;
 pub(in crate::trace) mod shadow_ray;
+pub(in crate::trace) mod shadow_search;
 pub(in crate::trace) mod simd4;
 pub(in crate::trace) mod walk;
 pub(in crate::trace) mod watertight;
@@ -22,7 +25,8 @@ pub(in crate::trace) mod wide_bvh;
 
 pub use hit::Hit;
 pub use node_test::node_test_name;
-pub use scene_bvh::SceneBvh;
+pub use scene_bvh::{SceneBvh, ShadowBits};
 pub use scratch::TraversalScratch;
-pub use shadow_ray::{ShadowRay, SurfacePoint, offset_ray_origin, position_error};
+pub use shadow_ray::{ShadowRay, SurfacePoint, exact_point, position_error};
+pub use shadow_search::ShadowAnswer;
 pub use watertight::{RayTriangleHit, WatertightRay};

@@ -44,6 +44,10 @@ pub(in crate::trace) struct Packet {
     shear: [__m256; 2],
     /// Lanes that hold a ray (the others repeat the last).
     pub(in crate::trace) lanes: u32,
+    /// For shadow rays (`certify`), lane by lane, the certified test's bound on the sheared
+    /// coordinates' error as (fixed, per unit of reach): a lane is then rejected only where two
+    /// edge functions have opposite signs beyond their bound (certified.rs).
+    slack: Option<[__m256; 2]>,
 }
 
 impl Packet {
@@ -89,7 +93,24 @@ impl Packet {
             axes: [first.kx, first.ky, first.kz],
             shear: [load(std::array::from_fn(|k| ray(k).sx)), load(std::array::from_fn(|k| ray(k).sy))],
             lanes: (1u32 << rays.len()) - 1,
+            slack: None,
         })
+    }
+
+    /// Makes the leaf rejection that of the certified shadow test, with each lane's
+    /// (fixed, per unit of reach) coefficients of the sheared coordinates' error bound. They are
+    /// rounded to f32 upwards (a factor 1 + 2⁻¹⁰ covers that and the f32 evaluation of the
+    /// bound in `candidates`).
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    pub(in crate::trace) fn certify(&mut self, coefficients: &[(f64, f64); LANES]) {
+        let up = |v: f64| (v * (1.0 + 2f64.powi(-10))) as f32;
+        // SAFETY: eight f32.
+        let load = |v: [f32; LANES]| unsafe { _mm256_loadu_ps(v.as_ptr()) };
+        self.slack = Some([
+            load(std::array::from_fn(|k| up(coefficients[k].0))),
+            load(std::array::from_fn(|k| up(coefficients[k].1))),
+        ]);
     }
 
     /// Pushes the children of `node` that some lane of `lanes` may meet within [0, tmax[lane]]
@@ -170,22 +191,59 @@ impl Packet {
             let v = v.to_array();
             let d = |k: usize| _mm256_sub_ps(_mm256_set1_ps(v[k]), self.origin[k]);
             let (dx, dy, dz) = (d(kx), d(ky), d(kz));
-            (_mm256_sub_ps(dx, _mm256_mul_ps(sx, dz)), _mm256_sub_ps(dy, _mm256_mul_ps(sy, dz)))
+            (_mm256_sub_ps(dx, _mm256_mul_ps(sx, dz)), _mm256_sub_ps(dy, _mm256_mul_ps(sy, dz)), dz)
         };
-        let ((ax, ay), (bx, by), (cx, cy)) =
+        let ((ax, ay, az), (bx, by, bz), (cx, cy, cz)) =
             (sheared(triangle[0]), sheared(triangle[1]), sheared(triangle[2]));
+        let dz = [az, bz, cz];
         let edge = |px: __m256, py: __m256, qx: __m256, qy: __m256| {
             _mm256_sub_ps(_mm256_mul_ps(px, qy), _mm256_mul_ps(py, qx))
         };
         let e = [edge(cx, cy, bx, by), edge(ax, ay, cx, cy), edge(bx, by, ax, ay)];
         let zero = _mm256_setzero_ps();
-        let any = |cmp: &dyn Fn(__m256) -> __m256| {
-            _mm256_movemask_ps(_mm256_or_ps(_mm256_or_ps(cmp(e[0]), cmp(e[1])), cmp(e[2]))) as u32
+        let Some([fixed, per_reach]) = self.slack else {
+            let any = |cmp: &dyn Fn(__m256) -> __m256| {
+                _mm256_movemask_ps(_mm256_or_ps(_mm256_or_ps(cmp(e[0]), cmp(e[1])), cmp(e[2]))) as u32
+            };
+            let some_zero = any(&|x| _mm256_cmp_ps::<_CMP_EQ_OQ>(x, zero));
+            let some_negative = any(&|x| _mm256_cmp_ps::<_CMP_LT_OQ>(x, zero));
+            let some_positive = any(&|x| _mm256_cmp_ps::<_CMP_GT_OQ>(x, zero));
+            return lanes & (some_zero | !(some_negative & some_positive));
         };
-        let some_zero = any(&|x| _mm256_cmp_ps::<_CMP_EQ_OQ>(x, zero));
-        let some_negative = any(&|x| _mm256_cmp_ps::<_CMP_LT_OQ>(x, zero));
-        let some_positive = any(&|x| _mm256_cmp_ps::<_CMP_GT_OQ>(x, zero));
-        lanes & (some_zero | !(some_negative & some_positive))
+        // Only lanes whose edge functions have strictly mixed signs can be rejected; the others
+        // go to the scalar test whatever the bound.
+        let lt = |x| _mm256_cmp_ps::<_CMP_LT_OQ>(x, zero);
+        let gt = |x| _mm256_cmp_ps::<_CMP_GT_OQ>(x, zero);
+        let mixed = _mm256_and_ps(
+            _mm256_or_ps(_mm256_or_ps(lt(e[0]), lt(e[1])), lt(e[2])),
+            _mm256_or_ps(_mm256_or_ps(gt(e[0]), gt(e[1])), gt(e[2])),
+        );
+        if _mm256_movemask_ps(mixed) as u32 & lanes == 0 {
+            return lanes;
+        }
+        // `CertifiedRay::classify`'s bound, lane by lane: reach is the largest |x|, |y| and
+        // translated main-axis coordinate, σ = fixed + per_reach·reach, and the edge functions'
+        // bound 2·(2σ(2·reach + σ) + 4.01u·reach²) (u = 2⁻²⁴), times 1 + 2⁻¹⁰.
+        let abs = |x: __m256| _mm256_andnot_ps(_mm256_set1_ps(-0.0), x);
+        let max3 = |a: __m256, b: __m256, c: __m256| _mm256_max_ps(_mm256_max_ps(abs(a), abs(b)), abs(c));
+        let reach =
+            _mm256_max_ps(_mm256_max_ps(max3(ax, bx, cx), max3(ay, by, cy)), max3(dz[0], dz[1], dz[2]));
+        let sigma = _mm256_add_ps(fixed, _mm256_mul_ps(per_reach, reach));
+        let two_reach_sigma = _mm256_add_ps(_mm256_add_ps(reach, reach), sigma);
+        let bound = _mm256_add_ps(
+            _mm256_mul_ps(_mm256_set1_ps(4.0), _mm256_mul_ps(sigma, two_reach_sigma)),
+            _mm256_mul_ps(_mm256_set1_ps(8.02 * f32::EPSILON * 0.5), _mm256_mul_ps(reach, reach)),
+        );
+        let bound = _mm256_mul_ps(bound, _mm256_set1_ps(1.0 + 2f32.powi(-10)));
+        let below = _mm256_sub_ps(zero, bound);
+        let clear =
+            |x: __m256| (_mm256_cmp_ps::<_CMP_LT_OQ>(x, below), _mm256_cmp_ps::<_CMP_GT_OQ>(x, bound));
+        let ((n0, p0), (n1, p1), (n2, p2)) = (clear(e[0]), clear(e[1]), clear(e[2]));
+        let clearly_mixed =
+            _mm256_and_ps(_mm256_or_ps(_mm256_or_ps(n0, n1), n2), _mm256_or_ps(_mm256_or_ps(p0, p1), p2));
+        // Below 2⁻⁴⁰ the f32 bound may underflow: such lanes go to the scalar test.
+        let sound = _mm256_cmp_ps::<_CMP_GE_OQ>(reach, _mm256_set1_ps(2f32.powi(-40)));
+        lanes & !(_mm256_movemask_ps(_mm256_and_ps(clearly_mixed, sound)) as u32)
     }
 }
 
@@ -275,7 +333,7 @@ mod tests {
         let tris = soup(&mut rng);
         let bvh = SceneBvh::build_from_triangles(&tris);
         let mut scratch = bvh.scratch();
-        let (mut packed, mut hit_count) = (0, 0);
+        let (mut packed, mut hit_count, mut doubts) = (0, 0, 0);
         let forms_packet = |origins: &[Vec3], dirs: &[Vec3]| {
             let rays: Vec<WatertightRay> =
                 origins.iter().zip(dirs).map(|(o, d)| WatertightRay::new((*o).into(), (*d).into())).collect();
@@ -306,32 +364,39 @@ mod tests {
                 hit_count += single.is_some() as usize;
             }
             let towards = dirs[0];
+            // Origins known to within nothing to 10⁻³, so that the certified rejection of the
+            // packet and the doubts of the f64 test are both exercised.
             let rays: Vec<ShadowRay> = (0..n)
                 .map(|k| {
                     let o = origin + Vec3::from_array(std::array::from_fn(|_| rng.range([-0.3, 0.3]) as f32));
+                    let spot = k % 3 == 0;
                     ShadowRay {
-                        origin: o,
-                        direction: towards,
-                        tmax: if k % 3 == 0 { 2.0 } else { f32::INFINITY },
+                        origin: o.as_dvec3(),
+                        origin_error: [0.0, 1e-7, 1e-3][(round + k) % 3],
+                        direction: towards.as_dvec3(),
+                        direction_error: if spot { 1e-7 } else { 0.0 },
+                        length: if spot { 2.0 } else { f64::INFINITY },
+                        length_error: if spot { 1e-6 } else { 0.0 },
                         skip_triangle: (k * 7) as u32,
+                        surface: tris[k * 7],
                     }
                 })
                 .collect();
             packed +=
-                forms_packet(&rays.iter().map(|r| r.origin).collect::<Vec<_>>(), &vec![towards; n]) as usize;
-            let bits = bvh.shadow_occluded(&mut scratch, &rays);
+                forms_packet(&rays.iter().map(|r| r.origin.as_vec3()).collect::<Vec<_>>(), &vec![towards; n])
+                    as usize;
+            let bits = bvh.shadow_answers(&mut scratch, &rays);
             for (k, ray) in rays.iter().enumerate() {
-                assert_eq!(
-                    bits >> k & 1 == 1,
-                    bvh.shadow_occluder(&mut scratch, ray).is_some(),
-                    "round {round}, ray {k}"
-                );
+                let single = bvh.shadow_answer(&mut scratch, ray);
+                assert_eq!(bits.occluded >> k & 1 == 1, single.shadowed(), "round {round}, ray {k}");
+                assert_eq!(bits.uncertain >> k & 1 == 1, single.is_uncertain(), "round {round}, ray {k}");
+                doubts += single.is_uncertain() as usize;
             }
         }
         // Both kinds of query must mostly have run as packets, not one ray at a time.
         assert!(
-            packed > 3000 && hit_count > 1000,
-            "the test needs packets ({packed}) and hits ({hit_count})"
+            packed > 3000 && hit_count > 1000 && doubts > 100,
+            "the test needs packets ({packed}), hits ({hit_count}) and uncertain answers ({doubts})"
         );
     }
 }

@@ -23,6 +23,7 @@ use super::node_test::NodeRay;
 use super::packet::{LANES, Packet, walk_packet};
 use super::scratch::TraversalScratch;
 use super::shadow_ray::ShadowRay;
+use super::shadow_search::{ShadowAnswer, ShadowSearch};
 use super::walk::{ANY_ORDER, NEAREST_FIRST, WalkState, walk};
 use super::watertight::WatertightRay;
 use super::wide_bvh::{ChildRef, WideBvh};
@@ -38,18 +39,25 @@ pub struct SceneBvh {
     pub(in crate::trace) scene_ids: Vec<u32>,
     /// Deepest level of the tree: the traversal stack never holds more entries.
     pub(in crate::trace) depth: usize,
-    instances: Option<InstanceLevel>,
+    pub(in crate::trace) instances: Option<InstanceLevel>,
 }
 
 impl SceneBvh {
     pub fn build(scene: &Scene) -> Self {
-        let mut bvh = Self::build_from_triangles(&scene.flat_triangles);
-        bvh.instances = InstanceLevel::build(scene);
+        let (lo, hi) = scene.bounds();
+        let margin = segment_margin(lo.abs().max(hi.abs()).max_element());
+        let mut bvh = Self::build_with_margin(&scene.flat_triangles, margin);
+        bvh.instances = InstanceLevel::build(scene, margin);
         bvh
     }
 
     pub fn build_from_triangles(tris: &[[Vec3; 3]]) -> Self {
-        let FlatTree { tree, triangles, scene_ids, depth } = FlatTree::build(tris);
+        let reach = tris.iter().flatten().fold(0.0f32, |m, v| m.max(v.abs().max_element()));
+        Self::build_with_margin(tris, segment_margin(reach))
+    }
+
+    fn build_with_margin(tris: &[[Vec3; 3]], margin: f32) -> Self {
+        let FlatTree { tree, triangles, scene_ids, depth } = FlatTree::build(tris, margin);
         SceneBvh { tree, triangles, scene_ids, depth, instances: None }
     }
 
@@ -135,46 +143,70 @@ impl SceneBvh {
             hit
         });
         match &self.instances {
-            Some(instances) if !hit => {
-                instances.any_hit(scratch, &ray, tmin, tmax, u32::MAX, false).is_some()
-            }
+            Some(instances) if !hit => instances.any_triangle(scratch, &ray, tmax, |_, v| {
+                ray.intersect(v[0], v[1], v[2], tmin, tmax).is_some()
+            }),
             _ => hit,
         }
     }
 }
 
 impl SceneBvh {
-    /// The scene id of a triangle that occludes a shadow ray (any one, not the nearest), or
-    /// `None`: a hit counts when its distance is certainly positive and at most `tmax`, and
-    /// the ray's own triangle is never tested (shadow_ray.rs).
-    pub fn shadow_occluder(&self, scratch: &mut TraversalScratch, shadow: &ShadowRay) -> Option<u32> {
-        let ray = WatertightRay::new(shadow.origin.into(), shadow.direction.into());
+    /// The hard answer for one shadow ray: a triangle certainly meets its exact segment, none
+    /// does, or neither is certain (shadow_search.rs).
+    pub fn shadow_answer(&self, scratch: &mut TraversalScratch, shadow: &ShadowRay) -> ShadowAnswer {
+        let (ray, mut tmax) = ShadowSearch::walk_ray(shadow);
         let node_ray = NodeRay::new(ray.origin, ray.direction);
-        let mut occluder = None;
-        walk::<ANY_ORDER>(
-            &self.tree,
-            &mut scratch.outer,
-            &node_ray,
-            0.0,
-            &mut shadow.tmax.clone(),
-            0.0,
-            |i, _| {
-                let id = self.scene_ids[i];
-                let [v0, v1, v2] = self.triangles[i];
-                if id != shadow.skip_triangle && ray.intersect_beyond_error(v0, v1, v2, shadow.tmax).is_some()
-                {
-                    occluder = Some(id);
-                }
-                occluder.is_some()
-            },
-        );
-        match &self.instances {
-            Some(instances) if occluder.is_none() => {
-                instances.any_hit(scratch, &ray, 0.0, shadow.tmax, shadow.skip_triangle, true)
-            }
-            _ => occluder,
+        let mut search = ShadowSearch::new(shadow);
+        let mut over = false;
+        walk::<ANY_ORDER>(&self.tree, &mut scratch.outer, &node_ray, 0.0, &mut tmax, 0.0, |i, _| {
+            over = search.test(self.scene_ids[i], &self.triangles[i]);
+            over
+        });
+        if let (Some(instances), false) = (&self.instances, over) {
+            instances.any_triangle(scratch, &ray, tmax, |id, v| search.test(id, v));
+        }
+        search.answer()
+    }
+
+    /// The scene id of a triangle that occludes a shadow ray (any one, not the nearest), or
+    /// `None`: the best guess of `shadow_answer`.
+    pub fn shadow_occluder(&self, scratch: &mut TraversalScratch, shadow: &ShadowRay) -> Option<u32> {
+        match self.shadow_answer(scratch, shadow) {
+            ShadowAnswer::Lit => None,
+            ShadowAnswer::Shadowed { occluder } => Some(occluder),
+            ShadowAnswer::Uncertain { triangle, likely_shadowed } => likely_shadowed.then_some(triangle),
         }
     }
+}
+
+/// The answers for a batch of shadow rays: bit k for ray k.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ShadowBits {
+    /// Shadowed, certainly or by the best guess.
+    pub occluded: u32,
+    /// Not decided beyond doubt.
+    pub uncertain: u32,
+}
+
+impl ShadowBits {
+    fn of(answers: impl Iterator<Item = ShadowAnswer>) -> ShadowBits {
+        answers.enumerate().fold(ShadowBits::default(), |bits, (k, a)| ShadowBits {
+            occluded: bits.occluded | (a.shadowed() as u32) << k,
+            uncertain: bits.uncertain | (a.is_uncertain() as u32) << k,
+        })
+    }
+}
+
+/// How far every box of the tree grows so that walking a shadow ray's f32 ray never drops a box
+/// its exact segment enters (shadow_search.rs). Within the scene's box (coordinates up to
+/// `reach`), the f32 ray lies within ε_o + t·ε_d of the exact segment: the f32 origin within
+/// 2⁻²⁴·reach plus the f64 point's error (2⁻⁴⁸·reach), the f32 direction within 2⁻²⁴ plus
+/// the f64 direction's error, whose part that grows with 1/length stays below 4·ε_p/length, and
+/// t at most the box's diagonal (2√3·reach). All of it is under 2⁻²¹·reach; 2⁻²⁰·reach
+/// (and the smallest normal f32, for a scene at the origin) is the margin.
+fn segment_margin(reach: f32) -> f32 {
+    (reach as f64 * 2f64.powi(-20)) as f32 + f32::MIN_POSITIVE
 }
 
 /// The most rays `shadow_occluded` takes, and `closest_hits` walks, at once.
@@ -183,13 +215,18 @@ pub const RAYS_PER_BATCH: usize = 8;
 /// Queries for many rays at once: the single-ray answers, walked eight at a time where the
 /// processor and the rays allow (packet.rs).
 impl SceneBvh {
-    /// Bit k set where shadow ray k is occluded: `shadow_occluder(rays[k]).is_some()`.
-    pub fn shadow_occluded(&self, scratch: &mut TraversalScratch, rays: &[ShadowRay]) -> u32 {
+    /// `shadow_answer` for each ray, as bits.
+    pub fn shadow_answers(&self, scratch: &mut TraversalScratch, rays: &[ShadowRay]) -> ShadowBits {
         #[cfg(target_arch = "x86_64")]
-        if let Some(bits) = self.shadow_occluded_packet(scratch, rays) {
+        if let Some(bits) = self.shadow_answers_packet(scratch, rays) {
             return bits;
         }
-        (0..rays.len()).map(|k| (self.shadow_occluder(scratch, &rays[k]).is_some() as u32) << k).sum()
+        ShadowBits::of(rays.iter().map(|ray| self.shadow_answer(scratch, ray)))
+    }
+
+    /// Bit k set where shadow ray k is occluded (by `shadow_answer`'s best guess).
+    pub fn shadow_occluded(&self, scratch: &mut TraversalScratch, rays: &[ShadowRay]) -> u32 {
+        self.shadow_answers(scratch, rays).occluded
     }
 
     /// `closest_hit(origin, directions[k], 0, ∞)` into `hits[k]` for each k, for any number of
@@ -213,42 +250,39 @@ impl SceneBvh {
     }
 
     #[cfg(target_arch = "x86_64")]
-    fn shadow_occluded_packet(&self, scratch: &mut TraversalScratch, rays: &[ShadowRay]) -> Option<u32> {
+    fn shadow_answers_packet(
+        &self,
+        scratch: &mut TraversalScratch,
+        rays: &[ShadowRay],
+    ) -> Option<ShadowBits> {
         if rays.len() < 2 || rays.len() > LANES || !node_test::wide_available() {
             return None;
         }
         let lane = |k: usize| k.min(rays.len() - 1);
-        let watertight: [WatertightRay; LANES] = std::array::from_fn(|k| {
-            WatertightRay::new(rays[lane(k)].origin.into(), rays[lane(k)].direction.into())
-        });
+        let walks: [(WatertightRay, f32); LANES] =
+            std::array::from_fn(|k| ShadowSearch::walk_ray(&rays[lane(k)]));
+        let watertight = walks.map(|w| w.0);
         // SAFETY: the processor has AVX2 (`wide_available`).
-        let packet = unsafe { Packet::new(&watertight[..rays.len()]) }?;
-        let mut tmax: [f32; LANES] = std::array::from_fn(|k| rays[lane(k)].tmax);
+        let mut packet = unsafe { Packet::new(&watertight[..rays.len()]) }?;
+        let mut searches: [ShadowSearch; LANES] = std::array::from_fn(|k| ShadowSearch::new(&rays[lane(k)]));
+        // SAFETY: as above.
+        unsafe { packet.certify(&std::array::from_fn(|k| searches[k].edge_slack())) };
+        let mut tmax = walks.map(|w| w.1);
         // SAFETY: as above.
         let active = unsafe {
             self.walk_flat::<ANY_ORDER>(scratch, &packet, &mut tmax, |i, k, _| {
-                let [v0, v1, v2] = self.triangles[i];
-                self.scene_ids[i] != rays[k].skip_triangle
-                    && watertight[k].intersect_beyond_error(v0, v1, v2, rays[k].tmax).is_some()
+                searches[k].test(self.scene_ids[i], &self.triangles[i])
             })
         };
-        let mut occluded = packet.lanes & !active;
         if let Some(instances) = &self.instances {
             for k in 0..rays.len() {
-                if occluded & (1 << k) == 0 {
-                    let hit = instances.any_hit(
-                        scratch,
-                        &watertight[k],
-                        0.0,
-                        rays[k].tmax,
-                        rays[k].skip_triangle,
-                        true,
-                    );
-                    occluded |= (hit.is_some() as u32) << k;
+                if active & (1 << k) != 0 {
+                    let search = &mut searches[k];
+                    instances.any_triangle(scratch, &watertight[k], walks[k].1, |id, v| search.test(id, v));
                 }
             }
         }
-        Some(occluded)
+        Some(ShadowBits::of(searches[..rays.len()].iter().map(ShadowSearch::answer)))
     }
 
     /// Walks the flat triangles' tree with `packet`, from every lane, and returns the lanes

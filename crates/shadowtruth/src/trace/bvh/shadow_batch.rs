@@ -6,7 +6,7 @@
 use super::scene_bvh::{RAYS_PER_BATCH, SceneBvh};
 use super::scratch::TraversalScratch;
 use super::shadow_ray::ShadowRay;
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 /// Up to `RAYS_PER_BATCH` shadow rays, each with its caller's tag (a pixel's column, or
 /// nothing), waiting to be traced.
@@ -17,15 +17,24 @@ pub(in crate::trace) struct ShadowBatch {
 }
 
 /// What fills the slots beyond a batch's rays; never traced.
-const UNUSED_RAY: ShadowRay =
-    ShadowRay { origin: Vec3::ZERO, direction: Vec3::X, tmax: 0.0, skip_triangle: u32::MAX };
+const UNUSED_RAY: ShadowRay = ShadowRay {
+    origin: DVec3::ZERO,
+    origin_error: 0.0,
+    direction: DVec3::X,
+    direction_error: 0.0,
+    length: 0.0,
+    length_error: 0.0,
+    skip_triangle: u32::MAX,
+    surface: [Vec3::ZERO; 3],
+};
 
 impl ShadowBatch {
     pub(in crate::trace) fn new() -> Self {
         ShadowBatch { tags: [0; RAYS_PER_BATCH], rays: [UNUSED_RAY; RAYS_PER_BATCH], len: 0 }
     }
 
-    /// Adds `ray`; once the batch is full, traces it and calls `visible(tag, lit)` for each ray.
+    /// Adds `ray`; once the batch is full, traces it and calls `visible(tag, lit, uncertain)`
+    /// for each ray (`lit` the best guess where `uncertain`).
     #[inline]
     pub(in crate::trace) fn push(
         &mut self,
@@ -33,7 +42,7 @@ impl ShadowBatch {
         scratch: &mut TraversalScratch,
         tag: usize,
         ray: ShadowRay,
-        visible: impl FnMut(usize, bool),
+        visible: impl FnMut(usize, bool, bool),
     ) {
         self.tags[self.len] = tag;
         self.rays[self.len] = ray;
@@ -43,19 +52,20 @@ impl ShadowBatch {
         }
     }
 
-    /// Traces the rays waiting, calls `visible(tag, lit)` for each, and empties the batch.
+    /// Traces the rays waiting, calls `visible(tag, lit, uncertain)` for each, and empties the
+    /// batch.
     pub(in crate::trace) fn finish(
         &mut self,
         bvh: &SceneBvh,
         scratch: &mut TraversalScratch,
-        mut visible: impl FnMut(usize, bool),
+        mut visible: impl FnMut(usize, bool, bool),
     ) {
         if self.len == 0 {
             return;
         }
-        let occluded = bvh.shadow_occluded(scratch, &self.rays[..self.len]);
+        let bits = bvh.shadow_answers(scratch, &self.rays[..self.len]);
         for (k, &tag) in self.tags[..self.len].iter().enumerate() {
-            visible(tag, occluded >> k & 1 == 0);
+            visible(tag, bits.occluded >> k & 1 == 0, bits.uncertain >> k & 1 != 0);
         }
         self.len = 0;
     }
@@ -83,13 +93,13 @@ impl RowShadows {
         ray: ShadowRay,
     ) {
         let lit = &mut self.lit;
-        self.batch.push(bvh, scratch, x, ray, |x, visible| lit[x] += visible as u32);
+        self.batch.push(bvh, scratch, x, ray, |x, visible, _| lit[x] += visible as u32);
     }
 
     /// Traces the rays still waiting: every count is final.
     pub(in crate::trace) fn finish(&mut self, bvh: &SceneBvh, scratch: &mut TraversalScratch) {
         let lit = &mut self.lit;
-        self.batch.finish(bvh, scratch, |x, visible| lit[x] += visible as u32);
+        self.batch.finish(bvh, scratch, |x, visible, _| lit[x] += visible as u32);
     }
 
     /// The unoccluded rays of column `x` (after `finish`).

@@ -1,16 +1,17 @@
-//! Shadow rays that cannot hit the surface they leave (docs/reference.md, "Why a surface cannot
-//! shadow itself"): the ray starts from the surface point moved along the normal just past a
-//! rigorous bound on the point's rounding error (Pharr, Jakob & Humphreys, *Physically Based
-//! Rendering*, 4th ed., §6.8.5–6), it never tests the triangle the point was interpolated from,
-//! and the triangle test accepts only hits certainly in front of the origin
-//! (`WatertightRay::intersect_beyond_error`). No scene-dependent epsilon enters.
+//! Shadow rays as the definition states them (docs/reference.md): from the exact surface point
+//! on its triangle (the hit's barycentrics on the triangle's f32 vertices, never rounded into a
+//! neighbour) towards the light, with rigorous bounds on how far their f64 numbers lie from the
+//! exact segment, so that the certified test (certified.rs) can say when it is sure. The
+//! triangle the point lies on is never tested; no scene-dependent epsilon enters.
 
+use super::watertight::barycentric_point;
 use glam::{DVec3, Vec3};
 
 /// A surface point as the shadow test needs it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfacePoint {
-    /// The f32 point interpolated from the triangle's vertices: what the reference is about.
+    /// The exact point rounded to f32: what the techniques shade (the reference is about the
+    /// exact point, `exact_point`).
     pub position: Vec3,
     /// Per axis, a bound on |position − the exact interpolated point| (`position_error`).
     pub error: Vec3,
@@ -39,57 +40,76 @@ pub fn position_error(p: Vec3, triangle: &[Vec3; 3]) -> Vec3 {
     bound * (1.0 + 2f32.powi(-20))
 }
 
-/// The origin of a ray leaving the surface at `point` along its normal: moved by
-/// d = |n|·error along the normal, then each coordinate rounded one more step away from the
-/// surface. Every point of the box `position ± error` lies on the other side of the plane
-/// through the origin with normal n (pbrt-v4's `OffsetRayOrigin`).
-pub fn offset_ray_origin(point: &SurfacePoint) -> Vec3 {
-    let n = point.normal;
-    let d = n.abs().dot(point.error);
-    let offset = n * d;
-    let moved = point.position + offset;
-    Vec3::from_array(std::array::from_fn(|k| {
-        if offset[k] > 0.0 {
-            moved[k].next_up()
-        } else if offset[k] < 0.0 {
-            moved[k].next_down()
-        } else {
-            moved[k]
-        }
-    }))
-}
-
-/// A shadow ray: from an offset origin, along a unit direction, up to `tmax`, never testing
-/// `skip_triangle`.
+/// A shadow ray: the exact segment of the definition (docs/reference.md) from a surface point
+/// towards the light, as the certified test (certified.rs) needs it. The exact point is only
+/// known to within `origin_error` of `origin`; the direction and length likewise.
 #[derive(Clone, Copy, Debug)]
 pub struct ShadowRay {
-    pub origin: Vec3,
-    pub direction: Vec3,
-    pub tmax: f32,
+    /// The exact surface point rounded to f64 (`barycentric_point`).
+    pub origin: DVec3,
+    /// Per axis, a bound on |origin − the exact point|.
+    pub origin_error: f64,
+    /// Unit direction towards the light, and per axis a bound on its distance from the exact
+    /// segment's unit direction (0 towards a directional light, whose f32 direction is exact).
+    pub direction: DVec3,
+    pub direction_error: f64,
+    /// The segment's length (∞ towards a directional light) and a bound on its error.
+    pub length: f64,
+    pub length_error: f64,
+    /// The triangle the point lies on: never tested, and triangles exactly in its plane never
+    /// occlude (the segment leaves the plane at the point).
     pub skip_triangle: u32,
+    pub surface: [Vec3; 3],
 }
 
 impl ShadowRay {
     /// Towards the point `target` (a spot light's position, a sample of an area light): the
     /// segment ends there.
     pub fn to_point(point: &SurfacePoint, target: DVec3) -> ShadowRay {
-        let origin = offset_ray_origin(point);
-        let to = target - origin.as_dvec3();
+        let (origin, origin_error) = exact_point(point);
+        let to = target - origin;
+        let length = to.length();
+        // The difference rounds by 2⁻⁵³ of itself and inherits the origin's error; a unit
+        // vector turns by at most 2·|δ|/|v| under a change δ of v (√3 from the max-norm), and
+        // the normalization rounds a few times more.
+        let to_error = origin_error + f64::EPSILON * to.abs().max_element();
         ShadowRay {
             origin,
-            direction: to.normalize().as_vec3(),
-            tmax: to.length() as f32,
+            origin_error,
+            direction: to / length,
+            direction_error: 2.0 * 3f64.sqrt() * to_error / length * (1.0 + 1e-9) + 4.0 * f64::EPSILON,
+            length,
+            length_error: 3f64.sqrt() * to_error + 4.0 * f64::EPSILON * length,
             skip_triangle: point.triangle,
+            surface: point.vertices,
         }
     }
 
-    /// Along the unit direction `towards_light` (a directional light), without end.
+    /// Along the direction `towards_light` (a directional light's reversed f32 direction,
+    /// exact), without end.
     pub fn along(point: &SurfacePoint, towards_light: DVec3) -> ShadowRay {
+        let (origin, origin_error) = exact_point(point);
         ShadowRay {
-            origin: offset_ray_origin(point),
-            direction: towards_light.as_vec3(),
-            tmax: f32::INFINITY,
+            origin,
+            origin_error,
+            direction: towards_light,
+            direction_error: 0.0,
+            length: f64::INFINITY,
+            length_error: 0.0,
             skip_triangle: point.triangle,
+            surface: point.vertices,
         }
     }
+}
+
+/// The exact point v0 + b1·(v1 − v0) + b2·(v2 − v0) rounded to f64, and a bound per axis on
+/// that rounding: the two f64 differences, two products and two sums each round by at most
+/// 2⁻⁵³ of terms no larger than (1 + |b1| + |b2|)·Σ|v|, so 2⁻⁴⁹·(1 + |b1| + |b2|)·Σ|v| holds
+/// with room to spare (plus the smallest normal f64, for underflow).
+pub fn exact_point(point: &SurfacePoint) -> (DVec3, f64) {
+    let [b1, b2] = point.barycentric;
+    let p = barycentric_point(&point.vertices, [0.0, b1, b2]);
+    let sum_abs = point.vertices.iter().map(|v| v.abs().max_element() as f64).sum::<f64>();
+    let error = 2f64.powi(-49) * (1.0 + b1.abs() as f64 + b2.abs() as f64) * sum_abs + f64::MIN_POSITIVE;
+    (p, error)
 }

@@ -186,11 +186,13 @@ pub(in crate::trace) fn tree_depth(tree: &WideBvh) -> usize {
 mod tests {
     use super::*;
     use crate::trace::SceneBvh;
+    use crate::trace::bvh::flat_tree::FlatTree;
     use crate::trace::splitmix::SplitMix64;
     use glam::Vec3;
 
     /// Every child's box is exactly the box of the triangles beneath it, and every triangle
-    /// lies beneath exactly one leaf.
+    /// lies beneath exactly one leaf; a scene's tree holds those boxes grown by its segment
+    /// margin (`SceneBvh::build`), never less.
     #[test]
     fn child_boxes_are_the_exact_boxes_of_their_triangles() {
         let mut rng = SplitMix64::new(3);
@@ -201,11 +203,21 @@ mod tests {
                 [c, c + point() * 0.1, c + point() * 0.1]
             })
             .collect();
-        let bvh = SceneBvh::build_from_triangles(&tris);
+        let exact = FlatTree::build(&tris, 0.0);
         let mut seen = vec![0u32; tris.len()];
-        let root = subtree_box(&bvh.tree, 0, &bvh.triangles, &mut seen);
-        assert_eq!(bvh.tree.bounds(), Some(root));
+        let root = subtree_box(&exact.tree, 0, &exact.triangles, &mut seen);
+        assert_eq!(exact.tree.bounds(), Some(root));
         assert!(seen.iter().all(|&n| n == 1), "each triangle in exactly one leaf");
+        let bvh = SceneBvh::build_from_triangles(&tris);
+        let (lo, hi) = bvh.tree.bounds().expect("a tree");
+        let margin = 10.0 * 2f32.powi(-20);
+        assert!(
+            lo.cmple(root.0 - Vec3A::splat(margin)).all() && hi.cmpge(root.1 + Vec3A::splat(margin)).all()
+        );
+        assert!(
+            lo.cmpge(root.0 - Vec3A::splat(1.01 * margin)).all(),
+            "grown by the margin, not more: {lo} {root:?}"
+        );
     }
 
     /// The exact box of node `index`'s triangles, checking each child's stored box on the way.

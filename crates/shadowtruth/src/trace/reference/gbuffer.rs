@@ -3,6 +3,7 @@
 
 use crate::scene::{Camera, Film, Light, LightKind, Scene};
 use crate::trace::bvh::hit::Hit;
+use crate::trace::bvh::primary_certificate::PrimaryCertainty;
 use crate::trace::bvh::scene_bvh::SceneBvh;
 use crate::trace::bvh::shadow_ray::{SurfacePoint, position_error};
 use crate::trace::bvh::watertight::barycentric_point;
@@ -21,9 +22,10 @@ pub enum PixelClass {
     OutsideLight,
     /// Scored: lit or shadowed by occluders only.
     Evaluated,
-    /// Lit by the light's cone and facing it, but the reference cannot decide beyond doubt
-    /// which surface the pixel sees or whether its point is lit (docs/reference.md, "The
-    /// reference's uncertainty"): left out of every score, and counted.
+    /// The reference cannot decide beyond doubt which surface the pixel sees (whether its ray
+    /// hits anything, and what first), or, for a pixel otherwise evaluated, whether its point
+    /// is lit (docs/reference.md, "The reference's uncertainty"): left out of every score, and
+    /// counted.
     Uncertain,
 }
 
@@ -99,8 +101,9 @@ pub(in crate::trace) enum LightSight {
 impl LightSight {
     pub(in crate::trace) fn of(light: &Light) -> Self {
         match &light.kind {
+            // The definition's D: the f32 direction (normalized on load) reversed, exactly.
             LightKind::Directional { direction, .. } => {
-                LightSight::Directional { towards: -direction.as_dvec3().normalize() }
+                LightSight::Directional { towards: (-*direction).as_dvec3() }
             }
             LightKind::Spot { position, direction, cone_deg, near, far, .. } => LightSight::Spot {
                 position: position.as_dvec3(),
@@ -201,11 +204,21 @@ impl GBuffer {
                 |(scratch, dirs, hits), (y, (((((cls, pos), bary), nrm), tri), obj))| {
                     row_directions(&film, &columns, y, dirs);
                     bvh.closest_hits(scratch, camera.position, dirs, hits);
-                    for (x, hit) in hits.iter().enumerate() {
-                        let Some(hit) = hit else { continue };
+                    for (x, hit) in hits.iter_mut().enumerate() {
+                        let certainty = bvh.certify_primary(scratch, camera.position, dirs[x], hit.as_ref());
+                        if let PrimaryCertainty::Tie(tie) = certainty {
+                            *hit = Some(tie);
+                        }
+                        let uncertain = certainty == PrimaryCertainty::Uncertain;
+                        let Some(hit) = hit else {
+                            if uncertain {
+                                cls[x] = PixelClass::Uncertain;
+                            }
+                            continue;
+                        };
                         let sample = surface_sample(hit, dirs[x], &sight);
                         let p = sample.point;
-                        cls[x] = sample.class;
+                        cls[x] = if uncertain { PixelClass::Uncertain } else { sample.class };
                         pos[x] = p.position;
                         bary[x] = p.barycentric;
                         nrm[x] = p.normal;

@@ -93,7 +93,8 @@ pub(in crate::trace) fn hard_visible(
     bvh.shadow_occluder(scratch, &shadow_ray_to_centre(point, light)).is_none()
 }
 
-/// Traces one shadow ray per evaluated pixel.
+/// Traces one shadow ray per evaluated pixel; the pixels whose answer is not certain are listed
+/// in `uncertain` (docs/reference.md, "The reference's uncertainty").
 pub fn trace_hard_reference(
     scene: &Scene,
     bvh: &SceneBvh,
@@ -103,21 +104,34 @@ pub fn trace_hard_reference(
     let mut lit = vec![0u8; gbuffer.pixel_count()];
     let w = gbuffer.width as usize;
     let sight = LightSight::of(light);
-    lit.par_chunks_mut(w).enumerate().for_each_init(
-        || bvh.scratch(),
-        |scratch, (y, row)| {
-            // The row's evaluated pixels, traced together a batch at a time.
-            let mut batch = ShadowBatch::new();
-            for x in 0..w {
-                let i = y * w + x;
-                if gbuffer.class[i] != PixelClass::Evaluated {
-                    continue;
+    let uncertain_rows: Vec<Vec<u32>> = lit
+        .par_chunks_mut(w)
+        .enumerate()
+        .map_init(
+            || bvh.scratch(),
+            |scratch, (y, row)| {
+                // The row's evaluated pixels, traced together a batch at a time.
+                let mut uncertain = Vec::new();
+                let mut answer = |x: usize, visible: bool, doubt: bool| {
+                    row[x] = visible as u8;
+                    if doubt {
+                        uncertain.push((y * w + x) as u32);
+                    }
+                };
+                let mut batch = ShadowBatch::new();
+                for x in 0..w {
+                    let i = y * w + x;
+                    if gbuffer.class[i] != PixelClass::Evaluated {
+                        continue;
+                    }
+                    let ray = shadow_ray_to_centre(&gbuffer.surface_point(scene, i), &sight);
+                    batch.push(bvh, scratch, x, ray, &mut answer);
                 }
-                let ray = shadow_ray_to_centre(&gbuffer.surface_point(scene, i), &sight);
-                batch.push(bvh, scratch, x, ray, |x, lit| row[x] = lit as u8);
-            }
-            batch.finish(bvh, scratch, |x, lit| row[x] = lit as u8);
-        },
-    );
-    HardReference { width: gbuffer.width, height: gbuffer.height, lit, uncertain: Vec::new() }
+                batch.finish(bvh, scratch, &mut answer);
+                uncertain.sort_unstable();
+                uncertain
+            },
+        )
+        .collect();
+    HardReference { width: gbuffer.width, height: gbuffer.height, lit, uncertain: uncertain_rows.concat() }
 }

@@ -1,0 +1,148 @@
+//! One shadow ray's search for an occluder, triangle by triangle, with a certificate: each
+//! triangle the walk reaches is tested first in f32 (certified.rs), and only where f32 cannot
+//! be sure, again in f64 relative to the exact point's f64 rounding. What neither can decide
+//! is looked at once more against the definition: a triangle exactly in the plane of the
+//! surface (Shewchuk's exact orientation test, the `robust` crate) or degenerate never occludes.
+//! Whatever still remains makes the answer uncertain, unless a certain occluder turns up.
+
+use super::certified::{CertifiedRay, Verdict, in_one_plane};
+use super::shadow_ray::ShadowRay;
+use super::watertight::WatertightRay;
+use crate::scene::is_degenerate;
+use glam::{Vec3, Vec3A};
+
+/// The hard answer for one shadow ray.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShadowAnswer {
+    Lit,
+    /// A triangle certainly meets the segment.
+    Shadowed {
+        occluder: u32,
+    },
+    /// No triangle certainly meets it, and `triangle` may: too close to call even in f64.
+    /// `likely_shadowed` is what the computed numbers say.
+    Uncertain {
+        triangle: u32,
+        likely_shadowed: bool,
+    },
+}
+
+impl ShadowAnswer {
+    /// The best guess: shadowed when certain or likely.
+    pub fn shadowed(self) -> bool {
+        match self {
+            ShadowAnswer::Lit => false,
+            ShadowAnswer::Shadowed { .. } => true,
+            ShadowAnswer::Uncertain { likely_shadowed, .. } => likely_shadowed,
+        }
+    }
+
+    pub fn is_uncertain(self) -> bool {
+        matches!(self, ShadowAnswer::Uncertain { .. })
+    }
+}
+
+pub(in crate::trace) struct ShadowSearch<'r> {
+    ray: &'r ShadowRay,
+    fast: CertifiedRay<f32>,
+    precise: Option<CertifiedRay<f64>>,
+    occluder: Option<u32>,
+    doubt: Option<(u32, bool)>,
+}
+
+impl<'r> ShadowSearch<'r> {
+    pub(in crate::trace) fn new(ray: &'r ShadowRay) -> Self {
+        let (origin, direction) = (ray.origin.as_vec3(), ray.direction.as_vec3());
+        // Rounding to f32 moves each coordinate by at most 2⁻²⁴ of itself (2⁻¹⁴⁹ below the
+        // normal range); a direction already in f32 (a directional light's) does not move.
+        let origin_error =
+            ray.origin_error + 2f64.powi(-24) * ray.origin.abs().max_element() + 2f64.powi(-149);
+        let direction_error = match direction.as_dvec3() == ray.direction {
+            true => ray.direction_error,
+            false => ray.direction_error + 2f64.powi(-24),
+        };
+        let fast = CertifiedRay::new(
+            origin.to_array(),
+            origin_error,
+            direction.to_array(),
+            direction_error,
+            ray.length,
+            ray.length_error,
+        );
+        ShadowSearch { ray, fast, precise: None, occluder: None, doubt: None }
+    }
+
+    /// The f32 ray the walk follows (its node tests are conservative for the exact segment
+    /// because every box is widened by the scene's `SceneBvh::segment_margin`).
+    pub(in crate::trace) fn walk_ray(ray: &ShadowRay) -> (WatertightRay, f32) {
+        let walk = WatertightRay::new(ray.origin.as_vec3a(), ray.direction.as_vec3a());
+        let reach = ray.length + ray.length_error;
+        let tmax = if reach.is_finite() { (reach as f32).next_up() } else { f32::INFINITY };
+        (walk, tmax)
+    }
+
+    /// The f32 test's sheared-coordinate error as (fixed, per unit of reach), for the packet's
+    /// vectorised rejection of certain misses (packet.rs).
+    pub(in crate::trace) fn edge_slack(&self) -> (f64, f64) {
+        self.fast.sheared_error_coefficients()
+    }
+
+    /// Tests the scene triangle `id`; true once the search is over (a certain occluder).
+    #[inline(always)]
+    pub(in crate::trace) fn test(&mut self, id: u32, v: &[Vec3A; 3]) -> bool {
+        if id == self.ray.skip_triangle {
+            return false;
+        }
+        match self.fast.classify(&v.map(|p| p.to_array())) {
+            Verdict::Miss => false,
+            Verdict::Hit => {
+                self.occluder = Some(id);
+                true
+            }
+            Verdict::Doubt { .. } => self.test_precisely(id, v),
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn test_precisely(&mut self, id: u32, v: &[Vec3A; 3]) -> bool {
+        let ray = self.ray;
+        let precise = self.precise.get_or_insert_with(|| {
+            CertifiedRay::new(
+                ray.origin.to_array(),
+                ray.origin_error,
+                ray.direction.to_array(),
+                ray.direction_error,
+                ray.length,
+                ray.length_error,
+            )
+        });
+        match precise.classify(&v.map(|p| p.as_dvec3().to_array())) {
+            Verdict::Miss => false,
+            Verdict::Hit => {
+                self.occluder = Some(id);
+                true
+            }
+            Verdict::Doubt { likely_hit } => {
+                let triangle = v.map(Vec3::from);
+                // In the surface's plane: the segment, which leaves that plane at its start, meets such
+                // a triangle at most at the surface point, which the definition does not count.
+                if !is_degenerate(&triangle) && !in_one_plane(&ray.surface, &triangle) {
+                    let doubt = self.doubt.get_or_insert((id, likely_hit));
+                    doubt.1 |= likely_hit;
+                }
+                false
+            }
+        }
+    }
+
+    pub(in crate::trace) fn answer(&self) -> ShadowAnswer {
+        match (self.occluder, self.doubt) {
+            (Some(occluder), _) => ShadowAnswer::Shadowed { occluder },
+            (None, Some((triangle, likely_shadowed))) => {
+                ShadowAnswer::Uncertain { triangle, likely_shadowed }
+            }
+            (None, None) => ShadowAnswer::Lit,
+        }
+    }
+}
