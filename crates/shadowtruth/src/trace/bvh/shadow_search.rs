@@ -45,7 +45,6 @@ impl ShadowAnswer {
 pub(in crate::trace) struct ShadowSearch<'r> {
     ray: &'r ShadowRay,
     fast: CertifiedRay<f32>,
-    precise: Option<CertifiedRay<f64>>,
     occluder: Option<u32>,
     doubt: Option<(u32, bool)>,
 }
@@ -69,7 +68,7 @@ impl<'r> ShadowSearch<'r> {
             ray.length,
             ray.length_error,
         );
-        ShadowSearch { ray, fast, precise: None, occluder: None, doubt: None }
+        ShadowSearch { ray, fast, occluder: None, doubt: None }
     }
 
     /// The f32 ray the walk follows (its node tests are conservative for the exact segment
@@ -107,16 +106,15 @@ impl<'r> ShadowSearch<'r> {
     #[inline(never)]
     fn test_precisely(&mut self, id: u32, v: &[Vec3A; 3]) -> bool {
         let ray = self.ray;
-        let precise = self.precise.get_or_insert_with(|| {
-            CertifiedRay::new(
-                ray.origin.to_array(),
-                ray.origin_error,
-                ray.direction.to_array(),
-                ray.direction_error,
-                ray.length,
-                ray.length_error,
-            )
-        });
+        // Made here rather than kept: a packet holds eight searches, and doubts are rare.
+        let precise = CertifiedRay::new(
+            ray.origin.to_array(),
+            ray.origin_error,
+            ray.direction.to_array(),
+            ray.direction_error,
+            ray.length,
+            ray.length_error,
+        );
         match precise.classify(&v.map(|p| p.as_dvec3().to_array())) {
             Verdict::Miss => false,
             Verdict::Hit => {
