@@ -1,6 +1,6 @@
-//! The adjudicator's exact test against segments whose answer is known by hand, at f32 points
-//! and at anchored points (exactly on their triangle, far from the origin), and the command's
-//! verdicts.
+//! The adjudicator's exact test against segments whose answer is known by hand (anchored
+//! points far from the origin are tested beside the test itself, in verify/segment.rs), and the
+//! command's verdicts.
 
 use glam::{Vec3, vec3};
 use shadowtruth::verify::{AnchoredPoint, Contact, Toward};
@@ -69,68 +69,6 @@ fn parallel_segments_meet_it_only_in_its_plane() {
     assert_eq!(contact(vec3(-1.0, 1.0, 0.5), Toward::Direction(vec3(-1.0, 0.0, 0.0)), &T), Contact::Misses);
     // Along an edge's line, touching its end.
     assert_eq!(contact(vec3(-1.0, 1.0, 0.0), to(vec3(0.0, 1.0, 0.0)), &T), Contact::Meets);
-}
-
-/// A flat quad of two triangles at height y around (cx, cz), sharing the edge from (−h, h) to
-/// (h, −h): `first` is the half with the corner (−h, −h), `second` the other.
-fn quad(cx: f32, y: f32, cz: f32, h: f32) -> ([Vec3; 3], [Vec3; 3]) {
-    let v = |dx: f32, dz: f32| vec3(cx + dx, y, cz + dz);
-    ([v(-h, -h), v(h, -h), v(-h, h)], [v(h, -h), v(h, h), v(-h, h)])
-}
-
-#[test]
-fn far_from_the_origin_the_other_half_of_a_flat_quad_is_never_met() {
-    // At (2·10⁴, 10⁵) an f32 is a multiple of 2⁻⁹ to 2⁻⁶: the rounded surface point near the
-    // shared edge can fall across it. The anchored point is exactly on the plane, on its own
-    // half or exactly on the edge, so the other half never occludes it; the f32-rounded point,
-    // checked the same way, is "exactly" shadowed by its neighbour somewhere — the wrong point.
-    let (first, second) = quad(2e4, 1e5, -2e4, 8.0);
-    let tilted = |t: [Vec3; 3]| t.map(|v| vec3(v.x, v.y + 0.5 * (v.x - 2e4) - 0.25 * (v.z + 2e4), v.z));
-    let (tfirst, tsecond) = (tilted(first), tilted(second));
-    let lights = [
-        to(vec3(2e4 + 3.0, 1e5 + 40.0, -2e4 + 5.0)),
-        to(vec3(2e4 - 30.0, 1e5 + 2.0, -2e4 - 20.0)),
-        Toward::Direction(vec3(0.3, 1.0, -0.2)),
-        Toward::Direction(vec3(-0.05, 0.01, 0.07)),
-    ];
-    let (mut rounded_met, mut on_edge) = (0, 0);
-    for k in 0..4000u32 {
-        // Barycentrics with b1 + b2 within a few f32 steps of 1: next to the shared edge.
-        let b1 = (k as f32 + 0.5) / 4000.0;
-        let b2 = (1.0 - b1) - (k % 5) as f32 * f32::EPSILON * 0.5;
-        for (own, other) in [(first, second), (tfirst, tsecond)] {
-            let p = AnchoredPoint::new(own, [b1, b2]);
-            for &light in &lights {
-                let exact = shadowtruth::verify::contact(&p, light, &other);
-                assert_ne!(exact, Contact::Meets, "k = {k}, {light:?}");
-                on_edge += (exact == Contact::ContainsOrigin) as usize;
-                rounded_met += (contact(p.approx().as_vec3(), light, &other) == Contact::Meets) as usize;
-            }
-        }
-    }
-    assert!(on_edge > 0, "some points lie exactly on the shared edge");
-    assert!(rounded_met > 0, "the rounded point is met by the other half somewhere");
-}
-
-#[test]
-fn a_point_one_rational_step_off_the_edge_is_inside_the_neighbour() {
-    // b2 one f32 step past 1 − b1: the anchored point lies just across the shared edge, inside
-    // the other half, which then contains it (not an occluder) — and a triangle a step above the
-    // plane, over that point, is met.
-    let (first, second) = quad(2e4, 1e5, -2e4, 8.0);
-    let b1 = 0.25f32;
-    let b2 = (1.0 - b1).next_up();
-    let p = AnchoredPoint::new(first, [b1, b2]);
-    let up = to(vec3(2e4, 1e5 + 50.0, -2e4));
-    assert_eq!(shadowtruth::verify::contact(&p, up, &second), Contact::ContainsOrigin);
-    let one_step_up = second.map(|v| vec3(v.x, 1e5f32.next_up(), v.z));
-    assert_eq!(shadowtruth::verify::contact(&p, up, &one_step_up), Contact::Meets);
-    let one_step_down = second.map(|v| vec3(v.x, 1e5f32.next_down(), v.z));
-    assert_eq!(shadowtruth::verify::contact(&p, up, &one_step_down), Contact::Misses);
-    // On its own half exactly at the edge (b1 + b2 = 1): on both halves.
-    let q = AnchoredPoint::new(first, [b1, 1.0 - b1]);
-    assert_eq!(shadowtruth::verify::contact(&q, up, &second), Contact::ContainsOrigin);
-    assert_eq!(shadowtruth::verify::contact(&q, up, &first), Contact::ContainsOrigin);
 }
 
 #[test]

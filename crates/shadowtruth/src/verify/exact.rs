@@ -236,15 +236,14 @@ pub fn det3_filtered(m: [[Diff; 3]; 3]) -> Filtered {
     let v = a.map(|row| row.map(|(v, _)| v));
     let minor = |i: usize, j: usize, k: usize, l: usize| v[1][i] * v[2][j] - v[1][k] * v[2][l];
     let approx = v[0][0] * minor(1, 2, 2, 1) - v[0][1] * minor(0, 2, 2, 0) + v[0][2] * minor(0, 1, 1, 0);
-    let mut permanent = 0.0;
-    let mut delta = 0.0;
-    for (i, j, k) in DET3_TERMS {
-        let ((a0, e0), (a1, e1), (a2, e2)) = (a[0][i], a[1][j], a[2][k]);
-        let (a0, a1, a2) = (a0.abs(), a1.abs(), a2.abs());
-        permanent += a0 * a1 * a2;
-        delta += e0 * (a1 + e1) * (a2 + e2) + a0 * e1 * (a2 + e2) + a0 * a1 * e2;
-    }
     let bound = if m.iter().flatten().any(|d| d.has_point()) {
+        let (mut permanent, mut delta) = (0.0, 0.0);
+        for (i, j, k) in DET3_TERMS {
+            let ((a0, e0), (a1, e1), (a2, e2)) = (a[0][i], a[1][j], a[2][k]);
+            let (a0, a1, a2) = (a0.abs(), a1.abs(), a2.abs());
+            permanent += a0 * a1 * a2;
+            delta += e0 * (a1 + e1) * (a2 + e2) + a0 * e1 * (a2 + e2) + a0 * a1 * e2;
+        }
         8.0 * U * permanent + 2.0 * delta
     } else {
         // f32 differences: their rounding is inside Shewchuk's coefficient, on his permanent.

@@ -29,8 +29,6 @@ pub struct RayHit {
     pub triangle: u32,
     numerator: Filtered,
     denominator: Filtered,
-    /// Whether N and D are negative (their signs are equal on a hit).
-    negative: bool,
 }
 
 /// The rows of N and D: (e1, e2, v0 − o) and (e1, e2, d).
@@ -75,9 +73,9 @@ pub fn ray_hit(ray: &PrimaryRay, id: u32, t: &[Vec3; 3]) -> Option<RayHit> {
     if !no_opposite_signs(&signs) {
         return None;
     }
-    let negative = d_sign == Ordering::Less;
+    // N and D have the same sign on a hit: s is the ratio of their magnitudes.
     let abs = |f: Filtered| Filtered { approx: f.approx.abs(), bound: f.bound };
-    Some(RayHit { triangle: id, numerator: abs(numerator), denominator: abs(denominator), negative })
+    Some(RayHit { triangle: id, numerator: abs(numerator), denominator: abs(denominator) })
 }
 
 impl RayHit {
@@ -109,11 +107,6 @@ impl RayHit {
         }
         let (n, d) = self.exact(ray, t);
         quotient(&n, &d)
-    }
-
-    #[cfg(test)]
-    pub fn negative(&self) -> bool {
-        self.negative
     }
 }
 
@@ -175,12 +168,13 @@ mod tests {
         // Degenerate: collinear vertices.
         let flat = [vec3(0.0, 1.0, 0.0), vec3(1.0, 1.0, 1.0), vec3(2.0, 1.0, 2.0)];
         assert!(ray_hit(&ray(vec3(1.0, 0.0, 1.0), up), 0, &flat).is_none());
-        // From below both determinants are negative (T's normal points down); from above, positive.
-        assert!(h.negative());
+        // From below both determinants are negative (T's normal points down), from above both
+        // positive: s is the same ratio of magnitudes either way.
         let down = ray(vec3(0.5, 3.0, 0.5), -up);
         let h = ray_hit(&down, 0, &T).expect("from above");
-        assert!(!h.negative());
         assert_eq!(h.s(&down, &T), 2.0);
+        let (lo, hi) = h.interval();
+        assert!(lo <= 2.0 && 2.0 <= hi && hi - lo < 1e-12, "[{lo}, {hi}]");
     }
 
     #[test]
