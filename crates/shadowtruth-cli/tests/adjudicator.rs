@@ -1,9 +1,9 @@
-//! The adjudicator's exact test against segments whose answer is known by hand, and its band
-//! on cases that are clearly robust or clearly on an edge.
+//! The adjudicator's exact test against segments whose answer is known by hand (anchored
+//! points far from the origin are tested beside the test itself, in verify/segment.rs), and the
+//! command's verdicts.
 
-use glam::{DVec3, Vec3, vec3};
-use shadowtruth::trace::SurfacePoint;
-use shadowtruth::verify::{Contact, Frame, Robustness, Toward, contact};
+use glam::{Vec3, vec3};
+use shadowtruth::verify::{AnchoredPoint, Contact, Toward};
 
 /// The triangle (0,1,0), (2,1,0), (0,1,2): horizontal at y = 1, its hypotenuse from (2,1,0) to
 /// (0,1,2).
@@ -11,6 +11,11 @@ const T: [Vec3; 3] = [vec3(0.0, 1.0, 0.0), vec3(2.0, 1.0, 0.0), vec3(0.0, 1.0, 2
 
 fn to(l: Vec3) -> Toward {
     Toward::Point(l)
+}
+
+/// The exact test from an f32 point.
+fn contact(p: Vec3, toward: Toward, triangle: &[Vec3; 3]) -> Contact {
+    shadowtruth::verify::contact(&AnchoredPoint::at(p), toward, triangle)
 }
 
 #[test]
@@ -66,39 +71,6 @@ fn parallel_segments_meet_it_only_in_its_plane() {
     assert_eq!(contact(vec3(-1.0, 1.0, 0.0), to(vec3(0.0, 1.0, 0.0)), &T), Contact::Meets);
 }
 
-fn point_below(x: f32, z: f32) -> SurfacePoint {
-    // Exactly the first vertex of a small triangle around it (barycentrics 0, 0).
-    let position = vec3(x, 0.0, z);
-    SurfacePoint {
-        position,
-        error: Vec3::splat(1e-8),
-        normal: Vec3::Y,
-        triangle: u32::MAX,
-        barycentric: [0.0, 0.0],
-        vertices: [position, position + Vec3::Z, position + Vec3::X],
-    }
-}
-
-#[test]
-fn the_band_is_certain_far_from_edges_and_fragile_on_them() {
-    let frame = |x: f32, z: f32, l: Vec3| {
-        let p = point_below(x, z);
-        let d = l.as_dvec3() - p.position.as_dvec3();
-        Frame::new(&p, d, d.length())
-    };
-    let up = vec3(0.0, 2.0, 0.0);
-    assert_eq!(frame(0.5, 0.5, up + vec3(0.5, 0.0, 0.5)).robustness(&T), Robustness::Hit);
-    assert_eq!(frame(1.5, 1.5, up + vec3(1.5, 0.0, 1.5)).robustness(&T), Robustness::Miss);
-    assert_eq!(frame(1.0, 1.0, up + vec3(1.0, 0.0, 1.0)).robustness(&T), Robustness::Fragile);
-    // Ending exactly on it, or just before it: within the band at the light.
-    assert_eq!(frame(0.5, 0.5, vec3(0.5, 1.0, 0.5)).robustness(&T), Robustness::Fragile);
-    assert_eq!(frame(0.5, 0.5, vec3(0.5, 0.5, 0.5)).robustness(&T), Robustness::Miss);
-    // Towards a directional light.
-    let p = point_below(0.5, 0.5);
-    assert_eq!(Frame::new(&p, DVec3::Y, f64::INFINITY).robustness(&T), Robustness::Hit);
-    assert_eq!(Frame::new(&p, -DVec3::Y, f64::INFINITY).robustness(&T), Robustness::Miss);
-}
-
 #[test]
 fn verify_command_passes_a_bundled_scene_and_rejects_unknown_names() {
     let repo = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
@@ -116,7 +88,11 @@ fn verify_command_passes_a_bundled_scene_and_rejects_unknown_names() {
     let report: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let view = &report["views"][0];
     assert_eq!(view["disagree_outside_band"], 0);
+    assert_eq!(view["primary_disagree_outside_band"], 0);
     assert!(view["checked"].as_u64().unwrap() >= 3000, "{view}");
+    assert!(view["primary_checked"].as_u64().unwrap() >= view["checked"].as_u64().unwrap(), "{view}");
+    let ratio = view["max_point_error_ratio"].as_f64().unwrap();
+    assert!(ratio > 0.0 && ratio <= 1.0, "{view}");
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_shadowtruth"))
         .args(["verify", "scenes/plane_box.json", "--light", "moon"])
         .current_dir(repo)

@@ -15,10 +15,13 @@ use shadowtruth::verify::{Adjudicator, PixelSelection, verify_view};
 /// a shadow boundary (default 100000, the command's).
 ///
 /// Returns a dict, the view's entry of `shadowtruth verify --json`: camera, light, width,
-/// height, evaluated, checked, checked_at_boundary, agree, disagree_at_boundary,
-/// disagree_away_from_boundary, disagree_in_band, disagree_outside_band, in_band, inconsistent,
-/// cases (the first disagreements, with pixel and triangles) and seconds. The reference is
-/// right when disagree_outside_band and inconsistent are 0.
+/// height, evaluated, uncertain (pixels the tracer flagged, shadow and primary), checked,
+/// checked_at_boundary, agree, disagree_at_boundary, disagree_away_from_boundary,
+/// disagree_in_band, disagree_outside_band, in_band (checked pixels the tracer flagged),
+/// primary_checked, primary_disagree_in_band, primary_disagree_outside_band,
+/// max_point_error_ratio, cases (the first disagreements, each with its kind, "shadow" or
+/// "primary", pixel and triangles) and seconds. The reference is right when
+/// disagree_outside_band and primary_disagree_outside_band are 0.
 #[pyfunction]
 #[pyo3(signature = (scene, camera=None, light=None, pixels=None))]
 pub fn verify<'py>(

@@ -25,7 +25,10 @@ def test_verify_is_the_commands_json(path, command, scenes, tmp_path):
     assert got["seconds"] >= 0
 
 
-def test_verify_all_pixels_checks_every_evaluated_pixel(scenes):
+def test_verify_all_pixels_checks_every_evaluated_pixel_and_every_primary_ray(scenes):
     scene = scenes(SCENE_FILES[0])
     got = shadowtruth.verify(scene, pixels="all")
-    assert got["checked"] == got["evaluated"] > 0
+    # Flagged pixels outside the evaluated ones are checked too.
+    assert got["evaluated"] <= got["checked"] <= got["evaluated"] + got["uncertain"]
+    assert got["evaluated"] > 0
+    assert got["primary_checked"] == got["width"] * got["height"]

@@ -1,5 +1,6 @@
-//! `shadowtruth verify`: the hard reference checked against exact predicates, view by view
-//! (docs/reference.md); exit 1 when a disagreement lies outside the documented error band.
+//! `shadowtruth verify`: the G-buffer and hard reference checked against exact predicates,
+//! view by view (docs/reference.md); exit 1 when a disagreement lies on a pixel the tracer did
+//! not flag as uncertain (outside the error band).
 
 use super::args::set_threads;
 use crate::option_values::threads_parser;
@@ -8,7 +9,7 @@ use clap::Args;
 use shadowtruth::atomic_file::write_atomic;
 use shadowtruth::scene::{Scene, load_scene};
 use shadowtruth::trace::SceneBvh;
-use shadowtruth::verify::{Adjudicator, PixelSelection, ViewVerification, verify_view};
+use shadowtruth::verify::{Adjudicator, Disagreement, PixelSelection, ViewVerification, verify_view};
 use std::path::{Path, PathBuf};
 
 #[derive(Args)]
@@ -66,7 +67,7 @@ pub(super) fn verify(a: VerifyArgs) -> Result<u8> {
         println!("verify: {} views, no disagreement outside the error band", views.len());
         Ok(0)
     } else {
-        println!("verify: {failed} of {} views have disagreements outside the error band", views.len());
+        println!("verify: {failed} of {} views failed: disagreements outside the error band", views.len());
         Ok(1)
     }
 }
@@ -74,43 +75,78 @@ pub(super) fn verify(a: VerifyArgs) -> Result<u8> {
 fn print_verification(scene: &Path, v: &ViewVerification) {
     let pct = |n: usize| 100.0 * n as f64 / v.checked.max(1) as f64;
     println!(
-        "{}  camera {}  light {}: {} evaluated pixels, {} checked ({} next to a shadow boundary) in {:.1} s",
+        "{}  camera {}  light {}: {} evaluated pixels ({} flagged uncertain by the tracer), {} checked \
+         ({} next to a shadow boundary), {} primary rays checked, in {:.1} s",
         scene.display(),
         v.camera,
         v.light,
         v.evaluated,
+        v.uncertain,
         v.checked,
         v.checked_at_boundary,
+        v.primary_checked,
         v.seconds
     );
-    println!("  agree with the exact answer   {:>9} ({:.4} %)", v.agree, pct(v.agree));
+    println!("  shadow agrees with the exact answer  {:>9} ({:.4} %)", v.agree, pct(v.agree));
     println!(
-        "  disagree                      {:>9} ({} at a shadow boundary, {} away)",
+        "  shadow disagrees                     {:>9} ({} at a shadow boundary, {} away)",
         v.disagree_at_boundary + v.disagree_away_from_boundary,
         v.disagree_at_boundary,
         v.disagree_away_from_boundary
     );
-    println!("    inside the error band       {:>9}", v.disagree_in_band);
-    println!("    outside the error band      {:>9}", v.disagree_outside_band);
-    println!("  exact answer inside the band  {:>9} ({:.4} %)", v.in_band, pct(v.in_band));
-    if v.inconsistent > 0 {
-        println!(
-            "  ADJUDICATOR INCONSISTENT on {} pixels: the exact test and the band disagree",
-            v.inconsistent
-        );
-    }
+    println!("    on pixels the tracer flagged       {:>9} (inside the error band)", v.disagree_in_band);
+    println!(
+        "    on pixels it did not flag          {:>9} (outside the error band)",
+        v.disagree_outside_band
+    );
+    println!(
+        "  primary hit disagrees                {:>9} inside the band, {} outside",
+        v.primary_disagree_in_band, v.primary_disagree_outside_band
+    );
+    println!("  checked pixels the tracer flagged    {:>9} (the error band)", v.in_band);
+    println!("  largest point error / its precision  {:>9.4}", v.max_point_error_ratio);
     for c in &v.cases {
-        let verdict = |shadowed: bool| if shadowed { "shadowed" } else { "lit" };
+        let band = if c.outside_band() { "  OUTSIDE THE BAND" } else { "  (inside the band)" };
+        match &c.disagreement {
+            Disagreement::Shadow {
+                surface_triangle,
+                traced_shadowed,
+                exact_shadowed,
+                triangle,
+                at_boundary,
+            } => {
+                let verdict = |shadowed: bool| if shadowed { "shadowed" } else { "lit" };
+                println!(
+                    "    pixel ({}, {}) on triangle {surface_triangle}: traced {}, exact {}{}{band}{}",
+                    c.x,
+                    c.y,
+                    verdict(*traced_shadowed),
+                    verdict(*exact_shadowed),
+                    triangle.map(|t| format!(", triangle {t}")).unwrap_or_default(),
+                    if *at_boundary { ", at a shadow boundary" } else { "" },
+                );
+            }
+            Disagreement::Primary { traced_triangle, exact_triangle, point_error_ratio } => {
+                let seen = |t: &Option<u32>| t.map_or("nothing".to_string(), |t| format!("triangle {t}"));
+                println!(
+                    "    pixel ({}, {}) primary hit: traced {}, exact {}{}{band}",
+                    c.x,
+                    c.y,
+                    seen(traced_triangle),
+                    seen(exact_triangle),
+                    point_error_ratio
+                        .map(|r| format!(", point error {r:.3} of its precision"))
+                        .unwrap_or_default(),
+                );
+            }
+        }
+    }
+    if v.passed() {
+        println!("  passed");
+    } else {
         println!(
-            "    pixel ({}, {}) on triangle {}: traced {}, exact {}{}{}{}",
-            c.x,
-            c.y,
-            c.surface_triangle,
-            verdict(c.traced_shadowed),
-            verdict(c.exact_shadowed),
-            c.triangle.map(|t| format!(", triangle {t}")).unwrap_or_default(),
-            if c.outside_band() { "  OUTSIDE THE BAND" } else { "  (inside the band)" },
-            if c.at_boundary { ", at a shadow boundary" } else { "" },
+            "  FAILED: {} shadow and {} primary disagreements outside the error band",
+            v.disagree_outside_band, v.primary_disagree_outside_band
         );
     }
 }

@@ -1,8 +1,19 @@
 //! A conservative cull for the adjudicator, independent of the tracer's BVH: a binary tree of
 //! f64 boxes (median splits), whose query returns every triangle whose box, widened, meets the
-//! segment. Widening each box by 2⁻¹² of the magnitudes involved dwarfs the f64 rounding of
-//! the slab test (2⁻⁵² relative), so no triangle the segment meets — or passes within the
-//! error band of — is ever left out.
+//! segment or ray, nearest boxes first.
+//!
+//! It only has to be conservative for the exact tests that follow it: every triangle the exact
+//! segment meets must be visited. Two things separate the f64 slab test from the exact segment.
+//! (1) The segment itself: its origin is an anchored point known to `origin_error` per axis, its
+//! direction L − p̃ is rounded once (u·|d| per axis, u = 2⁻⁵³), so every point of the exact
+//! segment, s ∈ [0, s_max], lies within 2·origin_error + u·|d·s_max| of the computed one at the
+//! same s (for rays the direction is an f32 vector, exact). (2) The slab test: each parameter
+//! (lo − o)/d is rounded twice, which moves it by at most 2u·|lo − o|/|d| (1 + u), the same as
+//! testing a slab moved by 2u(1 + u)·|lo − o| ≤ 4u·scale, where scale bounds |o|, |d·s_max| and
+//! the box's coordinates. The minima, maxima and comparisons are exact, and an axis the computed
+//! direction does not move along is compared exactly. So widening each box by
+//! 2⁻⁴⁰·scale + 2·origin_error (2⁻⁴⁰ is 2¹⁰ times 4u + u, and the widening's own rounding is
+//! u of it) keeps every box the exact segment meets.
 
 use glam::{DVec3, Vec3};
 
@@ -21,7 +32,16 @@ pub struct Cull {
 
 const LEAF_SIZE: usize = 4;
 /// Relative widening of boxes, against the largest coordinate magnitude in the test.
-const WIDEN: f64 = 1.0 / 4096.0;
+const WIDEN: f64 = 1.0 / (1u64 << 40) as f64;
+
+/// A segment or ray as the cull tests it.
+#[derive(Clone, Copy, Debug)]
+pub struct Query {
+    pub origin: DVec3,
+    /// A bound on |origin − exact origin| per axis (its largest entry is used).
+    pub origin_error: DVec3,
+    pub direction: DVec3,
+}
 
 impl Cull {
     /// A tree over the triangles that `include` keeps (by id, their index in `triangles`).
@@ -69,53 +89,69 @@ impl Cull {
         self.split(first + 1, start + mid, end, bounds);
     }
 
-    /// Calls `visit` with every triangle whose widened box meets the segment origin + s·direction,
-    /// s ∈ [0, s_max] (s_max may be ∞). `stack` is reused between queries.
+    /// Calls `visit` with every triangle whose widened box meets origin + s·direction,
+    /// s ∈ [0, s_max] (s_max may be ∞), nearer boxes first. `visit` may lower s_max (to a value
+    /// no smaller than any s it still needs) and returns false to stop. `stack` is reused
+    /// between queries.
     pub fn for_each_near(
         &self,
-        origin: DVec3,
-        direction: DVec3,
-        s_max: f64,
-        stack: &mut Vec<u32>,
-        mut visit: impl FnMut(u32) -> bool,
+        q: Query,
+        mut s_max: f64,
+        stack: &mut Vec<(u32, f64)>,
+        mut visit: impl FnMut(u32, &mut f64) -> bool,
     ) {
         if self.nodes.is_empty() {
             return;
         }
-        let scale = origin.abs().max_element()
-            + if s_max.is_finite() { (direction * s_max).abs().max_element() } else { 0.0 };
-        stack.clear();
-        stack.push(0);
-        while let Some(n) = stack.pop() {
+        let reach = if s_max.is_finite() { (q.direction * s_max).abs().max_element() } else { 0.0 };
+        let scale = q.origin.abs().max_element().max(reach);
+        let slack = 2.0 * q.origin_error.max_element();
+        let enter = |n: u32, s_max: f64| {
             let node = &self.nodes[n as usize];
-            let widen = DVec3::splat(
-                WIDEN * (scale.max(node.lo.abs().max_element()).max(node.hi.abs().max_element())),
-            );
-            if !segment_meets_box(origin, direction, s_max, node.lo - widen, node.hi + widen) {
+            let magnitude = scale.max(node.lo.abs().max_element()).max(node.hi.abs().max_element());
+            let widen = DVec3::splat(WIDEN * magnitude + slack);
+            segment_enters_box(q.origin, q.direction, s_max, node.lo - widen, node.hi + widen)
+        };
+        stack.clear();
+        if let Some(s) = enter(0, s_max) {
+            stack.push((0, s));
+        }
+        while let Some((n, entry)) = stack.pop() {
+            if entry > s_max {
                 continue;
             }
+            let node = &self.nodes[n as usize];
             if node.count > 0 {
                 for &t in &self.order[node.first as usize..(node.first + node.count) as usize] {
-                    if !visit(t) {
+                    if !visit(t, &mut s_max) {
                         return;
                     }
                 }
-            } else {
-                stack.push(node.first);
-                stack.push(node.first + 1);
+                continue;
+            }
+            let children = [node.first, node.first + 1].map(|c| (c, enter(c, s_max)));
+            let ordered = match (children[0].1, children[1].1) {
+                (Some(a), Some(b)) if a < b => [children[1], children[0]],
+                _ => children,
+            };
+            // The farther child goes on the stack first, so the nearer one is walked first.
+            for (c, s) in ordered {
+                if let Some(s) = s {
+                    stack.push((c, s));
+                }
             }
         }
     }
 }
 
-/// Slab test of the segment against a box; an axis the segment does not move along keeps the
-/// box when the origin lies within its slab.
-fn segment_meets_box(origin: DVec3, direction: DVec3, s_max: f64, lo: DVec3, hi: DVec3) -> bool {
+/// Slab test of the segment against a box: the parameter where it enters, if it does; an axis
+/// the segment does not move along keeps the box when the origin lies within its slab.
+fn segment_enters_box(origin: DVec3, direction: DVec3, s_max: f64, lo: DVec3, hi: DVec3) -> Option<f64> {
     let (mut enter, mut leave) = (0.0f64, s_max);
     for k in 0..3 {
         if direction[k] == 0.0 {
             if origin[k] < lo[k] || origin[k] > hi[k] {
-                return false;
+                return None;
             }
             continue;
         }
@@ -123,8 +159,8 @@ fn segment_meets_box(origin: DVec3, direction: DVec3, s_max: f64, lo: DVec3, hi:
         enter = enter.max(a.min(b));
         leave = leave.min(a.max(b));
         if enter > leave {
-            return false;
+            return None;
         }
     }
-    true
+    Some(enter)
 }

@@ -1,53 +1,45 @@
 //! The adjudicator: the hard reference decided again with exact predicates on the f32 inputs,
 //! independent of the tracer's BVH and arithmetic, and `verify_view`, which checks the traced
-//! reference against it pixel by pixel (docs/reference.md).
+//! G-buffer and reference against it pixel by pixel (docs/reference.md).
 //!
-//! For each pixel: the exact answer (`segment.rs`, exact signs from `exact.rs`), found behind a
-//! conservative cull of its own (`cull.rs`), and the error band (`band.rs`): whether the
-//! tracer's documented rounding could change the answer. A disagreement inside the band is
-//! allowed; one outside it is a bug.
+//! For each pixel: the exact closest hit of its primary ray (`primary.rs`) against the
+//! G-buffer's, and the exact shadow answer at the G-buffer's anchored surface point
+//! (`segment.rs`, exact signs from `exact.rs`), both found behind a conservative cull of its own
+//! (`cull.rs`). The error band is the tracer's own declared uncertainty: a disagreement on a
+//! pixel the tracer flagged is allowed and counted, one on any other pixel is a bug.
 
-mod band;
 mod cull;
 mod exact;
 mod pixel_selection;
+mod primary;
 mod segment;
 
-pub use band::{Frame, Robustness};
-pub use exact::{Diff, det2_sign, det3_sign};
+pub use exact::{AnchoredPoint, Diff, Filtered, Term, det2_sign, det3_exact, det3_filtered, det3_sign};
 pub use pixel_selection::{DEFAULT_SAMPLE_PIXELS, PixelSelection};
+pub use primary::{PrimaryRay, RayHit};
 pub use segment::{Contact, Toward, contact};
 
 use crate::scene::{Camera, Light, LightKind, Scene, is_degenerate};
-use crate::trace::{GBuffer, PixelClass, SceneBvh, SurfacePoint, hard_shadow_ray, trace_hard_reference};
-use cull::Cull;
-use glam::Vec3;
+use crate::trace::{
+    GBuffer, PixelClass, SceneBvh, SurfacePoint, hard_shadow_ray, primary_directions, trace_hard_reference,
+};
+use cull::{Cull, Query};
+use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::borrow::Cow;
 
-/// What the tracer must answer for a pixel.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Expected {
-    Lit,
-    Shadowed,
-    /// The exact answer lies inside the error band: either answer is accepted.
-    Either,
-}
-
-/// The adjudicator's decision for one pixel.
+/// The adjudicator's decision for one surface point.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Judgement {
     /// The exact answer: some triangle other than those containing p meets the segment.
     pub exact_shadowed: bool,
-    pub expected: Expected,
-    /// A triangle that decides it: one the segment meets, else a fragile one.
+    /// A triangle the segment meets, when it is shadowed.
     pub triangle: Option<u32>,
-    /// The exact test and the band contradict each other on some triangle: a defect of the
-    /// adjudicator itself, never expected.
-    pub inconsistent: bool,
 }
+
+/// Scratch space of the cull, reused between queries.
+pub type CullStack = Vec<(u32, f64)>;
 
 /// The scene's triangles behind their own cull.
 pub struct Adjudicator<'a> {
@@ -67,186 +59,186 @@ impl<'a> Adjudicator<'a> {
         Adjudicator { triangles, cull }
     }
 
-    /// Judges the segment from `point` to `light`'s centre. `stack` is reused between calls.
-    pub fn judge(&self, point: &SurfacePoint, light: &Light, stack: &mut Vec<u32>) -> Judgement {
-        let p = point.position;
-        let (toward, direction, length, s_max) = match &light.kind {
+    /// The anchored surface point of a hit: barycentrics (b1, b2) on triangle `id`.
+    pub fn anchored(&self, id: u32, barycentric: [f32; 2]) -> AnchoredPoint {
+        AnchoredPoint::new(self.triangles[id as usize], barycentric)
+    }
+
+    /// Judges the segment from `point` (anchored on its triangle by its barycentrics) to
+    /// `light`'s centre.
+    pub fn judge(&self, point: &SurfacePoint, light: &Light, stack: &mut CullStack) -> Judgement {
+        let p = self.anchored(point.triangle, point.barycentric);
+        let (toward, direction, s_max) = match &light.kind {
             LightKind::Spot { position, .. } => {
-                let d = position.as_dvec3() - p.as_dvec3();
-                (Toward::Point(*position), d, d.length(), 1.0)
+                (Toward::Point(*position), position.as_dvec3() - p.approx(), 1.0)
             }
             LightKind::Directional { direction, .. } => {
-                (Toward::Direction(-*direction), -direction.as_dvec3(), f64::INFINITY, f64::INFINITY)
+                (Toward::Direction(-*direction), -direction.as_dvec3(), f64::INFINITY)
             }
         };
-        let frame = Frame::new(point, direction, length);
-        let own = SamePlane::new(&self.triangles[point.triangle as usize], direction);
-        let (mut meets, mut fragile, mut robust_hit, mut inconsistent) = (None, None, None, false);
-        self.cull.for_each_near(p.as_dvec3(), direction, s_max, stack, |t| {
-            if t == point.triangle {
+        let query = Query { origin: p.approx(), origin_error: p.error(), direction };
+        let mut meets = None;
+        self.cull.for_each_near(query, s_max, stack, |t, _| {
+            if t == point.triangle || contact(&p, toward, &self.triangles[t as usize]) != Contact::Meets {
                 return true;
             }
+            meets = Some(t);
+            false
+        });
+        Judgement { exact_shadowed: meets.is_some(), triangle: meets }
+    }
+
+    /// The exact closest hit of `ray` (s > 0), ties to the lowest triangle id.
+    pub fn closest_hit(&self, ray: &PrimaryRay, stack: &mut CullStack) -> Option<RayHit> {
+        let query = Query {
+            origin: ray.origin.as_dvec3(),
+            origin_error: DVec3::ZERO,
+            direction: ray.direction.as_dvec3(),
+        };
+        let mut best: Option<RayHit> = None;
+        self.cull.for_each_near(query, f64::INFINITY, stack, |t, s_max| {
             let triangle = &self.triangles[t as usize];
-            let exact = contact(p, toward, triangle);
-            if exact == Contact::Meets {
-                meets.get_or_insert(t);
-            }
-            let robustness = match frame.robustness(triangle) {
-                Robustness::Fragile if own.leaves_plane_of(triangle) => Robustness::Miss,
-                r => r,
-            };
-            match robustness {
-                Robustness::Hit => {
-                    inconsistent |= exact != Contact::Meets;
-                    robust_hit = Some(t);
-                    return false;
-                }
-                Robustness::Miss => inconsistent |= exact == Contact::Meets,
-                Robustness::Fragile => {
-                    fragile.get_or_insert(t);
+            if let Some(hit) = primary::ray_hit(ray, t, triangle) {
+                let better = best.as_ref().is_none_or(|b| {
+                    primary::nearer(ray, &hit, triangle, b, &self.triangles[b.triangle as usize])
+                });
+                if better {
+                    *s_max = s_max.min(hit.interval().1);
+                    best = Some(hit);
                 }
             }
             true
         });
-        let expected = match (robust_hit, fragile) {
-            (Some(_), _) => Expected::Shadowed,
-            (None, Some(_)) => Expected::Either,
-            (None, None) => Expected::Lit,
-        };
-        Judgement {
-            exact_shadowed: meets.is_some(),
-            expected,
-            triangle: robust_hit.or(meets).or(fragile),
-            inconsistent,
-        }
+        best
+    }
+
+    /// How far the G-buffer's anchored point lies from the exact hit point, as a fraction of
+    /// the point's documented precision: 2⁻¹⁸·max_i |v_i − origin|∞ / max(|n̂·d̂|, 2⁻¹⁰)
+    /// (docs/reference.md). Computed in f64, to about 10⁻⁵ of the ratio.
+    pub fn point_error_ratio(&self, ray: &PrimaryRay, hit: &RayHit, barycentric: [f32; 2]) -> f64 {
+        let t = &self.triangles[hit.triangle as usize];
+        let x = primary::hit_point(ray, hit, t);
+        let p = self.anchored(hit.triangle, barycentric).approx();
+        let o = ray.origin.as_dvec3();
+        let reach = t.iter().map(|v| (v.as_dvec3() - o).abs().max_element()).fold(0.0, f64::max);
+        let [a, b, c] = t.map(|v| v.as_dvec3());
+        let cosine = (b - a).cross(c - a).normalize().dot(ray.direction.as_dvec3().normalize()).abs();
+        let precision = 2f64.powi(-18) * reach / cosine.max(2f64.powi(-10));
+        (x - p).abs().max_element() / precision
     }
 }
 
-/// The plane of the triangle the surface point lies on, and whether the segment leaves it
-/// steeply enough that the tracer certainly passes every triangle in that plane: its origin lies
-/// strictly off the plane (the offset clears the point's error box), so the exact distance to
-/// the plane is negative and the computed one at most the test's error bound, which the test
-/// rejects (docs/reference.md). Steeply enough: the cosine between the segment and the normal
-/// exceeds 2⁻²⁰, far above the 2⁻²³ by which the direction's rounding can tilt it.
-struct SamePlane {
-    triangle: [glam::Vec3; 3],
-    leaves: bool,
+/// What a case is about.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Disagreement {
+    /// The pixel's shadow: the tracer's answer at its surface point is not the exact one.
+    Shadow {
+        /// The triangle the pixel's surface point lies on.
+        surface_triangle: u32,
+        traced_shadowed: bool,
+        exact_shadowed: bool,
+        /// The tracer's occluder when it says shadowed, else the triangle the exact segment meets.
+        triangle: Option<u32>,
+        at_boundary: bool,
+    },
+    /// The pixel's primary hit: another triangle, a hit against a miss, or a point farther from
+    /// the exact hit than its precision.
+    Primary {
+        traced_triangle: Option<u32>,
+        exact_triangle: Option<u32>,
+        /// |X − p|∞ over the point's precision, where both hit the same triangle.
+        point_error_ratio: Option<f64>,
+    },
 }
 
-impl SamePlane {
-    fn new(triangle: &[glam::Vec3; 3], direction: glam::DVec3) -> SamePlane {
-        let [a, b, c] = triangle.map(|v| v.as_dvec3());
-        let normal = (b - a).cross(c - a).normalize();
-        SamePlane { triangle: *triangle, leaves: normal.dot(direction.normalize()).abs() > 2f64.powi(-20) }
-    }
-
-    /// Whether `other` lies exactly in the plane and the segment leaves it steeply.
-    fn leaves_plane_of(&self, other: &[glam::Vec3; 3]) -> bool {
-        let [a, b, c] = self.triangle;
-        let (e1, e2) = (Diff::vec(b, a), Diff::vec(c, a));
-        self.leaves
-            && other.iter().all(|&v| det3_sign([e1, e2, Diff::vec(v, a)]) == std::cmp::Ordering::Equal)
-    }
-}
-
-/// One pixel where the tracer and the exact answer differ (or the adjudicator contradicts
-/// itself).
+/// One pixel where the tracer and the exact answer differ.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Case {
     pub x: u32,
     pub y: u32,
-    /// The triangle the pixel's surface point lies on.
-    pub surface_triangle: u32,
-    pub traced_shadowed: bool,
-    pub exact_shadowed: bool,
-    pub expected: Expected,
-    /// The tracer's occluder when it says shadowed, else the adjudicator's deciding triangle.
-    pub triangle: Option<u32>,
-    pub at_boundary: bool,
-    pub inconsistent: bool,
+    /// The tracer flagged the pixel as uncertain: the disagreement is allowed.
+    pub in_band: bool,
+    #[serde(flatten)]
+    pub disagreement: Disagreement,
 }
 
 impl Case {
     pub fn outside_band(&self) -> bool {
-        match self.expected {
-            Expected::Lit => self.traced_shadowed,
-            Expected::Shadowed => !self.traced_shadowed,
-            Expected::Either => false,
-        }
+        !self.in_band
+    }
+
+    fn at_boundary(&self) -> bool {
+        matches!(self.disagreement, Disagreement::Shadow { at_boundary: true, .. })
     }
 }
 
 /// Most cases kept in a `ViewVerification` (outside the band first).
 pub const MAX_CASES: usize = 20;
 
-/// The reference of one (camera, light) checked against the adjudicator.
+/// The G-buffer and hard reference of one (camera, light) checked against the adjudicator.
 #[derive(Clone, Debug, Serialize)]
 pub struct ViewVerification {
     pub camera: String,
     pub light: String,
     pub width: u32,
     pub height: u32,
+    /// Pixels the G-buffer evaluates, as traced (the reference's uncertain ones among them).
     pub evaluated: usize,
+    /// Pixels the tracer flagged as uncertain: its shadow answer (`HardReference::uncertain`)
+    /// plus its primary hit (`PixelClass::Uncertain`).
+    pub uncertain: usize,
+    /// Pixels whose shadow answer is checked: evaluated ones (sampled, or all) and every one the
+    /// tracer flagged that has a surface point.
     pub checked: usize,
     /// Checked pixels next to a shadow boundary (a 3×3 neighbourhood holding both answers).
     pub checked_at_boundary: usize,
-    /// Checked pixels whose traced answer is the exact one.
+    /// Checked pixels whose traced shadow answer is the exact one.
     pub agree: usize,
     pub disagree_at_boundary: usize,
     pub disagree_away_from_boundary: usize,
-    /// Disagreements whose exact answer lies inside the error band.
+    /// Shadow disagreements on pixels the tracer flagged: allowed.
     pub disagree_in_band: usize,
-    /// Disagreements outside the band: the reference is wrong there.
+    /// Shadow disagreements on pixels the tracer did not flag: the reference is wrong there.
     pub disagree_outside_band: usize,
-    /// Checked pixels whose exact answer lies inside the band (whether or not they agree).
+    /// Checked pixels (shadow or primary) the tracer flagged, whether or not they agree.
     pub in_band: usize,
-    pub inconsistent: usize,
+    /// Pixels whose primary hit is checked: the shadow-checked ones and, sampled or all, every
+    /// pixel of the image (background and unscored ones too).
+    pub primary_checked: usize,
+    pub primary_disagree_in_band: usize,
+    pub primary_disagree_outside_band: usize,
+    /// The largest |X − p|∞ over the point's precision among pixels whose traced and exact
+    /// primary hits are on the same triangle (at most 1 where they agree).
+    pub max_point_error_ratio: f64,
     /// The first `MAX_CASES` disagreements, those outside the band first.
     pub cases: Vec<Case>,
     pub seconds: f64,
 }
 
 impl ViewVerification {
+    /// No disagreement outside the band, of shadow or of primary hit.
     pub fn passed(&self) -> bool {
-        self.disagree_outside_band == 0 && self.inconsistent == 0
-    }
-
-    /// Counts a pixel where the traced and exact answers differ (or the exact one is
-    /// inconsistent) and keeps it as a case.
-    fn add_case(&mut self, case: Case) {
-        if case.traced_shadowed != case.exact_shadowed {
-            if case.at_boundary {
-                self.disagree_at_boundary += 1;
-            } else {
-                self.disagree_away_from_boundary += 1;
-            }
-            if case.outside_band() {
-                self.disagree_outside_band += 1;
-            } else {
-                self.disagree_in_band += 1;
-            }
-        }
-        self.cases.push(case);
+        self.disagree_outside_band == 0 && self.primary_disagree_outside_band == 0
     }
 }
 
-/// The evaluated pixels to check: every `stride`-th one for a sample, and every pixel at a
-/// shadow boundary.
-fn chosen_pixels(g: &GBuffer, boundary: &[bool], selection: PixelSelection) -> Vec<usize> {
-    let stride = match selection {
+/// The exact primary hit of one pixel against the G-buffer's.
+struct PrimaryCheck {
+    exact: Option<u32>,
+    ratio: Option<f64>,
+}
+
+/// Every `stride`-th index of `0..n` for about `selection`'s count.
+fn stride(n: usize, selection: PixelSelection) -> usize {
+    match selection {
         PixelSelection::All => 1,
-        PixelSelection::Sample(n) => g.evaluated.len().div_ceil(n.max(1)).max(1),
-    };
-    g.evaluated
-        .iter()
-        .enumerate()
-        .filter(|&(k, &i)| k % stride == 0 || boundary[i as usize])
-        .map(|(_, &i)| i as usize)
-        .collect()
+        PixelSelection::Sample(k) => n.div_ceil(k.max(1)).max(1),
+    }
 }
 
-/// Traces the hard reference of (`camera`, `light`) and checks the selected pixels against the
-/// adjudicator.
+/// Traces the G-buffer and hard reference of (`camera`, `light`) and checks the selected pixels
+/// against the adjudicator: their shadow answers, and their primary hits.
 pub fn verify_view(
     scene: &Scene,
     bvh: &SceneBvh,
@@ -258,38 +250,83 @@ pub fn verify_view(
     let start = std::time::Instant::now();
     let g = GBuffer::trace(scene, bvh, camera, light);
     let reference = trace_hard_reference(scene, bvh, &g, light);
+    let n = g.pixel_count();
+    let primary_flagged: Vec<bool> = g.class.iter().map(|&c| c == PixelClass::Uncertain).collect();
+    let mut flagged = primary_flagged.clone();
+    for &i in &reference.uncertain {
+        flagged[i as usize] = true;
+    }
     let boundary = shadow_boundary(&g, &reference.lit);
-    let chosen = chosen_pixels(&g, &boundary, selection);
-    let judged: Vec<(usize, Judgement)> = chosen
+    // Shadow: sampled evaluated pixels, those at a boundary, and every flagged one with a point.
+    let every = stride(g.evaluated.len(), selection);
+    let mut shadow_pixels = vec![false; n];
+    for (k, &i) in g.evaluated.iter().enumerate() {
+        shadow_pixels[i as usize] = k % every == 0 || boundary[i as usize] || flagged[i as usize];
+    }
+    for (i, selected) in shadow_pixels.iter_mut().enumerate() {
+        *selected |= primary_flagged[i] && g.triangle[i] != u32::MAX;
+    }
+    let every = stride(n, selection);
+    let primary_pixels: Vec<usize> = (0..n).filter(|&i| i % every == 0 || shadow_pixels[i]).collect();
+    let shadow_pixels: Vec<usize> = (0..n).filter(|&i| shadow_pixels[i]).collect();
+
+    let judged: Vec<Judgement> = shadow_pixels
         .par_iter()
-        .map_init(Vec::new, |stack, &i| (i, adjudicator.judge(&g.surface_point(scene, i), light, stack)))
+        .map_init(Vec::new, |stack, &i| adjudicator.judge(&g.surface_point(scene, i), light, stack))
         .collect();
+    let directions = primary_directions(camera);
+    let primary: Vec<PrimaryCheck> = primary_pixels
+        .par_iter()
+        .map_init(Vec::new, |stack, &i| {
+            let ray = PrimaryRay { origin: camera.position, direction: directions[i] };
+            let hit = adjudicator.closest_hit(&ray, stack);
+            let exact = hit.as_ref().map(|h| h.triangle);
+            let ratio = hit
+                .filter(|h| h.triangle == g.triangle[i])
+                .map(|h| adjudicator.point_error_ratio(&ray, &h, g.barycentric[i]));
+            PrimaryCheck { exact, ratio }
+        })
+        .collect();
+
     let mut v = ViewVerification {
         camera: camera.name.clone(),
         light: light.name.clone(),
         width: g.width,
         height: g.height,
         evaluated: g.evaluated.len(),
-        checked: judged.len(),
-        checked_at_boundary: chosen.iter().filter(|&&i| boundary[i]).count(),
+        uncertain: reference.uncertain.len() + g.count(PixelClass::Uncertain),
+        checked: shadow_pixels.len(),
+        checked_at_boundary: shadow_pixels.iter().filter(|&&i| boundary[i]).count(),
         agree: 0,
         disagree_at_boundary: 0,
         disagree_away_from_boundary: 0,
         disagree_in_band: 0,
         disagree_outside_band: 0,
-        in_band: 0,
-        inconsistent: 0,
+        in_band: primary_pixels.iter().filter(|&&i| flagged[i]).count(),
+        primary_checked: primary_pixels.len(),
+        primary_disagree_in_band: 0,
+        primary_disagree_outside_band: 0,
+        max_point_error_ratio: 0.0,
         cases: Vec::new(),
         seconds: 0.0,
     };
+    let at = |i: usize| ((i % g.width as usize) as u32, (i / g.width as usize) as u32);
     let mut scratch = bvh.scratch();
-    for (i, j) in judged {
+    for (&i, j) in shadow_pixels.iter().zip(&judged) {
         let traced_shadowed = reference.lit[i] == 0;
-        v.in_band += (j.expected == Expected::Either) as usize;
-        v.inconsistent += j.inconsistent as usize;
-        if traced_shadowed == j.exact_shadowed && !j.inconsistent {
+        if traced_shadowed == j.exact_shadowed {
             v.agree += 1;
             continue;
+        }
+        if boundary[i] {
+            v.disagree_at_boundary += 1;
+        } else {
+            v.disagree_away_from_boundary += 1;
+        }
+        if flagged[i] {
+            v.disagree_in_band += 1;
+        } else {
+            v.disagree_outside_band += 1;
         }
         let point = g.surface_point(scene, i);
         let triangle = if traced_shadowed {
@@ -297,20 +334,46 @@ pub fn verify_view(
         } else {
             j.triangle
         };
-        let case = Case {
-            x: (i % g.width as usize) as u32,
-            y: (i / g.width as usize) as u32,
-            surface_triangle: point.triangle,
-            traced_shadowed,
-            exact_shadowed: j.exact_shadowed,
-            expected: j.expected,
-            triangle,
-            at_boundary: boundary[i],
-            inconsistent: j.inconsistent,
-        };
-        v.add_case(case);
+        let (x, y) = at(i);
+        v.cases.push(Case {
+            x,
+            y,
+            in_band: flagged[i],
+            disagreement: Disagreement::Shadow {
+                surface_triangle: point.triangle,
+                traced_shadowed,
+                exact_shadowed: j.exact_shadowed,
+                triangle,
+                at_boundary: boundary[i],
+            },
+        });
     }
-    v.cases.sort_by_key(|c| (!c.outside_band() && !c.inconsistent, !c.at_boundary, c.y, c.x));
+    for (&i, check) in primary_pixels.iter().zip(&primary) {
+        let traced = (g.triangle[i] != u32::MAX).then_some(g.triangle[i]);
+        if let Some(r) = check.ratio {
+            v.max_point_error_ratio = v.max_point_error_ratio.max(r);
+        }
+        if traced == check.exact && check.ratio.is_none_or(|r| r <= 1.0) {
+            continue;
+        }
+        if primary_flagged[i] {
+            v.primary_disagree_in_band += 1;
+        } else {
+            v.primary_disagree_outside_band += 1;
+        }
+        let (x, y) = at(i);
+        v.cases.push(Case {
+            x,
+            y,
+            in_band: primary_flagged[i],
+            disagreement: Disagreement::Primary {
+                traced_triangle: traced,
+                exact_triangle: check.exact,
+                point_error_ratio: check.ratio,
+            },
+        });
+    }
+    v.cases.sort_by_key(|c| (c.in_band, !c.at_boundary(), c.y, c.x));
     v.cases.truncate(MAX_CASES);
     v.seconds = start.elapsed().as_secs_f64();
     v
