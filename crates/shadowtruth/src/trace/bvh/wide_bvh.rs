@@ -210,13 +210,17 @@ mod tests {
         assert!(seen.iter().all(|&n| n == 1), "each triangle in exactly one leaf");
         let bvh = SceneBvh::build_from_triangles(&tris);
         let (lo, hi) = bvh.tree.bounds().expect("a tree");
-        let margin = 10.0 * 2f32.powi(-20);
+        // The points reach a little past 10 (a corner plus a tenth of another point).
+        let reach = tris.iter().flatten().fold(0.0f32, |m, v| m.max(v.abs().max_element()));
+        let margin = reach * 2f32.powi(-20);
         assert!(
             lo.cmple(root.0 - Vec3A::splat(margin)).all() && hi.cmpge(root.1 + Vec3A::splat(margin)).all()
         );
+        // The sum rounds to nearest, then one step outwards: two ulps of a coordinate.
+        let most = Vec3A::splat(margin + 2.0 * reach * f32::EPSILON);
         assert!(
-            lo.cmpge(root.0 - Vec3A::splat(1.01 * margin)).all(),
-            "grown by the margin, not more: {lo} {root:?}"
+            lo.cmpge(root.0 - most).all() && hi.cmple(root.1 + most).all(),
+            "grown by the margin, not more: {lo} {hi} {root:?}"
         );
     }
 
