@@ -12,7 +12,7 @@ use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
 use obvhs::ploc::PlocBuilder;
 use obvhs::ray::{Ray, RayHit};
 use obvhs::triangle::Triangle;
-use shadowtruth::trace::{SceneBvh, ShadowRay, SurfacePoint, WatertightRay, position_error};
+use shadowtruth::trace::{SceneBvh, ShadowRay, SurfacePoint, WatertightRay};
 use std::time::Duration;
 
 fn quad(y: f32, half: f32) -> Vec<[Vec3; 3]> {
@@ -144,7 +144,6 @@ fn occluder_5e_5_above_the_surface_is_found() {
             if triangle == 0 { [(z + 10.0) / h2, (x - z) / h2] } else { [(z - x) / h2, (x + 10.0) / h2] };
         let point = SurfacePoint {
             position: p,
-            error: position_error(p, &tris[triangle]),
             normal: up,
             triangle: triangle as u32,
             barycentric,

@@ -165,6 +165,14 @@ impl<F: Real> CertifiedRay<F> {
         2.0 * (2.0 * sheared * (2.0 * reach + sheared) + 4.01 * u * reach * reach)
     }
 
+    /// The barycentrics (b0, b1, b2) of the point where this ray's line crosses the plane of
+    /// `v`: the watertight test's edge functions over their sum (`None` edge-on).
+    pub(in crate::trace) fn barycentrics(&self, v: &[[F; 3]; 3]) -> Option<[F; 3]> {
+        let e = self.shear(v).e;
+        let det = e[0] + e[1] + e[2];
+        (det != F::zero()).then(|| e.map(|e| e / det))
+    }
+
     /// Whether the exact segment meets the closed triangle `v`.
     #[inline(always)]
     pub(in crate::trace) fn classify(&self, v: &[[F; 3]; 3]) -> Verdict {
@@ -232,18 +240,19 @@ impl<F: Real> CertifiedRay<F> {
         }
         let all_clear =
             (e[0] > edge && e[1] > edge && e[2] > edge) || (e[0] < -edge && e[1] < -edge && e[2] < -edge);
+        // The crossing is a convex combination of the exact vertices, so its distance lies
+        // within their z range: often bound enough (the common hit, decided before the
+        // division below), and far tighter than the bound below for a triangle wholly ahead of
+        // the origin.
+        let (range_lo, range_hi) = (z_min - z_error, z_max + z_error);
+        if all_clear && segment && range_lo > 0.0 && range_hi < self.length_lo {
+            return Crossing::Through { t_lo: range_lo, t_hi: range_hi };
+        }
         let det = e[0] + e[1] + e[2];
         let t = (e[0] * z[0] + e[1] * z[1] + e[2] * z[2]) / det;
         if !all_clear {
             let signs_agree = !(e.iter().any(|&e| e > 0.0) && e.iter().any(|&e| e < 0.0)) && det != 0.0;
             return Crossing::Doubt { likely_hit: signs_agree && t > 0.0 && t <= self.length_hi };
-        }
-        // The crossing is a convex combination of the exact vertices, so its distance lies
-        // within their z range: often bound enough, and far tighter than the bound below
-        // for a triangle wholly ahead of the origin.
-        let (range_lo, range_hi) = (z_min - z_error, z_max + z_error);
-        if segment && range_lo > 0.0 && range_hi < self.length_lo {
-            return Crossing::Through { t_lo: range_lo, t_hi: range_hi };
         }
         // t* = Σe*z*/Σe*: |N − N*| ≤ 3·edge·Z + (|det| + 3·edge)·z_error, |det − det*| ≤ 3·edge,
         // and the f64 evaluation's own rounding (2⁻⁵⁰ of the terms).

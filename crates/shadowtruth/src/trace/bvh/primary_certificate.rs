@@ -141,6 +141,18 @@ impl SceneBvh {
     }
 }
 
+/// `hit`'s barycentrics computed again in f64 and rounded to f32. The f32 watertight test's
+/// are off by up to a few ulps of the edge functions over their sum, which on a sliver moves
+/// the point along its long edges by more than the point's documented precision
+/// (docs/reference.md, "The adjudicator"); in f64 the point lies within f32 rounding of the
+/// ray's exact crossing.
+pub(in crate::trace) fn refine_barycentrics(origin: Vec3, direction: Vec3, hit: &mut Hit) {
+    let ray = RayForms { origin, direction }.in_f64(f64::INFINITY, 0.0);
+    if let Some(b) = ray.barycentrics(&hit.vertices.map(|p| p.as_dvec3().to_array())) {
+        hit.barycentric = b.map(|b| b as f32);
+    }
+}
+
 /// The hit on triangle `id` (which ties with the tracer's), from the watertight test.
 fn tie_hit(ray: &WatertightRay, id: u32, vertices: [Vec3; 3]) -> PrimaryCertainty {
     let [a, b, c] = vertices.map(Vec3A::from);

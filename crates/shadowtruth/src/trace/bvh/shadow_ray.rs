@@ -13,8 +13,6 @@ pub struct SurfacePoint {
     /// The exact point rounded to f32: what the techniques shade (the reference is about the
     /// exact point, `exact_point`).
     pub position: Vec3,
-    /// Per axis, a bound on |position − the exact interpolated point| (`position_error`).
-    pub error: Vec3,
     /// Unit geometric normal, on the side the shadow ray leaves towards.
     pub normal: Vec3,
     /// Scene id of the triangle the point lies on; shadow rays skip it.
@@ -24,6 +22,14 @@ pub struct SurfacePoint {
     pub barycentric: [f32; 2],
     /// The f32 world vertices of `triangle`.
     pub vertices: [Vec3; 3],
+}
+
+impl SurfacePoint {
+    /// Per axis, a bound on |position − the exact point| (`position_error`), computed when a
+    /// caller needs it rather than for every shadow ray.
+    pub fn position_error(&self) -> Vec3 {
+        position_error(self.position, &self.vertices)
+    }
 }
 
 /// A bound, per axis, on the distance between `p` (the f32 rounding of `barycentric_point`,

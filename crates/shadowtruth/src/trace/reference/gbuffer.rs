@@ -3,9 +3,9 @@
 
 use crate::scene::{Camera, Film, Light, LightKind, Scene};
 use crate::trace::bvh::hit::Hit;
-use crate::trace::bvh::primary_certificate::PrimaryCertainty;
+use crate::trace::bvh::primary_certificate::{PrimaryCertainty, refine_barycentrics};
 use crate::trace::bvh::scene_bvh::SceneBvh;
-use crate::trace::bvh::shadow_ray::{SurfacePoint, position_error};
+use crate::trace::bvh::shadow_ray::SurfacePoint;
 use crate::trace::bvh::watertight::barycentric_point;
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
@@ -68,7 +68,6 @@ impl GBuffer {
         let vertices = scene.triangle(triangle);
         SurfacePoint {
             position,
-            error: position_error(position, &vertices),
             normal: self.normal[i],
             triangle,
             barycentric: self.barycentric[i],
@@ -168,7 +167,6 @@ pub(in crate::trace) fn surface_sample(hit: &Hit, dir: Vec3, light: &LightSight)
     };
     let point = SurfacePoint {
         position: p32,
-        error: position_error(p32, verts),
         normal: ng.as_vec3(),
         triangle: hit.triangle,
         barycentric: [hit.barycentric[1], hit.barycentric[2]],
@@ -216,6 +214,7 @@ impl GBuffer {
                             }
                             continue;
                         };
+                        refine_barycentrics(camera.position, dirs[x], hit);
                         let sample = surface_sample(hit, dirs[x], &sight);
                         let p = sample.point;
                         cls[x] = if uncertain { PixelClass::Uncertain } else { sample.class };
