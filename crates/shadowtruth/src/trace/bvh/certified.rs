@@ -13,6 +13,7 @@
 //! certainly inside the segment, and a `Doubt` otherwise. Every bound is doubled over its
 //! derivation, so that the few roundings of the bound itself never matter.
 
+use super::watertight::WatertightRay;
 use glam::Vec3;
 use num_traits::Float;
 
@@ -103,6 +104,20 @@ impl<F: Real> CertifiedRay<F> {
             std::mem::swap(&mut kx, &mut ky);
         }
         let sz = F::one() / direction[kz];
+        let (sx, sy) = (direction[kx] * sz, direction[ky] * sz);
+        Self::sheared(origin, [kx, ky, kz], [sx, sy, sz], origin_error, direction_error, length, length_error)
+    }
+
+    /// `new` from the axis order and shear factors `new` computes (`[sx, sy, sz]`).
+    fn sheared(
+        origin: [F; 3],
+        [kx, ky, kz]: [usize; 3],
+        [sx, sy, sz]: [F; 3],
+        origin_error: f64,
+        direction_error: f64,
+        length: f64,
+        length_error: f64,
+    ) -> Self {
         let u = F::UNIT_ROUNDOFF;
         // |d_kz| ≥ 1/√3 for a unit direction: the shear factors d_k/d_kz move by at most
         // 2ε/|d_kz| ≤ 3.5ε under a direction error ε, and 1/d_kz by at most 3.1ε; each also
@@ -113,8 +128,8 @@ impl<F: Real> CertifiedRay<F> {
             kx,
             ky,
             kz,
-            sx: direction[kx] * sz,
-            sy: direction[ky] * sz,
+            sx,
+            sy,
             sz,
             origin_error,
             shear_error,
@@ -263,6 +278,29 @@ impl<F: Real> CertifiedRay<F> {
         let t_error = 2.0 * (numerator_error + t.abs() * det_error) / (det.abs() - det_error)
             + 2f64.powi(-50) * t.abs();
         Crossing::Through { t_lo: (t - t_error).max(range_lo), t_hi: (t + t_error).min(range_hi) }
+    }
+}
+
+impl CertifiedRay<f32> {
+    /// `new` for the f32 ray `walk` is: `WatertightRay::new` computes the same axis order and
+    /// shear factors by the same operations, so they are taken rather than computed again
+    /// (a shadow ray's setup is a large part of its cost in a simple scene).
+    pub(in crate::trace) fn of_walk(
+        walk: &WatertightRay,
+        origin_error: f64,
+        direction_error: f64,
+        length: f64,
+        length_error: f64,
+    ) -> Self {
+        Self::sheared(
+            walk.origin.to_array(),
+            [walk.kx, walk.ky, walk.kz],
+            [walk.sx, walk.sy, walk.sz],
+            origin_error,
+            direction_error,
+            length,
+            length_error,
+        )
     }
 }
 

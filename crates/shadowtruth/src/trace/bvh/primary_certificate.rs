@@ -76,7 +76,8 @@ impl SceneBvh {
             }
             None => (f64::INFINITY, 0.0, None),
         };
-        let fast = forms.in_f32(length, length_error);
+        let walk_ray = WatertightRay::new(origin.into(), direction.into());
+        let fast = CertifiedRay::of_walk(&walk_ray, 0.0, 0.0, length, length_error);
         let mut precise: Option<CertifiedRay<f64>> = None;
         let mut verdict = PrimaryCertainty::Certain;
         let mut tie: Option<(u32, [Vec3; 3])> = None;
@@ -122,7 +123,6 @@ impl SceneBvh {
             verdict = PrimaryCertainty::Uncertain;
             true
         };
-        let walk_ray = WatertightRay::new(origin.into(), direction.into());
         let node_ray = NodeRay::new(walk_ray.origin, walk_ray.direction);
         let reach = length + length_error;
         let mut tmax = if reach.is_finite() { (reach as f32).next_up() } else { f32::INFINITY };

@@ -157,7 +157,7 @@ impl SceneBvh {
     pub fn shadow_answer(&self, scratch: &mut TraversalScratch, shadow: &ShadowRay) -> ShadowAnswer {
         let (ray, mut tmax) = ShadowSearch::walk_ray(shadow);
         let node_ray = NodeRay::new(ray.origin, ray.direction);
-        let mut search = ShadowSearch::new(shadow);
+        let mut search = ShadowSearch::new(shadow, &ray);
         let mut over = false;
         walk::<ANY_ORDER>(&self.tree, &mut scratch.outer, &node_ray, 0.0, &mut tmax, 0.0, |i, _| {
             over = search.test(self.scene_ids[i], &self.triangles[i]);
@@ -264,7 +264,8 @@ impl SceneBvh {
         let watertight = walks.map(|w| w.0);
         // SAFETY: the processor has AVX2 (`wide_available`).
         let mut packet = unsafe { Packet::new(&watertight[..rays.len()]) }?;
-        let mut searches: [ShadowSearch; LANES] = std::array::from_fn(|k| ShadowSearch::new(&rays[lane(k)]));
+        let mut searches: [ShadowSearch; LANES] =
+            std::array::from_fn(|k| ShadowSearch::new(&rays[lane(k)], &watertight[k]));
         // SAFETY: as above.
         unsafe { packet.certify(&std::array::from_fn(|k| searches[k].edge_slack())) };
         let mut tmax = walks.map(|w| w.1);

@@ -50,24 +50,17 @@ pub(in crate::trace) struct ShadowSearch<'r> {
 }
 
 impl<'r> ShadowSearch<'r> {
-    pub(in crate::trace) fn new(ray: &'r ShadowRay) -> Self {
-        let (origin, direction) = (ray.origin.as_vec3(), ray.direction.as_vec3());
+    /// The search of `ray`, whose f32 form `walk` is (`walk_ray`).
+    pub(in crate::trace) fn new(ray: &'r ShadowRay, walk: &WatertightRay) -> Self {
         // Rounding to f32 moves each coordinate by at most 2⁻²⁴ of itself (2⁻¹⁴⁹ below the
         // normal range); a direction already in f32 (a directional light's) does not move.
         let origin_error =
             ray.origin_error + 2f64.powi(-24) * ray.origin.abs().max_element() + 2f64.powi(-149);
-        let direction_error = match direction.as_dvec3() == ray.direction {
+        let direction_error = match walk.direction.as_dvec3() == ray.direction {
             true => ray.direction_error,
             false => ray.direction_error + 2f64.powi(-24),
         };
-        let fast = CertifiedRay::new(
-            origin.to_array(),
-            origin_error,
-            direction.to_array(),
-            direction_error,
-            ray.length,
-            ray.length_error,
-        );
+        let fast = CertifiedRay::of_walk(walk, origin_error, direction_error, ray.length, ray.length_error);
         ShadowSearch { ray, fast, occluder: None, doubt: None }
     }
 

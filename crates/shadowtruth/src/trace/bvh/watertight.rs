@@ -2,11 +2,10 @@
 //! Intersection", JCGT 2(1), 2013). A ray through a shared edge or vertex hits at least one of
 //! the triangles that share it, which obvhs's own Möller–Trumbore test does not guarantee.
 //!
-//! Shadow rays use `intersect_beyond_error`, which also bounds the rounding error of the hit
-//! distance (Pharr, Jakob & Humphreys, *Physically Based Rendering*, 4th ed., §6.8.4) and
-//! accepts a hit only when its distance is positive beyond that bound: a hit that may lie behind
-//! the origin is never reported. docs/reference.md explains why this, with the origin offset of
-//! `shadow_ray.rs`, makes a surface unable to shadow itself.
+//! The hard reference's shadow rays use the certified form of this test (certified.rs);
+//! `intersect_beyond_error` also bounds the rounding error of the hit distance (Pharr, Jakob &
+//! Humphreys, *Physically Based Rendering*, 4th ed., §6.8.4) and accepts a hit only when its
+//! distance is positive beyond that bound.
 
 use glam::{DVec3, Vec3A};
 
@@ -20,7 +19,7 @@ pub struct WatertightRay {
     pub(in crate::trace) kz: usize,
     pub(in crate::trace) sx: f32,
     pub(in crate::trace) sy: f32,
-    sz: f32,
+    pub(in crate::trace) sz: f32,
 }
 
 /// A hit: distance along the (unit) direction and the barycentric weights of v0, v1, v2.
