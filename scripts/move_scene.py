@@ -18,8 +18,8 @@ inside the scene's folder, so when OUT lies in another folder they are copied be
 same relative paths. The moved scene is named "<name>_moved_<OFFSET>".
 
 Example, the island 10^4 units out, then checked exactly:
-  python3 scripts/move_scene.py scenes/papers/island.json 1e4 /tmp/far/island_1e4.json
-  shadowtruth verify /tmp/far/island_1e4.json --pixels all
+  python3 scripts/move_scene.py scenes/papers/island.json 1e4 far/island_1e4.json
+  shadowtruth verify far/island_1e4.json --pixels all
 """
 
 import argparse
