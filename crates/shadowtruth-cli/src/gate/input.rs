@@ -68,6 +68,12 @@ fn run_problems(run: &RunRecord) -> Vec<String> {
     let mut problems = Vec::new();
     if c.evaluated > c.pixels {
         problems.push(format!(".counts.evaluated: {} > pixels {}", c.evaluated, c.pixels));
+    } else if c.evaluated as u128 + c.uncertain as u128 > c.pixels as u128 {
+        problems.push(format!(
+            ".counts: evaluated + uncertain = {} > pixels {}",
+            c.evaluated as u128 + c.uncertain as u128,
+            c.pixels
+        ));
     }
     let fields = [
         ("false_shadow", c.false_shadow),
