@@ -180,7 +180,9 @@ fn scored_gbuffer<'g>(gbuffer: &'g GBuffer, reference: &HardReference) -> Result
         )));
     }
     if let Some(&i) = reference.uncertain.iter().find(|&&i| i as usize >= n) {
-        return Err(Error::Invalid(format!("the reference lists pixel {i} as uncertain, outside the G-buffer")));
+        return Err(Error::Invalid(format!(
+            "the reference lists pixel {i} as uncertain, outside the G-buffer"
+        )));
     }
     if reference.uncertain_still_evaluated(gbuffer).is_none() {
         return Ok(Cow::Borrowed(gbuffer));

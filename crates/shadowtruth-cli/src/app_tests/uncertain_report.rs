@@ -37,7 +37,11 @@ fn run_none(dir: &Path, cache: Option<&ReferenceCache>) -> Report {
     let plan = Plan {
         repeats: 1,
         figures: false,
-        ..Plan::new(vec![repo().join("scenes/plane_box.json")], vec![TechniqueSpec::None(NoneParams {})], vec![256])
+        ..Plan::new(
+            vec![repo().join("scenes/plane_box.json")],
+            vec![TechniqueSpec::None(NoneParams {})],
+            vec![256],
+        )
     };
     let mut writer = ReportWriter::new(dir);
     execute(&plan, cache, &mut [&mut writer]).unwrap();
@@ -86,7 +90,7 @@ fn an_uncertain_pixel_is_counted_and_scored_neither_way_in_every_report_form() {
     // index.html: a column beside false lit, its cell in the same place in the row.
     let html = std::fs::read_to_string(flagged_dir.path().join("index.html")).unwrap();
     let table = &html[html.find("<table id=\"runs\">").expect("the runs table")..];
-    let header = &table[..table.find("</thead>").unwrap()];
+    let header = &table[table.find("<thead><tr>").unwrap() + 11..table.find("</thead>").unwrap()];
     let headers: Vec<&str> =
         header.split("<th").skip(1).map(|h| &h[h.find('>').unwrap() + 1..h.find("</th>").unwrap()]).collect();
     let at = headers.iter().position(|&h| h == "uncertain").expect("an uncertain column");

@@ -275,7 +275,12 @@ pub fn error_map(
     canvas: &ViewCanvas,
 ) -> IndexedImage {
     let (mut out, false_shadow, false_lit) = error_map_unlabelled(gbuffer, reference, visibility, canvas);
-    draw_legend(&mut out, gbuffer.height, (false_shadow, false_lit, canvas.uncertain), gbuffer.evaluated.len());
+    draw_legend(
+        &mut out,
+        gbuffer.height,
+        (false_shadow, false_lit, canvas.uncertain),
+        gbuffer.evaluated.len(),
+    );
     out
 }
 

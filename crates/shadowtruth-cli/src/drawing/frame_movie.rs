@@ -9,8 +9,8 @@
 //! other file).
 
 use super::figures::{
-    FALSE_LIT_INDEX, FALSE_SHADOW_INDEX, LEGEND_BACKGROUND, LEGEND_TEXT, UNCERTAIN_INDEX, ViewCanvas, downscale,
-    error_map_unlabelled, legend_scale, legend_strip_height, run_stem, view_stem,
+    FALSE_LIT_INDEX, FALSE_SHADOW_INDEX, LEGEND_BACKGROUND, LEGEND_TEXT, UNCERTAIN_INDEX, ViewCanvas,
+    downscale, error_map_unlabelled, legend_scale, legend_strip_height, run_stem, view_stem,
 };
 use super::indexed_image::IndexedImage;
 use super::palette::palette_bytes;

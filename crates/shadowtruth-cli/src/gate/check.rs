@@ -476,7 +476,7 @@ mod tests {
         let out = gate(&now, None, &rule("reference_uncertain", 0.003)).unwrap();
         assert!(out.passed(), "{}", out.text());
         assert_eq!(out.checks[0].measured, Measured { value: 0.003, count: Some(3), evaluated: 1000 });
-        assert!(out.text().contains("0.003 (3 of 1000 px)"), "{}", out.text());
+        assert_eq!(out.checks[0].measured.show(), "0.003 (3 of 1000 px)");
         let out = gate(&now, None, &rule("reference_uncertain", 0.0029)).unwrap();
         assert!(!out.passed() && out.violations() == 1, "{}", out.text());
         // Against a baseline: one more undecided pixel fails a zero slack, as a count or a rate.
@@ -495,7 +495,8 @@ mod tests {
         let mut json = serde_json::to_value(run("s", 100, 1, 0)).unwrap();
         json["counts"].as_object_mut().unwrap().remove("uncertain");
         let old: RunRecord = serde_json::from_value(json).unwrap();
-        let out = gate(&report(vec![old]), None, "[[rule]]\nmetric = \"reference_uncertain_px\"\nmax = 0\n").unwrap();
+        let out = gate(&report(vec![old]), None, "[[rule]]\nmetric = \"reference_uncertain_px\"\nmax = 0\n")
+            .unwrap();
         assert!(out.passed(), "{}", out.text());
     }
 

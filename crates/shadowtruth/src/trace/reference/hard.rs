@@ -152,7 +152,12 @@ pub fn trace_hard_reference(
 /// (the soft references, a technique's visibility) sees them. They stay listed in
 /// `HardReference::uncertain` and are counted in `Counts::uncertain` (docs/reference.md, "The
 /// reference's uncertainty").
-pub fn trace_scored_view(scene: &Scene, bvh: &SceneBvh, camera: &Camera, light: &Light) -> (GBuffer, HardReference) {
+pub fn trace_scored_view(
+    scene: &Scene,
+    bvh: &SceneBvh,
+    camera: &Camera,
+    light: &Light,
+) -> (GBuffer, HardReference) {
     let mut gbuffer = GBuffer::trace(scene, bvh, camera, light);
     let reference = trace_hard_reference(scene, bvh, &gbuffer, light);
     gbuffer.leave_out(&reference.uncertain);
