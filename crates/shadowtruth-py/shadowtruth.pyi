@@ -59,7 +59,8 @@ def hard_reference(
     scene: Scene, camera: Optional[str] = None, light: Optional[str] = None
 ) -> npt.NDArray[np.uint8]:
     """The exact hard shadow mask: uint8 (height, width) with the codes of `shadowtruth reference`'s PNG:
-    255 lit, 0 shadowed, 128 background, 64 facing away from the light, 192 outside the light."""
+    255 lit, 0 shadowed, 128 background, 64 facing away from the light, 192 outside the light,
+    96 uncertain (the reference cannot decide the pixel beyond doubt)."""
 
 def coverage_reference(
     scene: Scene, camera: Optional[str] = None, light: Optional[str] = None, grid: int = 4
@@ -124,6 +125,7 @@ class Score(TypedDict):
     facing_away: int
     outside_light: int
     evaluated: int
+    uncertain: int
     false_shadow: int
     false_lit: int
     aliasing: int

@@ -8,7 +8,7 @@ use common::{bundled, near_boundary, scene_from_json};
 use shadowtruth::scene::{Camera, Light, LightKind, Scene};
 use shadowtruth::trace::{
     AreaLightError, GBuffer, PixelClass, ReferenceCache, SceneBvh, SoftReference, trace_area_light_reference,
-    trace_coverage_reference, trace_hard_reference,
+    trace_coverage_reference, trace_hard_reference, trace_scored_view,
 };
 
 /// Height of the slab's edge above the ground.
@@ -481,7 +481,8 @@ fn reference_command_writes_soft_references_as_exr() {
     let scene = small_scene_file(dir.path(), Some(5.0));
     let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
     let bvh = SceneBvh::build(&scene);
-    let g = GBuffer::trace(&scene, &bvh, camera, light);
+    // As the command traces them: over the pixels the hard reference decides.
+    let (g, _) = trace_scored_view(&scene, &bvh, camera, light);
     let expected = [
         ("coverage", trace_coverage_reference(&scene, &bvh, &g, camera, light, 4)),
         ("area", trace_area_light_reference(&scene, &bvh, &g, light, 8).unwrap()),

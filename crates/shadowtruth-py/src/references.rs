@@ -9,7 +9,7 @@ use crate::view;
 use numpy::PyArray2;
 use pyo3::prelude::*;
 use shadowtruth::trace::{SoftReference, trace_area_light_reference, trace_coverage_reference};
-use shadowtruth::{GBuffer, trace_hard_reference};
+use shadowtruth::{GBuffer, trace_hard_reference, trace_scored_view};
 
 /// A soft reference as numpy arrays: (visibility, standard error), both float32.
 type SoftArrays<'py> = (Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>);
@@ -18,7 +18,8 @@ type SoftArrays<'py> = (Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>);
 ///
 /// Returns a uint8 array of shape (height, width), row 0 at the top, with the grey codes of the
 /// PNG that `shadowtruth reference` writes: 255 lit, 0 shadowed, 128 background, 64 facing
-/// away from the light, 192 outside the light.
+/// away from the light, 192 outside the light, 96 uncertain (evaluated, but the reference cannot
+/// decide it beyond doubt).
 #[pyfunction]
 #[pyo3(signature = (scene, camera=None, light=None))]
 pub fn hard_reference<'py>(
@@ -57,7 +58,7 @@ pub fn coverage_reference<'py>(
     let scene = scene.get();
     let (camera, light) = (view::camera(&scene.scene, camera)?, view::light(&scene.scene, light)?);
     let reference = py.detach(|| {
-        let gbuffer = GBuffer::trace(&scene.scene, scene.bvh(), camera, light);
+        let (gbuffer, _) = trace_scored_view(&scene.scene, scene.bvh(), camera, light);
         trace_coverage_reference(&scene.scene, scene.bvh(), &gbuffer, camera, light, grid)
     });
     soft_arrays(py, reference)
@@ -91,7 +92,7 @@ pub fn area_light_reference<'py>(
         crate::error::Error::new_err(format!("{}: {message}", scene.scene.source.display()))
     })?;
     let reference = py.detach(|| {
-        let gbuffer = GBuffer::trace(&scene.scene, scene.bvh(), camera, light);
+        let (gbuffer, _) = trace_scored_view(&scene.scene, scene.bvh(), camera, light);
         trace_area_light_reference(&scene.scene, scene.bvh(), &gbuffer, light, grid)
     });
     soft_arrays(py, reference.map_err(library_error)?)

@@ -13,7 +13,7 @@ use pyo3::types::PyDict;
 use shadowtruth::import::{BufferKind, DEFAULT_DEPTH_TOLERANCE, evaluated_visibility};
 use shadowtruth::metrics::{DEFAULT_ATTRIBUTION_RESOLUTION, LightUv, attribute, score_hard};
 use shadowtruth::raster::MAX_SHADOW_MAP_RESOLUTION;
-use shadowtruth::{Counts, GBuffer, Light, LightView, trace_hard_reference};
+use shadowtruth::{Counts, Light, LightView, trace_scored_view};
 
 /// Scores a renderer's shadows of `camera` under `light` (default: the scene's first of each)
 /// against the exact hard reference, as `shadowtruth score --visibility` does.
@@ -27,7 +27,8 @@ use shadowtruth::{Counts, GBuffer, Light, LightView, trace_hard_reference};
 /// attribution (aliasing) is taken at.
 ///
 /// Returns a dict with the counts of report.json's run — pixels, background, facing_away,
-/// outside_light, evaluated, false_shadow, false_lit, aliasing, acne, leak, surface_mismatch —
+/// outside_light, evaluated, uncertain (pixels the reference cannot decide beyond doubt, scored
+/// neither way), false_shadow, false_lit, aliasing, acne, leak, surface_mismatch —
 /// and "rates": {false_shadow, false_lit, error}, fractions of the scored pixels (evaluated less
 /// surface mismatches). Raises ValueError for an array of the wrong type, dtype or shape, or a
 /// value out of range.
@@ -54,8 +55,7 @@ pub fn score<'py>(
     let visibility = buffer_image(BufferKind::Visibility, visibility, size)?;
     let depth = depth.map(|d| buffer_image(BufferKind::Depth, d, size)).transpose()?;
     let counts = py.detach(|| -> shadowtruth::Result<Counts> {
-        let gbuffer = GBuffer::trace(&scene.scene, scene.bvh(), camera, light);
-        let reference = trace_hard_reference(&scene.scene, scene.bvh(), &gbuffer, light);
+        let (gbuffer, reference) = trace_scored_view(&scene.scene, scene.bvh(), camera, light);
         let evaluated = evaluated_visibility(&gbuffer, camera, &visibility, depth.as_ref(), depth_tolerance)?;
         let attribution = attribute(&gbuffer, &reference, &evaluated, &LightUv::new(&gbuffer, &view));
         Ok(score_hard(&gbuffer, &reference, &evaluated).with_attribution(attribution))

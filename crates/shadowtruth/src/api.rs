@@ -1,10 +1,12 @@
 //! The library's entry points, one per step of scoring a shadow: load a scene, look from the
 //! light, rasterize what a technique reads, shade it, score a visibility buffer. Tracing uses
-//! [`SceneBvh::build`], [`GBuffer::trace`] and [`trace_hard_reference`] directly.
+//! [`SceneBvh::build`] and [`trace_scored_view`] (or [`GBuffer::trace`] and
+//! [`trace_hard_reference`]) directly.
 //!
 //! [`SceneBvh::build`]: crate::SceneBvh::build
 //! [`GBuffer::trace`]: crate::GBuffer::trace
 //! [`trace_hard_reference`]: crate::trace_hard_reference
+//! [`trace_scored_view`]: crate::trace_scored_view
 
 use crate::error::{Error, Result};
 use crate::import::{ImportedImage, evaluated_visibility};
@@ -13,6 +15,7 @@ use crate::raster::{DepthFormat, LightView, MAX_SHADOW_MAP_RESOLUTION};
 use crate::scene::{Camera, Light, Scene};
 use crate::technique::{BuiltLayers, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated};
 use crate::trace::{GBuffer, HardReference};
+use std::borrow::Cow;
 use std::path::Path;
 
 /// Loads a scene file (`shadowtruth/scene/v1` JSON with its meshes); every problem is reported
@@ -77,12 +80,11 @@ pub fn rasterize_layers(
 /// pixels that are not evaluated (background, facing away, outside the light) are 1.
 ///
 /// ```
-/// use shadowtruth::{DepthFormat, GBuffer, SceneBvh, TechniqueSpec, trace_hard_reference};
+/// use shadowtruth::{DepthFormat, SceneBvh, TechniqueSpec, trace_scored_view};
 /// # let scene = shadowtruth::load_scene(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/plane_box.json"))?;
 /// let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
 /// let bvh = SceneBvh::build(&scene);
-/// let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
-/// let reference = trace_hard_reference(&scene, &bvh, &gbuffer, light);
+/// let (gbuffer, reference) = trace_scored_view(&scene, &bvh, camera, light);
 ///
 /// let technique: TechniqueSpec =
 ///     serde_json::from_str(r#"{"technique": "slope_scaled", "factor": 1.5, "units": 2}"#).unwrap();
@@ -115,7 +117,10 @@ pub fn shade_technique(
 /// pixel, row by row from the top (`gbuffer.width` × `gbuffer.height`), 1 lit and 0
 /// shadowed; a value of ½ or more counts as lit. Only evaluated pixels are scored; every value
 /// must still be finite and within [0, 1]. The counts' artefact classes (aliasing, acne, leak)
-/// need the shadow map's light view and are left at 0.
+/// need the shadow map's light view and are left at 0. `reference` must be the hard reference of
+/// the G-buffer's view (its size, an error otherwise); the pixels it lists as uncertain are
+/// scored neither way, and counted in `uncertain`, whether or not the G-buffer has left them out
+/// already ([`trace_scored_view`](crate::trace_scored_view) does).
 ///
 /// ```
 /// # use shadowtruth::{GBuffer, SceneBvh, trace_hard_reference};
@@ -133,6 +138,16 @@ pub fn shade_technique(
 /// let mut bad = exact.clone();
 /// bad[0] = f32::NAN;
 /// assert!(shadowtruth::score_visibility(&gbuffer, &reference, &bad).is_err());
+///
+/// // A pixel the reference lists as uncertain is scored neither way, only counted, even by a
+/// // G-buffer that still evaluates it: here a wrong value there is no false pixel.
+/// let doubtful = gbuffer.evaluated[0];
+/// let reference = shadowtruth::HardReference { uncertain: vec![doubtful], ..reference };
+/// let mut wrong_there = exact.clone();
+/// wrong_there[doubtful as usize] = 1.0 - wrong_there[doubtful as usize];
+/// let left_out = shadowtruth::score_visibility(&gbuffer, &reference, &wrong_there)?;
+/// assert_eq!((left_out.false_shadow, left_out.false_lit, left_out.uncertain), (0, 0, counts.uncertain + 1));
+/// assert_eq!(left_out.evaluated, counts.evaluated - 1);
 /// # Ok::<(), shadowtruth::Error>(())
 /// ```
 pub fn score_visibility(gbuffer: &GBuffer, reference: &HardReference, values: &[f32]) -> Result<Counts> {
@@ -148,8 +163,33 @@ pub fn score_visibility(gbuffer: &GBuffer, reference: &HardReference, values: &[
         let (x, y) = (i as u32 % width, i as u32 / width);
         return Err(Error::Visibility(format!("pixel ({x}, {y}) is {}, outside [0, 1]", values[i])));
     }
+    let gbuffer = scored_gbuffer(gbuffer, reference)?;
     let evaluated: Vec<f32> = gbuffer.evaluated.iter().map(|&i| values[i as usize]).collect();
-    Ok(score_hard(gbuffer, reference, &evaluated))
+    Ok(score_hard(&gbuffer, reference, &evaluated))
+}
+
+/// `gbuffer` with the pixels `reference` cannot decide left out: itself when it has left them
+/// out already (or there are none), a copy otherwise. A reference of another size, or listing a
+/// pixel outside the G-buffer, is an error.
+fn scored_gbuffer<'g>(gbuffer: &'g GBuffer, reference: &HardReference) -> Result<Cow<'g, GBuffer>> {
+    let n = gbuffer.pixel_count();
+    if (reference.width, reference.height) != (gbuffer.width, gbuffer.height) || reference.lit.len() != n {
+        return Err(Error::Invalid(format!(
+            "a {}×{} reference for a {}×{} G-buffer",
+            reference.width, reference.height, gbuffer.width, gbuffer.height
+        )));
+    }
+    if let Some(&i) = reference.uncertain.iter().find(|&&i| i as usize >= n) {
+        return Err(Error::Invalid(format!(
+            "the reference lists pixel {i} as uncertain, outside the G-buffer"
+        )));
+    }
+    if reference.uncertain_still_evaluated(gbuffer).is_none() {
+        return Ok(Cow::Borrowed(gbuffer));
+    }
+    let mut left_out = gbuffer.clone();
+    left_out.leave_out(&reference.uncertain);
+    Ok(Cow::Owned(left_out))
 }
 
 /// The technique, validated; `external` is refused (its visibility is imported, not shaded).
@@ -170,16 +210,15 @@ fn built(technique: &TechniqueSpec) -> Result<Box<dyn crate::technique::Techniqu
 /// `depth_tolerance` (relative, plus [`DEPTH_FLOOR_WORLD`](crate::import::DEPTH_FLOOR_WORLD)),
 /// are counted in `surface_mismatch` and scored neither way; the rates are over the other
 /// evaluated pixels. `camera` is the G-buffer's. As with [`score_visibility`], the artefact
-/// classes are left at 0.
+/// classes are left at 0 and the pixels the reference lists as uncertain are left out.
 ///
 /// ```
-/// use shadowtruth::{GBuffer, ImportedImage, SceneBvh, trace_hard_reference};
+/// use shadowtruth::{ImportedImage, SceneBvh, trace_scored_view};
 /// use shadowtruth::import::DEFAULT_DEPTH_TOLERANCE;
 /// # let scene = shadowtruth::load_scene(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/plane_box.json"))?;
 /// let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
 /// let bvh = SceneBvh::build(&scene);
-/// let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
-/// let reference = trace_hard_reference(&scene, &bvh, &gbuffer, light);
+/// let (gbuffer, reference) = trace_scored_view(&scene, &bvh, camera, light);
 ///
 /// // A renderer that agrees with the reference except for one pixel, where it drew background.
 /// let mut values: Vec<f32> = reference.lit.iter().map(|&lit| lit as f32).collect();
@@ -201,6 +240,7 @@ pub fn score_imported(
     if (camera.width, camera.height) != (gbuffer.width, gbuffer.height) {
         return Err(Error::Invalid(format!("camera {} is not the G-buffer's", camera.name)));
     }
-    let evaluated = evaluated_visibility(gbuffer, camera, visibility, depth, depth_tolerance)?;
-    Ok(score_hard(gbuffer, reference, &evaluated))
+    let gbuffer = scored_gbuffer(gbuffer, reference)?;
+    let evaluated = evaluated_visibility(&gbuffer, camera, visibility, depth, depth_tolerance)?;
+    Ok(score_hard(&gbuffer, reference, &evaluated))
 }

@@ -16,13 +16,14 @@
 //! (1 lit, 0 shadowed, one value per camera pixel) against it.
 //!
 //! ```
-//! use shadowtruth::{GBuffer, SceneBvh, load_scene, score_visibility, trace_hard_reference};
+//! use shadowtruth::{SceneBvh, load_scene, score_visibility, trace_scored_view};
 //!
 //! let scene = load_scene(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/plane_box.json"))?;
 //! let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
 //! let bvh = SceneBvh::build(&scene);
-//! let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
-//! let reference = trace_hard_reference(&scene, &bvh, &gbuffer, light);
+//! // The G-buffer with the pixels the reference cannot decide beyond doubt left out (counted in
+//! // `uncertain`, scored neither way).
+//! let (gbuffer, reference) = trace_scored_view(&scene, &bvh, camera, light);
 //!
 //! // A renderer that draws everything lit: every shadowed pixel is false lit.
 //! let all_lit = vec![1.0; gbuffer.pixel_count()];
@@ -57,7 +58,7 @@ pub use metrics::Counts;
 pub use raster::{DepthFormat, LightView};
 pub use scene::{Camera, Light, Scene};
 pub use technique::{BuiltLayers, TechniqueSpec};
-pub use trace::{GBuffer, HardReference, SceneBvh, trace_hard_reference};
+pub use trace::{GBuffer, HardReference, SceneBvh, trace_hard_reference, trace_scored_view};
 
 /// The README's Rust examples, compiled and run with the doctests.
 #[cfg(doctest)]

@@ -11,7 +11,7 @@ use crate::drawing::figures::{
     write_run_figures, zoom,
 };
 use crate::drawing::indexed_image::IndexedImage;
-use crate::drawing::palette::{FALSE_LIT, FALSE_SHADOW};
+use crate::drawing::palette::{FALSE_LIT, FALSE_SHADOW, UNCERTAIN};
 use crate::drawing::text;
 use common::{bundled, trace_first};
 use shadowtruth::metrics::{Counts, Rates};
@@ -35,7 +35,7 @@ fn count_colour(pixels: &[u8], colour: [u8; 3]) -> u64 {
 #[test]
 fn error_png_colours_count_exactly_the_false_pixels() {
     let dir = tempfile::tempdir().unwrap();
-    let (mut any_false_shadow, mut any_false_lit) = (false, false);
+    let (mut any_false_shadow, mut any_false_lit, mut any_uncertain) = (false, false, false);
     for name in ["plane_box", "spot"] {
         let scene = bundled(name);
         let (g, r) = trace_first(&scene);
@@ -61,12 +61,16 @@ fn error_png_colours_count_exactly_the_false_pixels() {
             let what = format!("{name} {}: {counts:?}", spec.label());
             assert_eq!(count_colour(area, FALSE_SHADOW), counts.false_shadow, "{what}");
             assert_eq!(count_colour(area, FALSE_LIT), counts.false_lit, "{what}");
+            // The pixels the reference cannot decide (spot's view has some) in their own colour.
+            assert_eq!(count_colour(area, UNCERTAIN), counts.uncertain, "{what}");
             // Everything else in the image area is a (dimmed) grey, so no other pixel can be
-            // mistaken for an error; the legend shows both swatches.
+            // mistaken for an error; the legend shows the three swatches.
             for p in area.chunks_exact(3) {
-                assert!(p == FALSE_SHADOW || p == FALSE_LIT || (p[0] == p[1] && p[1] == p[2]), "{p:?}");
+                let coloured = p == FALSE_SHADOW || p == FALSE_LIT || p == UNCERTAIN;
+                assert!(coloured || (p[0] == p[1] && p[1] == p[2]), "{p:?}");
             }
             assert!(count_colour(legend, FALSE_SHADOW) > 0 && count_colour(legend, FALSE_LIT) > 0);
+            assert!(count_colour(legend, UNCERTAIN) > 0, "{what}: no uncertain swatch");
             // The in-memory map is what was written.
             assert_eq!(error_map(&g, &r, &v, &canvas).to_rgb(), error.as_raw().as_slice());
             // The one-pass drawing of both images is the two drawn apart.
@@ -78,9 +82,11 @@ fn error_png_colours_count_exactly_the_false_pixels() {
             assert_eq!(technique.as_raw(), &visibility_image(&g, &canvas, &v).to_rgb());
             any_false_shadow |= counts.false_shadow > 0;
             any_false_lit |= counts.false_lit > 0;
+            any_uncertain |= counts.uncertain > 0;
         }
     }
     assert!(any_false_shadow && any_false_lit, "the runs must exercise both colours");
+    assert!(any_uncertain, "the runs must exercise the uncertain colour");
 }
 
 /// Viénot, Brettel & Mollon (1999) dichromat simulation in linear RGB.

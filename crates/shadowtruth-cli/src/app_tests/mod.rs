@@ -12,3 +12,4 @@ mod plan_input;
 mod plan_sweep;
 mod report_outputs;
 mod run_report;
+mod uncertain_report;

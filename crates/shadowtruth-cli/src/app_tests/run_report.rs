@@ -44,12 +44,8 @@ fn a_plan_writes_one_record_per_run_with_consistent_counts() {
     assert_eq!(report.scenes.len(), 2);
     for run in &report.runs {
         let c = run.counts;
-        assert_eq!(
-            c.pixels,
-            c.background + c.facing_away + c.outside_light + c.evaluated + c.uncertain,
-            "{}",
-            run.label
-        );
+        let classes = c.background + c.facing_away + c.outside_light + c.evaluated + c.uncertain;
+        assert_eq!(c.pixels, classes, "{}", run.label);
         assert!(c.false_shadow + c.false_lit <= c.evaluated);
         assert!((run.rates.error - (c.false_shadow + c.false_lit) as f64 / c.evaluated as f64).abs() < 1e-12);
         assert!(run.timings.shade >= 0.0 && run.layer_memory_bytes == (run.resolution as u64).pow(2) * 4);

@@ -13,7 +13,7 @@ use shadowtruth::metrics::try_timed_median;
 use shadowtruth::scene::{Scene, load_scene};
 use shadowtruth::trace::{
     GBuffer, SceneBvh, SoftReference, trace_area_light_reference, trace_coverage_reference,
-    trace_hard_reference, validate_area_light,
+    trace_scored_view, validate_area_light,
 };
 use std::path::PathBuf;
 
@@ -89,7 +89,9 @@ pub(super) fn reference(a: ReferenceArgs) -> Result<u8> {
         validate_area_light(light, grid).with_context(|| format!("{}: --kind area", a.scene.display()))?;
     }
     let bvh = SceneBvh::build(&scene);
-    let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
+    // The soft references are traced as every score reads them: over the pixels the hard
+    // reference decides (the mask marks the others `Uncertain` either way).
+    let (gbuffer, hard) = trace_scored_view(&scene, &bvh, camera, light);
     let trace_soft = |g: &GBuffer| -> Result<SoftReference> {
         Ok(match a.kind {
             ReferenceKind::Coverage => trace_coverage_reference(&scene, &bvh, g, camera, light, grid),
@@ -97,8 +99,7 @@ pub(super) fn reference(a: ReferenceArgs) -> Result<u8> {
         })
     };
     if a.kind == ReferenceKind::Hard {
-        let reference = trace_hard_reference(&scene, &bvh, &gbuffer, light);
-        write_mask_png(&a.out, gbuffer.width, gbuffer.height, &reference.mask_codes(&gbuffer))
+        write_mask_png(&a.out, gbuffer.width, gbuffer.height, &hard.mask_codes(&gbuffer))
             .with_context(|| format!("writing {}", a.out.display()))?;
     } else {
         write_soft_exr(&a.out, &trace_soft(&gbuffer)?)

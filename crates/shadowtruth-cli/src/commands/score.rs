@@ -157,8 +157,7 @@ fn flip_hint(
     let flipped = ExternalParams { flip_y: !params.flip_y, ..params.clone() };
     let (visibility, depth) = flipped.read_buffers(camera)?;
     let bvh = shadowtruth::SceneBvh::build(&scene);
-    let gbuffer = shadowtruth::GBuffer::trace(&scene, &bvh, camera, light);
-    let reference = shadowtruth::trace_hard_reference(&scene, &bvh, &gbuffer, light);
+    let (gbuffer, reference) = shadowtruth::trace_scored_view(&scene, &bvh, camera, light);
     let tolerance = flipped.depth_tolerance();
     let other =
         shadowtruth::score_imported(&gbuffer, camera, &reference, &visibility, depth.as_ref(), tolerance)?;

@@ -27,6 +27,27 @@ pub(super) fn print_tables(report: &Report, layout: TableLayout) {
     for g in &groups {
         print_group(g);
     }
+    if let Some(line) = uncertain_line(report) {
+        println!("{line}");
+    }
+}
+
+/// The views whose reference cannot decide some pixels beyond doubt, with how many (left out of
+/// every rate above); None when every view's reference decides every pixel.
+fn uncertain_line(report: &Report) -> Option<String> {
+    let mut views: Vec<(String, u64)> = Vec::new();
+    for r in report.runs.iter().filter(|r| r.counts.uncertain > 0) {
+        let view = format!("{}/{}/{}", r.scene, r.camera, r.light);
+        if !views.iter().any(|(v, _)| *v == view) {
+            // A run over frames sums its frames' counts: the count shown is the run's.
+            views.push((view, r.counts.uncertain));
+        }
+    }
+    if views.is_empty() {
+        return None;
+    }
+    let list: Vec<String> = views.iter().map(|(v, n)| format!("{v} {n}")).collect();
+    Some(format!("reference uncertain (pixels left out of every score): {}", list.join(", ")))
 }
 
 /// The folder of a scene's file, as the report records it.
@@ -84,4 +105,23 @@ fn print_group(g: &GroupSummary) {
     }
     let front: Vec<String> = g.pareto(top).iter().map(|s| row_name(s)).collect();
     println!("Pareto set at {top}² (no setting both cheaper and better), by cost: {}", front.join(", "));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use shadowtruth::metrics::Counts;
+
+    #[test]
+    fn the_views_with_uncertain_pixels_are_listed_once() {
+        let run = |scene: &str, label: &str, uncertain: u64| {
+            let counts = Counts { pixels: 10, evaluated: 10 - uncertain, uncertain, ..Counts::default() };
+            crate::gate::test_run(scene, "none", serde_json::json!({}), label, counts)
+        };
+        let mut report = Report { runs: vec![run("a", "x", 0), run("b", "x", 0)], ..Report::default() };
+        assert_eq!(uncertain_line(&report), None);
+        report.runs = vec![run("a", "x", 0), run("rocks", "x", 3), run("rocks", "y", 3), run("spot", "x", 1)];
+        let line = uncertain_line(&report).expect("two views have uncertain pixels");
+        assert!(line.ends_with(": rocks/main/sun 3, spot/main/sun 1"), "{line}");
+    }
 }

@@ -1,7 +1,7 @@
 //! Figures (PNG, row 0 at the top, camera-sized): a shaded base image of the scene, the reference
 //! and a technique's output drawn over it, an error map with false shadow and false lit in two
 //! colour-blind-safe colours, enlarged crops, and captioned grids in the style of the papers'
-//! figures. All are [`IndexedImage`]s over one palette of greys and the two error colours.
+//! figures. All are [`IndexedImage`]s over one palette of greys, the two error colours and the uncertain colour.
 //!
 //! What depends only on the view (the base image, the error map's background): build a
 //! [`ViewCanvas`] once per (scene, camera, light) and pass it to every run's figures.
@@ -9,10 +9,12 @@
 //! The error map keeps the image area exact: every pixel coloured exactly [`FALSE_SHADOW`](super::palette::FALSE_SHADOW) or
 //! [`FALSE_LIT`](super::palette::FALSE_LIT) is a false-shadow or false-lit pixel of the run, and every such pixel is coloured.
 //! Its legend (swatches in the same two colours, with the counts) is drawn on a strip added *below*
-//! the camera image, never over it.
+//! the camera image, never over it. The pixels the reference cannot decide beyond doubt
+//! (`PixelClass::Uncertain`, scored neither way) are drawn exactly [`UNCERTAIN`](super::palette::UNCERTAIN),
+//! with their count in the legend.
 
 pub use super::indexed_image::IndexedImage;
-pub use super::palette::{FALSE_LIT_INDEX, FALSE_SHADOW_INDEX, GREY_MAX, grey, is_grey};
+pub use super::palette::{FALSE_LIT_INDEX, FALSE_SHADOW_INDEX, GREY_MAX, UNCERTAIN_INDEX, grey, is_grey};
 use super::text;
 use glam::Vec3;
 use rayon::prelude::*;
@@ -57,7 +59,7 @@ pub(super) fn lut(f: f32) -> [u8; 256] {
 
 /// A grey, shadow-free rendering of the G-buffer (camera-sized): a Lambert term for the light plus
 /// a sky term `½ + ½·N·y` for shape, on a dark neutral background. Evaluated pixels are light
-/// (grey 102–253), pixels outside a spot light's cone mid grey, pixels facing away from the light
+/// (grey 102–252), pixels outside a spot light's cone mid grey, pixels facing away from the light
 /// dark (they are in attached shadow whatever a technique says).
 pub fn shaded_base(gbuffer: &GBuffer, light: &Light) -> IndexedImage {
     let w = gbuffer.width as usize;
@@ -121,6 +123,8 @@ pub fn reference_visibility(gbuffer: &GBuffer, reference: &HardReference) -> Vec
 pub struct ViewCanvas {
     pub base: IndexedImage,
     error_background: IndexedImage,
+    /// The pixels drawn [`UNCERTAIN_INDEX`] on the error map: the G-buffer's `Uncertain` ones.
+    uncertain: u64,
     /// `gbuffer.evaluated[row_starts[y]..row_starts[y + 1]]` are the evaluated pixels of row `y`.
     row_starts: Vec<usize>,
 }
@@ -132,11 +136,25 @@ impl ViewCanvas {
         let strip = legend_strip_height(gbuffer.width);
         let (dim, dim_shadowed) = (lut(ERROR_DIM), lut(ERROR_DIM * ERROR_REFERENCE_SHADOW));
         let mut error_background = IndexedImage::filled(gbuffer.width, h as u32 + strip, LEGEND_BACKGROUND);
+        let mut uncertain = 0;
         for (i, (o, &b)) in error_background.pixels[..w * h].iter_mut().zip(&base.pixels).enumerate() {
-            let shadowed = gbuffer.class[i] == PixelClass::Evaluated && reference.lit[i] == 0;
-            *o = if shadowed { dim_shadowed[b as usize] } else { dim[b as usize] };
+            let class = gbuffer.class[i];
+            let shadowed = class == PixelClass::Evaluated && reference.lit[i] == 0;
+            *o = if class == PixelClass::Uncertain {
+                uncertain += 1;
+                UNCERTAIN_INDEX
+            } else if shadowed {
+                dim_shadowed[b as usize]
+            } else {
+                dim[b as usize]
+            };
         }
-        ViewCanvas { base, error_background, row_starts: evaluated_row_starts(gbuffer) }
+        ViewCanvas { base, error_background, uncertain, row_starts: evaluated_row_starts(gbuffer) }
+    }
+
+    /// The pixels the error map draws [`UNCERTAIN_INDEX`]: the reference cannot decide them.
+    pub fn uncertain(&self) -> u64 {
+        self.uncertain
     }
 
     fn row(&self, y: usize) -> std::ops::Range<usize> {
@@ -228,7 +246,7 @@ pub fn run_images(
             (fs, fl)
         })
         .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
-    draw_legend(&mut error, h as u32, false_shadow, false_lit, gbuffer.evaluated.len());
+    draw_legend(&mut error, h as u32, (false_shadow, false_lit, canvas.uncertain), gbuffer.evaluated.len());
     (technique, error)
 }
 
@@ -257,7 +275,12 @@ pub fn error_map(
     canvas: &ViewCanvas,
 ) -> IndexedImage {
     let (mut out, false_shadow, false_lit) = error_map_unlabelled(gbuffer, reference, visibility, canvas);
-    draw_legend(&mut out, gbuffer.height, false_shadow, false_lit, gbuffer.evaluated.len());
+    draw_legend(
+        &mut out,
+        gbuffer.height,
+        (false_shadow, false_lit, canvas.uncertain),
+        gbuffer.evaluated.len(),
+    );
     out
 }
 
@@ -292,13 +315,15 @@ pub fn error_map_unlabelled(
     (out, false_shadow, false_lit)
 }
 
-/// The legend on the strip that starts at row `top`.
-fn draw_legend(img: &mut IndexedImage, top: u32, fs: u64, fl: u64, evaluated: usize) {
+/// The legend on the strip that starts at row `top`: the false shadows and false lits (with
+/// their share of the evaluated pixels) and the uncertain pixels, left out of that share.
+fn draw_legend(img: &mut IndexedImage, top: u32, (fs, fl, uncertain): (u64, u64, u64), evaluated: usize) {
     let s = legend_scale(img.width);
     let pct = |n: u64| 100.0 * n as f64 / evaluated.max(1) as f64;
     let entries = [
         (FALSE_SHADOW_INDEX, format!("false shadow {fs} ({:.2}%)", pct(fs))),
         (FALSE_LIT_INDEX, format!("false lit {fl} ({:.2}%)", pct(fl))),
+        (UNCERTAIN_INDEX, format!("uncertain {uncertain} (not scored)")),
     ];
     let side = text::text_height(s);
     let y = (top + 4 * s) as i64;
@@ -408,7 +433,8 @@ pub fn caption_block_height(lines: u32, scale: u32) -> u32 {
 
 /// Shrinks an image by an integer factor `f` (the incomplete blocks at the right and bottom edges
 /// are dropped). Errors stay visible: a block holding error pixels shows the error colour it holds
-/// most of (false shadow on a tie); a block of greys shows their mean.
+/// most of (false shadow on a tie), a block holding no error pixel but an uncertain one shows
+/// the uncertain colour; a block of greys shows their mean.
 pub fn downscale(img: &IndexedImage, f: u32) -> IndexedImage {
     let f = f.max(1) as usize;
     let (w, h) = (img.width as usize, img.height as usize);
@@ -426,7 +452,13 @@ pub fn downscale(img: &IndexedImage, f: u32) -> IndexedImage {
                 fl += (p == FALSE_LIT_INDEX) as u32;
             }
         }
-        if fs >= fl { FALSE_SHADOW_INDEX } else { FALSE_LIT_INDEX }
+        if fs + fl == 0 {
+            UNCERTAIN_INDEX
+        } else if fs >= fl {
+            FALSE_SHADOW_INDEX
+        } else {
+            FALSE_LIT_INDEX
+        }
     };
     if f == 2 {
         // The usual case (1024-pixel cameras in 512-pixel cells), in one vectorisable pass.

@@ -9,8 +9,8 @@
 //! other file).
 
 use super::figures::{
-    FALSE_LIT_INDEX, FALSE_SHADOW_INDEX, LEGEND_BACKGROUND, LEGEND_TEXT, ViewCanvas, downscale,
-    error_map_unlabelled, legend_scale, legend_strip_height, run_stem, view_stem,
+    FALSE_LIT_INDEX, FALSE_SHADOW_INDEX, LEGEND_BACKGROUND, LEGEND_TEXT, UNCERTAIN_INDEX, ViewCanvas,
+    downscale, error_map_unlabelled, legend_scale, legend_strip_height, run_stem, view_stem,
 };
 use super::indexed_image::IndexedImage;
 use super::palette::palette_bytes;
@@ -54,21 +54,31 @@ pub fn movie_frame(
     out.pixels[..small.pixels.len()].copy_from_slice(&small.pixels);
     let evaluated = gbuffer.evaluated.len().max(1) as f64;
     let rates = [false_shadow, false_lit].map(|n| 100.0 * n as f64 / evaluated);
-    draw_frame_legend(&mut out, small.height, rates, (frame, frames));
+    draw_frame_legend(&mut out, small.height, rates, canvas.uncertain(), (frame, frames));
     out
 }
 
 /// The legend of one frame: the two error colours (false shadow, false lit) with their rates,
-/// and the frame's index over the last one's (from 0, as report.json's `temporal.worst_frame`
-/// counts), short enough for a shrunk frame.
-fn draw_frame_legend(img: &mut IndexedImage, top: u32, [fs, fl]: [f64; 2], (frame, frames): (u32, u32)) {
+/// the uncertain colour with its pixels when the frame has any, and the frame's index over the
+/// last one's (from 0, as report.json's `temporal.worst_frame` counts), short enough for a
+/// shrunk frame.
+fn draw_frame_legend(
+    img: &mut IndexedImage,
+    top: u32,
+    [fs, fl]: [f64; 2],
+    uncertain: u64,
+    (frame, frames): (u32, u32),
+) {
     let s = legend_scale(img.width);
     let side = text::text_height(s);
     let y = (top + 4 * s) as i64;
     let mut x = (4 * s) as i64;
-    for (index, label) in
-        [(FALSE_SHADOW_INDEX, format!("shadow {fs:.2}%")), (FALSE_LIT_INDEX, format!("lit {fl:.2}%"))]
-    {
+    let mut entries =
+        vec![(FALSE_SHADOW_INDEX, format!("shadow {fs:.2}%")), (FALSE_LIT_INDEX, format!("lit {fl:.2}%"))];
+    if uncertain > 0 {
+        entries.push((UNCERTAIN_INDEX, format!("uncertain {uncertain}")));
+    }
+    for (index, label) in entries {
         img.fill_rect(x, y, side, side, index);
         x += (side + 3 * s) as i64;
         img.draw_text(x, y, &label, s, LEGEND_TEXT);

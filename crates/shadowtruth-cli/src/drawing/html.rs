@@ -179,7 +179,7 @@ fn scenes_table(h: &mut String, report: &Report) {
 }
 
 fn runs_table(h: &mut String, report: &Report, assets: &PageAssets) {
-    h.push_str("<h2>Runs</h2><p>Rates are fractions of the evaluated pixels; click a header to sort. False shadow: lit in truth, shadowed by the technique; false lit: the reverse. Aliasing: within one shadow-map texel of a true shadow boundary.</p>");
+    h.push_str("<h2>Runs</h2><p>Rates are fractions of the evaluated pixels; click a header to sort. False shadow: lit in truth, shadowed by the technique; false lit: the reverse. Aliasing: within one shadow-map texel of a true shadow boundary. Uncertain: pixels the reference cannot decide beyond doubt, left out of every score (not among the evaluated).</p>");
     h.push_str("<table id=\"runs\"><thead><tr>");
     for (name, left) in [
         ("scene", true),
@@ -191,6 +191,7 @@ fn runs_table(h: &mut String, report: &Report, assets: &PageAssets) {
         ("evaluated", false),
         ("false shadow", false),
         ("false lit", false),
+        ("uncertain", false),
         ("aliasing", false),
         ("acne", false),
         ("leak", false),
@@ -210,7 +211,7 @@ fn runs_table(h: &mut String, report: &Report, assets: &PageAssets) {
             h,
             "<tr data-scene=\"{}\" data-camera=\"{}\" data-light=\"{}\" data-technique=\"{}\" data-resolution=\"{}\">\
              <td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td>\
-             <td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>\
+             <td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>\
              <td data-v=\"{}\">{:.3}</td><td>{:.2}</td><td>{:.2}</td><td>{:.1}</td><td class=\"l\">{figs}</td></tr>",
             escape(&r.scene),
             escape(&r.camera),
@@ -226,6 +227,7 @@ fn runs_table(h: &mut String, report: &Report, assets: &PageAssets) {
             c.evaluated,
             c.false_shadow,
             c.false_lit,
+            c.uncertain,
             c.aliasing,
             c.acne,
             c.leak,

@@ -19,6 +19,8 @@ pub struct Measured {
     pub value: f64,
     /// Pixels counted (false shadow, false lit or both) for the hard rates.
     pub count: Option<u64>,
+    /// The pixels a hard rate is over: the evaluated ones (and the uncertain ones too for
+    /// `reference_uncertain`).
     pub evaluated: u64,
 }
 
@@ -27,6 +29,19 @@ pub struct Measured {
 /// path from its `temporal` record (`Metric::soft` and `Metric::temporal` name their fields).
 pub fn measure(run: &RunRecord, metric: Metric) -> Option<Measured> {
     let evaluated = run.counts.evaluated;
+    let uncertain = run.counts.uncertain;
+    match metric {
+        // Over the pixels the reference was asked about: evaluated ones and uncertain ones.
+        Metric::ReferenceUncertain => {
+            let asked = evaluated.saturating_add(uncertain);
+            let value = if asked == 0 { 0.0 } else { uncertain as f64 / asked as f64 };
+            return Some(Measured { value, count: Some(uncertain), evaluated: asked });
+        }
+        Metric::ReferenceUncertainPx => {
+            return Some(Measured { value: uncertain as f64, count: None, evaluated });
+        }
+        _ => {}
+    }
     if let Some(count) = metric.count(run) {
         let value = if evaluated == 0 { 0.0 } else { count as f64 / evaluated as f64 };
         return Some(Measured { value, count: Some(count), evaluated });
@@ -437,6 +452,52 @@ mod tests {
         assert!(on_path("mean_frame_error", 0.01).passed() && !on_path("mean_frame_error", 0.009).passed());
         let e = gate(&now, None, "[[rule]]\nmetric = \"flicker_rate\"\nmax = 1\n").unwrap_err().to_string();
         assert!(e.contains("1 of 2 matched runs have no flicker_rate value") && e.contains("runs[1]"), "{e}");
+    }
+
+    /// A run of a view whose reference left `uncertain` of its 1000 pixels undecided.
+    fn run_uncertain(scene: &str, uncertain: u64) -> RunRecord {
+        let mut r = run(scene, 1000 - uncertain, 2, 1);
+        r.counts.pixels = 1000;
+        r.counts.uncertain = uncertain;
+        r
+    }
+
+    #[test]
+    fn reference_uncertain_bounds_the_undecided_pixels_of_the_view() {
+        let now = report(vec![run_uncertain("rocks", 3), run_uncertain("plane_box", 0)]);
+        let rule = |metric: &str, max: f64| format!("[[rule]]\nmetric = \"{metric}\"\nmax = {max}\n");
+        // As a count: 3 pixels pass a bound of 3 (inclusive) and fail one of 2.
+        let out = gate(&now, None, &rule("reference_uncertain_px", 3.0)).unwrap();
+        assert!(out.passed(), "{}", out.text());
+        let out = gate(&now, None, &rule("reference_uncertain_px", 2.0)).unwrap();
+        assert_eq!(out.violations(), 1, "{}", out.text());
+        assert!(out.text().contains("rocks/main/sun"), "{}", out.text());
+        // As a fraction of the evaluated and uncertain pixels: 3 of 1000.
+        let out = gate(&now, None, &rule("reference_uncertain", 0.003)).unwrap();
+        assert!(out.passed(), "{}", out.text());
+        assert_eq!(out.checks[0].measured, Measured { value: 0.003, count: Some(3), evaluated: 1000 });
+        assert_eq!(out.checks[0].measured.show(), "0.003 (3 of 1000 px)");
+        let out = gate(&now, None, &rule("reference_uncertain", 0.0029)).unwrap();
+        assert!(!out.passed() && out.violations() == 1, "{}", out.text());
+        // Against a baseline: one more undecided pixel fails a zero slack, as a count or a rate.
+        let base = report(vec![run_uncertain("rocks", 3), run_uncertain("plane_box", 0)]);
+        let worse = report(vec![run_uncertain("rocks", 4), run_uncertain("plane_box", 0)]);
+        for metric in ["reference_uncertain", "reference_uncertain_px"] {
+            let zero = format!("[[rule]]\nmetric = \"{metric}\"\nmax_increase = 0\n");
+            assert!(gate(&base, Some(&base), &zero).unwrap().passed(), "{metric}");
+            let out = gate(&worse, Some(&base), &zero).unwrap();
+            assert_eq!(out.violations(), 1, "{metric}: {}", out.text());
+        }
+    }
+
+    #[test]
+    fn a_report_written_before_uncertain_pixels_were_counted_reads_none() {
+        let mut json = serde_json::to_value(run("s", 100, 1, 0)).unwrap();
+        json["counts"].as_object_mut().unwrap().remove("uncertain");
+        let old: RunRecord = serde_json::from_value(json).unwrap();
+        let out = gate(&report(vec![old]), None, "[[rule]]\nmetric = \"reference_uncertain_px\"\nmax = 0\n")
+            .unwrap();
+        assert!(out.passed(), "{}", out.text());
     }
 
     #[test]

@@ -68,6 +68,16 @@ fn run_problems(run: &RunRecord) -> Vec<String> {
     let mut problems = Vec::new();
     if c.evaluated > c.pixels {
         problems.push(format!(".counts.evaluated: {} > pixels {}", c.evaluated, c.pixels));
+    } else {
+        let classes = [c.background, c.facing_away, c.outside_light, c.evaluated, c.uncertain];
+        let sum: u128 = classes.iter().map(|&n| n as u128).sum();
+        if sum > c.pixels as u128 {
+            problems.push(format!(
+                ".counts: the classes add up to {sum} > pixels {} (background + facing_away + \
+                 outside_light + evaluated + uncertain)",
+                c.pixels
+            ));
+        }
     }
     let fields = [
         ("false_shadow", c.false_shadow),

@@ -11,7 +11,9 @@ use std::fmt;
 use std::path::Path;
 
 /// The metrics a rule may bound. The first three are rates of the evaluated pixels computed from
-/// the run's counts; the soft metrics (`mae`, `false_shadow_mass`, `false_lit_mass`) and the
+/// the run's counts; `reference_uncertain` is the fraction of the view's evaluated and uncertain
+/// pixels that the reference cannot decide beyond doubt (`counts.uncertain`, left out of every
+/// score) and `reference_uncertain_px` their number; the soft metrics (`mae`, `false_shadow_mass`, `false_lit_mass`) and the
 /// metrics of a run over a path (`flicker_rate`, `worst_frame_error`, `mean_frame_error`: its
 /// `temporal.flicker_rate`, `temporal.worst_frame_error` and `temporal.mean_error`) are read
 /// from the run when its report carries them.
@@ -27,10 +29,12 @@ pub enum Metric {
     FlickerRate,
     WorstFrameError,
     MeanFrameError,
+    ReferenceUncertain,
+    ReferenceUncertainPx,
 }
 
 impl Metric {
-    pub const ALL: [Metric; 9] = [
+    pub const ALL: [Metric; 11] = [
         Metric::FalseShadow,
         Metric::FalseLit,
         Metric::Error,
@@ -40,6 +44,8 @@ impl Metric {
         Metric::FlickerRate,
         Metric::WorstFrameError,
         Metric::MeanFrameError,
+        Metric::ReferenceUncertain,
+        Metric::ReferenceUncertainPx,
     ];
 
     pub fn name(self) -> &'static str {
@@ -53,6 +59,8 @@ impl Metric {
             Metric::FlickerRate => "flicker_rate",
             Metric::WorstFrameError => "worst_frame_error",
             Metric::MeanFrameError => "mean_frame_error",
+            Metric::ReferenceUncertain => "reference_uncertain",
+            Metric::ReferenceUncertainPx => "reference_uncertain_px",
         }
     }
 

@@ -9,7 +9,7 @@ use shadowtruth::metrics::{Counts, LightUv, attribute, timed_median};
 use shadowtruth::raster::{DepthFormat, LightView};
 use shadowtruth::scene::{Light, Scene};
 use shadowtruth::technique::{ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated};
-use shadowtruth::trace::{GBuffer, HardReference, SceneBvh, trace_hard_reference};
+use shadowtruth::trace::{GBuffer, HardReference, SceneBvh, trace_scored_view};
 
 /// A pixel rectangle (x, y, width, height).
 pub(super) type Rect = (u32, u32, u32, u32);
@@ -39,8 +39,7 @@ impl<'a> View<'a> {
         let camera = scene
             .camera(camera)
             .ok_or_else(|| PlanError::Invalid(format!("{}: no camera '{camera}'", scene.source.display())))?;
-        let gbuffer = GBuffer::trace(scene, bvh, camera, &light);
-        let reference = trace_hard_reference(scene, bvh, &gbuffer, &light);
+        let (gbuffer, reference) = trace_scored_view(scene, bvh, camera, &light);
         Ok(View { scene, light, gbuffer, reference })
     }
 

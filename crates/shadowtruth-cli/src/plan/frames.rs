@@ -25,7 +25,7 @@ use shadowtruth::raster::{DepthFormat, LightView};
 use shadowtruth::record::{RunRecord, TemporalRecord};
 use shadowtruth::scene::{Camera, Light, Scene, frame_times, union_span};
 use shadowtruth::technique::BuiltLayers;
-use shadowtruth::trace::{GBuffer, SceneBvh, trace_hard_reference};
+use shadowtruth::trace::{GBuffer, SceneBvh, trace_scored_view};
 use std::sync::Arc;
 
 /// One run along the path, as its frames come.
@@ -181,9 +181,9 @@ fn before_frame<'f>(
     if previous.light == *light {
         return Before { frame: previous, points: Points::Here, reference: reference.to_vec() };
     }
-    let earlier = GBuffer::trace(scene, bvh, camera, &previous.light);
-    let reference =
-        reference_decisions(&earlier, &trace_hard_reference(scene, bvh, &earlier, &previous.light));
+    // The points the earlier light's reference cannot decide are left out, as in any frame.
+    let (earlier, earlier_reference) = trace_scored_view(scene, bvh, camera, &previous.light);
+    let reference = reference_decisions(&earlier, &earlier_reference);
     Before { frame: previous, points: Points::Traced(earlier), reference }
 }
 

@@ -28,12 +28,16 @@ pub struct ViewReferences {
 
 impl ViewReferences {
     /// Traces (or reads from `cache`) every reference `plan`'s techniques need for this view.
+    /// The pixels the hard reference cannot decide beyond doubt are left out of `gbuffer` first
+    /// (`GBuffer::leave_out`), before the soft references are traced over it and before any
+    /// technique is scored: no score, attribution or soft reference sees them, and the counts
+    /// show them as `uncertain`.
     pub fn new(
         plan: &Plan,
         cache: Option<&ReferenceCache>,
         scene: &Scene,
         bvh: &SceneBvh,
-        gbuffer: &GBuffer,
+        gbuffer: &mut GBuffer,
         camera: &Camera,
         light: &Light,
     ) -> Result<ViewReferences, PlanError> {
@@ -46,6 +50,8 @@ impl ViewReferences {
             Some(c) => c.hard_reference(scene, bvh, gbuffer, camera, light).map_err(io)?.0,
             None => trace_hard_reference(scene, bvh, gbuffer, light),
         };
+        gbuffer.leave_out(&hard.uncertain);
+        let gbuffer = &*gbuffer;
         let fractional = |soft: SoftReference| Fractional {
             hard: thresholded(soft.width, soft.height, &soft.visibility),
             soft,

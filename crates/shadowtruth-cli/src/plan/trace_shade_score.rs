@@ -12,8 +12,8 @@ use shadowtruth::technique::{BuiltLayers, Technique};
 use shadowtruth::trace::{GBuffer, HardReference, ReferenceCache, SceneBvh};
 
 /// The G-buffer of the (camera, light) view and the references `plan`'s techniques are scored
-/// against (read from `cache` when given); `stage` is told each step (`G-buffer`, `reference`)
-/// as it begins.
+/// against (read from `cache` when given), the pixels the hard reference cannot decide left out
+/// of the G-buffer; `stage` is told each step (`G-buffer`, `reference`) as it begins.
 pub fn trace_view(
     plan: &Plan,
     cache: Option<&ReferenceCache>,
@@ -23,9 +23,9 @@ pub fn trace_view(
     stage: &mut dyn FnMut(&str) -> Result<(), PlanError>,
 ) -> Result<(GBuffer, ViewReferences), PlanError> {
     stage("G-buffer")?;
-    let gbuffer = GBuffer::trace(scene, bvh, camera, light);
+    let mut gbuffer = GBuffer::trace(scene, bvh, camera, light);
     stage("reference")?;
-    let references = ViewReferences::new(plan, cache, scene, bvh, &gbuffer, camera, light)?;
+    let references = ViewReferences::new(plan, cache, scene, bvh, &mut gbuffer, camera, light)?;
     Ok((gbuffer, references))
 }
 

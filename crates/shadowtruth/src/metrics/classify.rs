@@ -101,9 +101,13 @@ impl Counts {
 /// Scores `visibility` (one value per evaluated pixel, in `gbuffer.evaluated` order) against the
 /// hard reference. A NaN marks a surface mismatch (an imported buffer showing another surface,
 /// `crate::import`): counted as such and scored neither way. The attribution fields stay 0 (see
-/// `attribution::attribute`).
+/// `attribution::attribute`). Panics if `gbuffer` still evaluates a pixel the reference lists
+/// as uncertain: `GBuffer::leave_out` (or `trace_scored_view`) takes them out first.
 pub fn score_hard(gbuffer: &GBuffer, reference: &HardReference, visibility: &[f32]) -> Counts {
     assert_eq!(visibility.len(), gbuffer.evaluated.len(), "one visibility per evaluated pixel");
+    if let Some(i) = reference.uncertain_still_evaluated(gbuffer) {
+        panic!("pixel {i} is uncertain in the reference but still evaluated: leave it out first");
+    }
     let mut c = Counts { pixels: gbuffer.pixel_count() as u64, ..Counts::default() };
     for class in &gbuffer.class {
         match class {

@@ -2,7 +2,7 @@
 #![allow(dead_code)]
 
 use shadowtruth::scene::{Scene, load_scene, load_scene_str};
-use shadowtruth::trace::{GBuffer, HardReference, SceneBvh, trace_hard_reference};
+use shadowtruth::trace::{GBuffer, HardReference, SceneBvh, trace_scored_view};
 use std::path::{Path, PathBuf};
 
 /// The workspace's root, where the bundled scenes, plans and gates are.
@@ -20,12 +20,11 @@ pub fn scene_from_json(json: &serde_json::Value) -> Scene {
     load_scene_str(&text, Path::new("test.json"), &repo().join("scenes")).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// G-buffer and hard reference of the scene's first camera and light.
+/// G-buffer and hard reference of the scene's first camera and light, as every score takes them:
+/// the pixels the reference cannot decide left out of the G-buffer (`trace_scored_view`).
 pub fn trace_first(scene: &Scene) -> (GBuffer, HardReference) {
     let bvh = SceneBvh::build(scene);
-    let g = GBuffer::trace(scene, &bvh, &scene.cameras[0], &scene.lights[0]);
-    let r = trace_hard_reference(scene, &bvh, &g, &scene.lights[0]);
-    (g, r)
+    trace_scored_view(scene, &bvh, &scene.cameras[0], &scene.lights[0])
 }
 
 /// Pixels whose 3×3 neighbourhood in `codes` holds more than one value (boundaries of shadows,

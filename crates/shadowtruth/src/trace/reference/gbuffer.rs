@@ -30,6 +30,7 @@ pub enum PixelClass {
 }
 
 /// Per-pixel surface data in row-major order (row 0 at the top).
+#[derive(Clone)]
 pub struct GBuffer {
     pub width: u32,
     pub height: u32,

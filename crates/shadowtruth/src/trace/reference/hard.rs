@@ -3,7 +3,7 @@
 //! ray cannot hit its own surface (shadow_ray.rs); no scene-dependent epsilon enters.
 
 use super::gbuffer::{GBuffer, LightSight, PixelClass};
-use crate::scene::{Light, Scene};
+use crate::scene::{Camera, Light, Scene};
 use crate::trace::bvh::scene_bvh::SceneBvh;
 use crate::trace::bvh::scratch::TraversalScratch;
 use crate::trace::bvh::shadow_batch::ShadowBatch;
@@ -54,6 +54,16 @@ impl HardReference {
             codes[i as usize] = MaskCode::Uncertain as u8;
         }
         codes
+    }
+
+    /// The first pixel this reference lists as uncertain that `gbuffer` still evaluates (None
+    /// once `GBuffer::leave_out` has taken the list out): a score over such a G-buffer would
+    /// count a pixel the reference cannot decide.
+    pub fn uncertain_still_evaluated(&self, gbuffer: &GBuffer) -> Option<u32> {
+        self.uncertain
+            .iter()
+            .copied()
+            .find(|&i| gbuffer.class.get(i as usize) == Some(&PixelClass::Evaluated))
     }
 
     /// Rebuilds the visibility from a mask in the PNG encoding.
@@ -134,4 +144,22 @@ pub fn trace_hard_reference(
         )
         .collect();
     HardReference { width: gbuffer.width, height: gbuffer.height, lit, uncertain: uncertain_rows.concat() }
+}
+
+/// The G-buffer and hard reference of a view as every score takes them: the G-buffer traced, the
+/// reference traced over it, and the pixels the reference cannot decide beyond doubt left out
+/// of the G-buffer (`GBuffer::leave_out`), so that nothing traced or scored over it afterwards
+/// (the soft references, a technique's visibility) sees them. They stay listed in
+/// `HardReference::uncertain` and are counted in `Counts::uncertain` (docs/reference.md, "The
+/// reference's uncertainty").
+pub fn trace_scored_view(
+    scene: &Scene,
+    bvh: &SceneBvh,
+    camera: &Camera,
+    light: &Light,
+) -> (GBuffer, HardReference) {
+    let mut gbuffer = GBuffer::trace(scene, bvh, camera, light);
+    let reference = trace_hard_reference(scene, bvh, &gbuffer, light);
+    gbuffer.leave_out(&reference.uncertain);
+    (gbuffer, reference)
 }

@@ -14,7 +14,7 @@ pub use area_light::{AreaLightError, trace_area_light_reference, validate_area_l
 pub use cache::{CachedReference, ReferenceCache, reference_digest, soft_reference_digest};
 pub use coverage::trace_coverage_reference;
 pub use gbuffer::{GBuffer, PixelClass, PrimaryHit, primary_directions, primary_hits};
-pub use hard::{HardReference, MaskCode, hard_shadow_ray, trace_hard_reference};
+pub use hard::{HardReference, MaskCode, hard_shadow_ray, trace_hard_reference, trace_scored_view};
 pub use soft_reference::EXR_ENCODING;
 pub use soft_reference::{
     DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, MAX_REFERENCE_GRID, SoftKind, SoftReference,
