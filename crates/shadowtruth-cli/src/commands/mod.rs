@@ -51,8 +51,9 @@ enum Command {
     /// (pixel coverage, area light) as an EXR.
     ///
     /// Hard mask grey levels: 255 lit, 0 shadowed, 128 background, 64 facing away from the
-    /// light, 192 outside the light. Soft references: channels V (visibility in [0, 1], 0 where
-    /// not evaluated) and E (its standard error), f32, row 0 at the top.
+    /// light, 192 outside the light, 96 uncertain (the tracer cannot decide it beyond doubt).
+    /// Soft references: channels V (visibility in [0, 1], 0 where not evaluated) and E (its
+    /// standard error), f32, row 0 at the top.
     Reference(reference::ReferenceArgs),
     /// Check the hard reference against exact predicates: the same visibility decided exactly
     /// on the f32 inputs, independent of the tracer (docs/reference.md).
