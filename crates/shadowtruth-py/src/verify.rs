@@ -19,8 +19,8 @@ use shadowtruth::verify::{Adjudicator, PixelSelection, verify_view};
 /// checked_at_boundary, agree, disagree_at_boundary, disagree_away_from_boundary,
 /// disagree_in_band, disagree_outside_band, in_band (checked pixels the tracer flagged),
 /// primary_checked, primary_disagree_in_band, primary_disagree_outside_band,
-/// max_point_error_ratio, cases (the first disagreements, each with its kind, "shadow" or
-/// "primary", pixel and triangles) and seconds. The reference is right when
+/// max_point_error_ratio, cases (the first disagreements, each with its kind, "shadow",
+/// "primary" or "facing", pixel and triangles) and seconds. The reference is right when
 /// disagree_outside_band and primary_disagree_outside_band are 0.
 #[pyfunction]
 #[pyo3(signature = (scene, camera=None, light=None, pixels=None))]

@@ -1,7 +1,7 @@
 //! The hard cases far from the origin: the island's terrain and thin trees, exactly coplanar quads
 //! (two triangles sharing an edge, and a decal overlapping them), a sun a few degrees above the
-//! ground and spot lights, each moved 10³, 10⁴, 10⁵ and 10⁶ units along a fixed direction that is
-//! no axis. Every pixel of every view is checked against the exact adjudicator
+//! ground, spot lights, and a fold with a spot light exactly in one face's plane, each moved 10³,
+//! 10⁴, 10⁵ and 10⁶ units along a fixed direction that is no axis. Every pixel of every view is checked against the exact adjudicator
 //! (`shadowtruth::verify`), on one thread and on two: no disagreement may lie on a pixel the
 //! tracer did not flag, the two references must be identical, and the flagged pixels may be at
 //! most 0.01 % of the evaluated ones. A flat quad with nothing above it must be lit everywhere.
@@ -354,5 +354,37 @@ fn spot_lights_far_from_the_origin() {
             distance,
         );
         assert!(t.shadowed > 100, "the box casts a shadow ({} shadowed pixels)", t.shadowed);
+    }
+}
+
+#[test]
+fn a_light_exactly_in_a_surface_plane_far_from_the_origin() {
+    // The island 10⁵ out had a terrain triangle whose plane held its spot light exactly. The
+    // segment from any of its points then runs inside the plane to the neighbour's edge, which
+    // no precision can decide; the definition makes such a surface face away (N·L = 0).
+    let json = json!({
+        "format": "shadowtruth/scene/v1",
+        "name": "fold",
+        "objects": [{ "name": "fold", "mesh": "fold.obj", "closed": false }],
+        "cameras": [{ "name": "above", "position": [-6, 8, -6], "look_at": [4, 0.8, 4], "fov_y_deg": 50,
+                      "width": 96, "height": 72 }],
+        "lights": [{ "name": "in_plane", "type": "spot", "position": [16, 3, 16], "direction": [-1, -0.15, -1],
+                     "cone_deg": 120, "near": 0.5, "far": 60 }]
+    });
+    for distance in [0.0].into_iter().chain(DISTANCES) {
+        let s = load(&json, offset(distance), &far_folder());
+        let (camera, light) = (&s.cameras[0], &s.lights[0]);
+        let bvh = SceneBvh::build(&s);
+        let g = GBuffer::trace(&s, &bvh, camera, light);
+        let r = trace_hard_reference(&s, &bvh, &g, light);
+        let on_plane: Vec<PixelClass> =
+            (0..g.pixel_count()).filter(|&i| g.triangle[i] == 0).map(|i| g.class[i]).collect();
+        let facing = on_plane.iter().filter(|&&c| c != PixelClass::FacingAway).count();
+        assert!(on_plane.len() > 500, "{distance:e} out: only {} pixels see the first triangle", on_plane.len());
+        assert_eq!(facing, 0, "{distance:e} out: {facing} of {} pixels in the light's plane face it", on_plane.len());
+        assert!(g.evaluated.len() > 100, "{distance:e} out: {} pixels face the light", g.evaluated.len());
+        assert_eq!((r.uncertain.len(), g.count(PixelClass::Uncertain)), (0, 0), "{distance:e} out: flagged pixels");
+        let v = verify_view(&s, &bvh, &Adjudicator::new(&s), camera, light, PixelSelection::All);
+        assert_eq!(v.cases, vec![], "{distance:e} out");
     }
 }

@@ -100,7 +100,7 @@ fn print_verification(scene: &Path, v: &ViewVerification) {
         v.disagree_outside_band
     );
     println!(
-        "  primary hit disagrees                {:>9} inside the band, {} outside",
+        "  primary hit or facing disagrees      {:>9} inside the band, {} outside",
         v.primary_disagree_in_band, v.primary_disagree_outside_band
     );
     println!("  checked pixels the tracer flagged    {:>9} (the error band)", v.in_band);
@@ -137,6 +137,16 @@ fn print_verification(scene: &Path, v: &ViewVerification) {
                     point_error_ratio
                         .map(|r| format!(", point error {r:.3} of its precision"))
                         .unwrap_or_default(),
+                );
+            }
+            Disagreement::Facing { triangle, traced_facing, exact_facing } => {
+                let side = |facing: bool| if facing { "faces the light" } else { "facing away" };
+                println!(
+                    "    pixel ({}, {}) on triangle {triangle}: traced {}, exact {}{band}",
+                    c.x,
+                    c.y,
+                    side(*traced_facing),
+                    side(*exact_facing),
                 );
             }
         }

@@ -23,4 +23,4 @@ pub use reference::{
 };
 
 /// Bumped whenever a change to the tracer could change a reference bit.
-pub const TRACER_VERSION: &str = "shadowtruth-tracer/3";
+pub const TRACER_VERSION: &str = "shadowtruth-tracer/4";

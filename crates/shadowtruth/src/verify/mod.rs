@@ -112,6 +112,11 @@ impl<'a> Adjudicator<'a> {
         best
     }
 
+    /// Whether triangle `id`, seen along `ray`, faces `light` exactly.
+    pub fn faces_light(&self, ray: &PrimaryRay, id: u32, light: &Light) -> bool {
+        primary::faces_light(ray, &self.triangles[id as usize], light)
+    }
+
     /// How far the G-buffer's anchored point lies from the exact hit point, as a fraction of
     /// the point's documented precision: 2⁻¹⁸·max_i |v_i − origin|∞ / max(|n̂·d̂|, 2⁻¹⁰)
     /// (docs/reference.md). Computed in f64, to about 10⁻⁵ of the ratio.
@@ -149,6 +154,13 @@ pub enum Disagreement {
         exact_triangle: Option<u32>,
         /// |X − p|∞ over the point's precision, where both hit the same triangle.
         point_error_ratio: Option<f64>,
+    },
+    /// The right triangle, classed on the wrong side of the light: `facing_away` against
+    /// facing it, or the reverse (counted with the primary disagreements).
+    Facing {
+        triangle: u32,
+        traced_facing: bool,
+        exact_facing: bool,
     },
 }
 
@@ -227,6 +239,8 @@ impl ViewVerification {
 struct PrimaryCheck {
     exact: Option<u32>,
     ratio: Option<f64>,
+    /// Whether the surface exactly faces the light, where the traced hit is the exact one.
+    facing: Option<bool>,
 }
 
 /// Every `stride`-th index of `0..n` for about `selection`'s count.
@@ -281,10 +295,10 @@ pub fn verify_view(
             let ray = PrimaryRay { origin: camera.position, direction: directions[i] };
             let hit = adjudicator.closest_hit(&ray, stack);
             let exact = hit.as_ref().map(|h| h.triangle);
-            let ratio = hit
-                .filter(|h| h.triangle == g.triangle[i])
-                .map(|h| adjudicator.point_error_ratio(&ray, &h, g.barycentric[i]));
-            PrimaryCheck { exact, ratio }
+            let same = hit.filter(|h| h.triangle == g.triangle[i]);
+            let ratio = same.map(|h| adjudicator.point_error_ratio(&ray, &h, g.barycentric[i]));
+            let facing = same.map(|h| adjudicator.faces_light(&ray, h.triangle, light));
+            PrimaryCheck { exact, ratio, facing }
         })
         .collect();
 
@@ -353,6 +367,21 @@ pub fn verify_view(
         if let Some(r) = check.ratio {
             v.max_point_error_ratio = v.max_point_error_ratio.max(r);
         }
+        let (x, y) = at(i);
+        // The tracer decides facing exactly too, so a pixel it could not flag cannot differ.
+        let traced_facing = match g.class[i] {
+            PixelClass::FacingAway => Some(false),
+            PixelClass::OutsideLight | PixelClass::Evaluated => Some(true),
+            PixelClass::Background | PixelClass::Uncertain => None,
+        };
+        if let (Some(exact_facing), Some(traced_facing)) = (check.facing, traced_facing)
+            && exact_facing != traced_facing
+        {
+            v.primary_disagree_outside_band += 1;
+            let triangle = g.triangle[i];
+            let disagreement = Disagreement::Facing { triangle, traced_facing, exact_facing };
+            v.cases.push(Case { x, y, in_band: false, disagreement });
+        }
         if traced == check.exact && check.ratio.is_none_or(|r| r <= 1.0) {
             continue;
         }
@@ -361,7 +390,6 @@ pub fn verify_view(
         } else {
             v.primary_disagree_outside_band += 1;
         }
-        let (x, y) = at(i);
         v.cases.push(Case {
             x,
             y,

@@ -8,7 +8,8 @@
 //! as intervals from the f64 filter and, where those overlap, cross-multiplied in big integers.
 //! Equal distances go to the lowest triangle id.
 
-use super::exact::{Diff, Filtered, Term, det3_exact, det3_filtered};
+use super::exact::{Diff, Filtered, Term, det3_exact, det3_filtered, det3_sign};
+use crate::scene::{Light, LightKind};
 use super::segment::no_opposite_signs;
 use glam::{DVec3, Vec3};
 use num_bigint::BigInt;
@@ -49,6 +50,19 @@ impl SignOrdering for BigInt {
     fn sign_ordering(&self) -> Ordering {
         self.cmp(&BigInt::zero())
     }
+}
+
+/// Whether the surface of triangle `t`, seen along `ray`, faces `light` (docs/reference.md,
+/// "Facing away"): the light lies strictly on the side of T's plane the ray comes from. The
+/// light's side of p is its side of T, since p lies in T's plane.
+pub fn faces_light(ray: &PrimaryRay, t: &[Vec3; 3], light: &Light) -> bool {
+    let (e1, e2) = (Diff::vec(t[1], t[0]), Diff::vec(t[2], t[0]));
+    let camera = det3_sign([e1, e2, Diff::plain(ray.direction)]).reverse();
+    let light = match &light.kind {
+        LightKind::Spot { position, .. } => det3_sign([e1, e2, Diff::vec(*position, t[0])]),
+        LightKind::Directional { direction, .. } => det3_sign([e1, e2, Diff::plain(-*direction)]),
+    };
+    light != Ordering::Equal && light == camera
 }
 
 /// Whether `ray` meets triangle `id` (vertices `t`) at some s > 0, and where.

@@ -7,8 +7,10 @@ use crate::trace::bvh::primary_certificate::{PrimaryCertainty, refine_barycentri
 use crate::trace::bvh::scene_bvh::SceneBvh;
 use crate::trace::bvh::shadow_ray::SurfacePoint;
 use crate::trace::bvh::watertight::barycentric_point;
+use crate::trace::reference::facing::{LightPlace, camera_side, faces_light};
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
+use std::cmp::Ordering;
 
 /// What a pixel shows, as far as shadows are concerned.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -16,7 +18,8 @@ use rayon::prelude::*;
 pub enum PixelClass {
     /// The pixel-centre ray hits nothing.
     Background,
-    /// The surface, with its normal turned towards the camera, has N·L ≤ 0: in attached shadow.
+    /// The surface, with its normal turned towards the camera, has N·L ≤ 0 (decided exactly,
+    /// `facing.rs`): in attached shadow.
     FacingAway,
     /// Outside the spot light's cone or depth range.
     OutsideLight,
@@ -115,12 +118,12 @@ impl LightSight {
         }
     }
 
-    /// Unit vector from `p` towards the light, in f64.
-    #[inline]
-    pub(in crate::trace) fn towards(&self, p: DVec3) -> DVec3 {
+    /// The light's f32 position or direction towards it, for the exact facing test (the f64
+    /// values here are those f32 ones, converted exactly).
+    pub(in crate::trace) fn place(&self) -> LightPlace {
         match *self {
-            LightSight::Directional { towards } => towards,
-            LightSight::Spot { position, .. } => (position - p).normalize(),
+            LightSight::Directional { towards } => LightPlace::Towards(towards.as_vec3()),
+            LightSight::Spot { position, .. } => LightPlace::Point(position.as_vec3()),
         }
     }
 
@@ -153,13 +156,13 @@ pub(in crate::trace) fn surface_sample(hit: &Hit, dir: Vec3, light: &LightSight)
     let verts = &hit.vertices;
     let p = barycentric_point(verts, hit.barycentric);
     let (v0, v1, v2) = (verts[0].as_dvec3(), verts[1].as_dvec3(), verts[2].as_dvec3());
+    let camera = camera_side(verts, dir);
     let mut ng = (v1 - v0).cross(v2 - v0).normalize();
-    if ng.dot(dir.as_dvec3()) > 0.0 {
+    if camera == Ordering::Less {
         ng = -ng;
     }
     let p32 = p.as_vec3();
-    let l = light.towards(p32.as_dvec3());
-    let class = if ng.dot(l) <= 0.0 {
+    let class = if !faces_light(verts, camera, light.place()) {
         PixelClass::FacingAway
     } else if !light.reaches(p32.as_dvec3()) {
         PixelClass::OutsideLight

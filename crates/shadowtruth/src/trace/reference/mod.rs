@@ -5,6 +5,7 @@
 pub(in crate::trace) mod area_light;
 pub(in crate::trace) mod cache;
 pub(in crate::trace) mod coverage;
+pub(in crate::trace) mod facing;
 pub(in crate::trace) mod gbuffer;
 pub(in crate::trace) mod hard;
 pub(in crate::trace) mod sampling;
