@@ -188,6 +188,14 @@ impl<F: Real> CertifiedRay<F> {
         (det != F::zero()).then(|| e.map(|e| e / det))
     }
 
+    /// `crossing(v)` and `barycentrics(v)` from one shear.
+    pub(in crate::trace) fn crossing_and_barycentrics(&self, v: &[[F; 3]; 3]) -> (Crossing, Option<[F; 3]>) {
+        let s = self.shear(v);
+        let det = s.e[0] + s.e[1] + s.e[2];
+        let barycentrics = (det != F::zero()).then(|| s.e.map(|e| e / det));
+        (self.crossing_of(&s, false), barycentrics)
+    }
+
     /// Whether the exact segment meets the closed triangle `v`.
     #[inline(always)]
     pub(in crate::trace) fn classify(&self, v: &[[F; 3]; 3]) -> Verdict {
@@ -218,7 +226,12 @@ impl<F: Real> CertifiedRay<F> {
     /// reported with that range (enough to call it a hit) rather than a tighter distance.
     #[inline(always)]
     fn crossing_within(&self, v: &[[F; 3]; 3], segment: bool) -> Crossing {
-        let s = self.shear(v);
+        self.crossing_of(&self.shear(v), segment)
+    }
+
+    /// `crossing_within` from the triangle's sheared numbers.
+    #[inline(always)]
+    fn crossing_of(&self, s: &Sheared<F>, segment: bool) -> Crossing {
         let [e0, e1, e2] = s.e;
         let zero = F::zero();
         let positive = e0 > zero || e1 > zero || e2 > zero;
@@ -232,7 +245,7 @@ impl<F: Real> CertifiedRay<F> {
                 return Crossing::Miss;
             }
         }
-        self.crossing_near(&s, edge.into(), segment)
+        self.crossing_near(s, edge.into(), segment)
     }
 
     /// The rest of `crossing`, for a triangle the line may meet.

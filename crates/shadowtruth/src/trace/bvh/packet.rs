@@ -302,6 +302,7 @@ pub(in crate::trace) fn walk_packet<const NEAREST: bool>(
 #[cfg(test)]
 mod tests {
     use super::Packet;
+    use crate::trace::bvh::primary_certificate::PrimaryCertainty;
     use crate::trace::splitmix::SplitMix64;
     use crate::trace::{SceneBvh, ShadowRay, WatertightRay};
     use glam::{Vec3, vec3};
@@ -322,7 +323,7 @@ mod tests {
     }
 
     /// Packets give the single-ray answers bit for bit: closest hits (triangle, distance,
-    /// barycentrics) of rays fanned out from one origin, and occlusion of parallel shadow rays
+    /// barycentrics) of rays fanned out from one origin and their certificates, and occlusion of parallel shadow rays
     /// (some of them skipping the triangle they start on).
     #[test]
     fn packets_answer_as_single_rays() {
@@ -355,12 +356,18 @@ mod tests {
             packed += forms_packet(&vec![origin; n], &dirs) as usize;
             let mut hits = vec![None; n];
             bvh.closest_hits(&mut scratch, origin, &dirs, &mut hits);
+            let mut certainties = vec![PrimaryCertainty::Uncertain; n];
+            let mut certified = hits.clone();
+            bvh.certify_primaries(&mut scratch, origin, &dirs, &mut certified, &mut certainties);
             for (k, d) in dirs.iter().enumerate() {
                 let single = bvh.closest_hit(&mut scratch, origin, *d, 0.0, f32::INFINITY);
                 assert_eq!(
                     hits[k].map(|h| (h.triangle, h.t.to_bits(), h.barycentric.map(f32::to_bits))),
                     single.map(|h| (h.triangle, h.t.to_bits(), h.barycentric.map(f32::to_bits)))
                 );
+                let mut single_certified = single;
+                let certainty = bvh.certify_primary(&mut scratch, origin, *d, &mut single_certified);
+                assert_eq!((certainties[k], certified[k]), (certainty, single_certified), "round {round}, ray {k}");
                 hit_count += single.is_some() as usize;
             }
             let towards = dirs[0];

@@ -9,8 +9,10 @@
 
 use super::certified::{CertifiedRay, Crossing, Verdict, in_one_plane};
 use super::hit::Hit;
-use super::node_test::NodeRay;
-use super::scene_bvh::SceneBvh;
+use super::node_test::{self, NodeRay};
+#[cfg(target_arch = "x86_64")]
+use super::packet::{LANES, Packet};
+use super::scene_bvh::{RAYS_PER_BATCH, SceneBvh};
 use super::scratch::TraversalScratch;
 use super::walk::{ANY_ORDER, walk};
 use super::watertight::WatertightRay;
@@ -21,9 +23,6 @@ use glam::{Vec3, Vec3A};
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(in crate::trace) enum PrimaryCertainty {
     Certain,
-    /// A triangle in the hit's plane, crossed at the same point, with a lower id: the exact
-    /// closest hit.
-    Tie(Hit),
     Uncertain,
 }
 
@@ -54,90 +53,214 @@ impl RayForms {
     }
 }
 
+/// One primary ray's certificate, triangle by triangle as the walk reaches them. Kept small
+/// (a packet holds eight): the f64 forms of the ray are made where f32 is in doubt, rarely.
+struct PrimarySearch<'h> {
+    /// The walk's bound on the distance: the hit's, rounded up (∞ for a miss).
+    tmax: f32,
+    own: Option<&'h Hit>,
+    fast: CertifiedRay<f32>,
+    /// The exact hit's distance lies within `length` ± `length_error`.
+    length: f64,
+    length_error: f64,
+    uncertain: bool,
+    tie: Option<(u32, [Vec3; 3])>,
+    /// The hit's barycentrics computed in f64 (`refine_barycentrics`).
+    refined: Option<[f32; 3]>,
+}
+
+impl<'h> PrimarySearch<'h> {
+    /// The search for `hit`, the closest hit of `walk` (the ray from the camera along the
+    /// pixel's direction); already uncertain when the hit itself is not certainly crossed.
+    fn new(walk: &WatertightRay, hit: Option<&'h Hit>) -> Self {
+        let (length, length_error, uncertain, refined) = match hit {
+            Some(h) => {
+                // In f64: f32's bound on the distance grows with the cube of the distance over
+                // the triangle's projected area, too loose to order surfaces that nearly touch.
+                let v = h.vertices.map(|p| p.as_dvec3().to_array());
+                let (crossing, b) = forms(walk).in_f64(f64::INFINITY, 0.0).crossing_and_barycentrics(&v);
+                let refined = b.map(|b| b.map(|b| b as f32));
+                match crossing {
+                    Crossing::Through { t_lo, t_hi } => (0.5 * (t_lo + t_hi), 0.5 * (t_hi - t_lo), false, refined),
+                    _ => (0.0, 0.0, true, refined),
+                }
+            }
+            None => (f64::INFINITY, 0.0, false, None),
+        };
+        let fast = CertifiedRay::of_walk(walk, 0.0, 0.0, length, length_error);
+        let reach = length + length_error;
+        let tmax = if reach.is_finite() { (reach as f32).next_up() } else { f32::INFINITY };
+        PrimarySearch { tmax, own: hit, fast, length, length_error, uncertain, tie: None, refined }
+    }
+
+    /// Tests the scene triangle `id`; true once the search is over: the verdict is uncertain,
+    /// for a triangle certainly crossed before the hit or one that may be (an exact tie in the
+    /// hit's plane is noted instead).
+    fn test(&mut self, walk: &WatertightRay, id: u32, v: &[Vec3A; 3]) -> bool {
+        if self.uncertain {
+            return true;
+        }
+        if self.own.is_some_and(|own| own.triangle == id) {
+            return false;
+        }
+        let in_doubt = match self.fast.classify(&v.map(|p| p.to_array())) {
+            Verdict::Miss => return false,
+            Verdict::Hit => false,
+            Verdict::Doubt { .. } => match self.classify_precisely(walk, v) {
+                Verdict::Miss => return false,
+                Verdict::Hit => false,
+                Verdict::Doubt { .. } => true,
+            },
+        };
+        let triangle = v.map(Vec3::from);
+        if in_doubt && is_degenerate(&triangle) {
+            return false;
+        }
+        if let (true, Some(own)) = (in_doubt, self.own)
+            && in_one_plane(&own.vertices, &triangle)
+        {
+            // Crossed, if at all, at the hit's own point: an exact tie, lowest id first.
+            if id > own.triangle || self.tie.is_some_and(|(t, _)| t < id) {
+                return false;
+            }
+            match forms(walk).crossing(v) {
+                Crossing::Miss => return false,
+                Crossing::Through { .. } => {
+                    self.tie = Some((id, triangle));
+                    return false;
+                }
+                Crossing::Doubt { .. } => {}
+            }
+        }
+        self.uncertain = true;
+        true
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn classify_precisely(&self, walk: &WatertightRay, v: &[Vec3A; 3]) -> Verdict {
+        let precise = forms(walk).in_f64(self.length, self.length_error);
+        precise.classify(&v.map(|p| p.as_dvec3().to_array()))
+    }
+
+    /// The verdict, and `hit` as the G-buffer keeps it: its barycentrics computed in f64, or the
+    /// exact tie that replaces it.
+    fn finish(&self, walk: &WatertightRay, hit: &mut Option<Hit>) -> PrimaryCertainty {
+        if let (Some(hit), Some(b)) = (hit.as_mut(), self.refined) {
+            hit.barycentric = b;
+        }
+        match (self.uncertain, self.tie) {
+            (true, _) => PrimaryCertainty::Uncertain,
+            (false, None) => PrimaryCertainty::Certain,
+            (false, Some((id, vertices))) => match tie_hit(walk, id, vertices) {
+                Some(mut tie) => {
+                    refine_barycentrics(walk, &mut tie);
+                    *hit = Some(tie);
+                    PrimaryCertainty::Certain
+                }
+                None => PrimaryCertainty::Uncertain,
+            },
+        }
+    }
+}
+
+/// The exact ray `walk` stands for (the camera's f32 origin, the pixel's f32 direction).
+fn forms(walk: &WatertightRay) -> RayForms {
+    RayForms { origin: walk.origin.into(), direction: walk.direction.into() }
+}
+
 impl SceneBvh {
-    /// Certifies `hit`, the closest hit of the ray from `origin` along `direction`.
+    /// Certifies each of `hits`, the closest hits of the rays from `origin` along
+    /// `directions`, into `certainties`, and leaves each hit as the G-buffer keeps it: its
+    /// barycentrics computed again in f64 (`refine_barycentrics`), and where a triangle in its
+    /// plane with a lower id ties with it exactly, that triangle's hit. The rays are walked
+    /// `RAYS_PER_BATCH` at a time where they can share a walk (packet.rs), with the answers of
+    /// one at a time.
+    pub(in crate::trace) fn certify_primaries(
+        &self,
+        scratch: &mut TraversalScratch,
+        origin: Vec3,
+        directions: &[Vec3],
+        hits: &mut [Option<Hit>],
+        certainties: &mut [PrimaryCertainty],
+    ) {
+        let chunks = directions.chunks(RAYS_PER_BATCH).zip(hits.chunks_mut(RAYS_PER_BATCH));
+        for ((directions, hits), out) in chunks.zip(certainties.chunks_mut(RAYS_PER_BATCH)) {
+            #[cfg(target_arch = "x86_64")]
+            if self.certify_primaries_packet(scratch, origin, directions, hits, out) {
+                continue;
+            }
+            for ((out, &direction), hit) in out.iter_mut().zip(directions).zip(hits) {
+                *out = self.certify_primary(scratch, origin, direction, hit);
+            }
+        }
+    }
+
+    /// `certify_primaries` for one ray.
     pub(in crate::trace) fn certify_primary(
         &self,
         scratch: &mut TraversalScratch,
         origin: Vec3,
         direction: Vec3,
-        hit: Option<&Hit>,
+        hit: &mut Option<Hit>,
     ) -> PrimaryCertainty {
-        let forms = RayForms { origin, direction };
-        let (length, length_error, own) = match hit {
-            Some(h) => {
-                // In f64: f32's bound on the distance grows with the cube of the distance over
-                // the triangle's projected area, too loose to order surfaces that nearly touch.
-                let v = h.vertices.map(|p| p.as_dvec3().to_array());
-                let Crossing::Through { t_lo, t_hi } = forms.in_f64(f64::INFINITY, 0.0).crossing(&v) else {
-                    return PrimaryCertainty::Uncertain;
-                };
-                (0.5 * (t_lo + t_hi), 0.5 * (t_hi - t_lo), Some((h.triangle, h.vertices)))
-            }
-            None => (f64::INFINITY, 0.0, None),
-        };
         let walk_ray = WatertightRay::new(origin.into(), direction.into());
-        let fast = CertifiedRay::of_walk(&walk_ray, 0.0, 0.0, length, length_error);
-        let mut precise: Option<CertifiedRay<f64>> = None;
-        let mut verdict = PrimaryCertainty::Certain;
-        let mut tie: Option<(u32, [Vec3; 3])> = None;
-        // True (and the verdict uncertain) for a triangle certainly crossed before the hit, or
-        // one that may be; an exact tie in the hit's plane is noted instead.
-        let mut test = |id: u32, v: &[Vec3A; 3]| -> bool {
-            if own.is_some_and(|(own_id, _)| own_id == id) {
-                return false;
+        let own = *hit;
+        let mut search = PrimarySearch::new(&walk_ray, own.as_ref());
+        if !search.uncertain {
+            let node_ray = NodeRay::new(walk_ray.origin, walk_ray.direction);
+            let mut tmax = search.tmax;
+            let mut over = false;
+            walk::<ANY_ORDER>(&self.tree, &mut scratch.outer, &node_ray, 0.0, &mut tmax, 0.0, |i, _| {
+                over = search.test(&walk_ray, self.scene_ids[i], &self.triangles[i]);
+                over
+            });
+            if let (Some(instances), false) = (&self.instances, over) {
+                instances.any_triangle(scratch, &walk_ray, tmax, |id, v| search.test(&walk_ray, id, v));
             }
-            let mut verdict_f64 = || {
-                let precise = precise.get_or_insert_with(|| forms.in_f64(length, length_error));
-                precise.classify(&v.map(|p| p.as_dvec3().to_array()))
-            };
-            let in_doubt = match fast.classify(&v.map(|p| p.to_array())) {
-                Verdict::Miss => return false,
-                Verdict::Hit => false,
-                Verdict::Doubt { .. } => match verdict_f64() {
-                    Verdict::Miss => return false,
-                    Verdict::Hit => false,
-                    Verdict::Doubt { .. } => true,
-                },
-            };
-            let triangle = v.map(Vec3::from);
-            if in_doubt && is_degenerate(&triangle) {
-                return false;
-            }
-            if let (true, Some((own_id, own_vertices))) = (in_doubt, own)
-                && in_one_plane(&own_vertices, &triangle)
-            {
-                // Crossed, if at all, at the hit's own point: an exact tie, lowest id first.
-                if id > own_id || tie.is_some_and(|(t, _)| t < id) {
-                    return false;
-                }
-                match forms.crossing(v) {
-                    Crossing::Miss => return false,
-                    Crossing::Through { .. } => {
-                        tie = Some((id, triangle));
-                        return false;
-                    }
-                    Crossing::Doubt { .. } => {}
-                }
-            }
-            verdict = PrimaryCertainty::Uncertain;
-            true
+        }
+        search.finish(&walk_ray, hit)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    fn certify_primaries_packet(
+        &self,
+        scratch: &mut TraversalScratch,
+        origin: Vec3,
+        directions: &[Vec3],
+        hits: &mut [Option<Hit>],
+        out: &mut [PrimaryCertainty],
+    ) -> bool {
+        if directions.len() < 2 || directions.len() > LANES || !node_test::wide_available() {
+            return false;
+        }
+        let lane = |k: usize| k.min(directions.len() - 1);
+        let watertight: [WatertightRay; LANES] =
+            std::array::from_fn(|k| WatertightRay::new(origin.into(), directions[lane(k)].into()));
+        // SAFETY: the processor has AVX2 (`wide_available`).
+        let Some(mut packet) = (unsafe { Packet::new(&watertight[..directions.len()]) }) else {
+            return false;
         };
-        let node_ray = NodeRay::new(walk_ray.origin, walk_ray.direction);
-        let reach = length + length_error;
-        let mut tmax = if reach.is_finite() { (reach as f32).next_up() } else { f32::INFINITY };
-        let mut over = false;
-        walk::<ANY_ORDER>(&self.tree, &mut scratch.outer, &node_ray, 0.0, &mut tmax, 0.0, |i, _| {
-            over = test(self.scene_ids[i], &self.triangles[i]);
-            over
-        });
-        if let (Some(instances), false) = (&self.instances, over) {
-            instances.any_triangle(scratch, &walk_ray, tmax, &mut test);
+        let own: [Option<Hit>; LANES] = std::array::from_fn(|k| hits[lane(k)]);
+        let mut searches: [PrimarySearch; LANES] =
+            std::array::from_fn(|k| PrimarySearch::new(&watertight[k], own[k].as_ref()));
+        // SAFETY: as above.
+        unsafe { packet.certify(&searches.each_ref().map(|s| s.fast.sheared_error_coefficients())) };
+        let mut tmax = searches.each_ref().map(|s| s.tmax);
+        // SAFETY: as above.
+        let active = unsafe {
+            self.walk_flat::<ANY_ORDER>(scratch, &packet, &mut tmax, |i, k, _| {
+                searches[k].test(&watertight[k], self.scene_ids[i], &self.triangles[i])
+            })
+        };
+        for (k, (out, hit)) in out.iter_mut().zip(hits.iter_mut()).enumerate() {
+            let (search, walk_ray) = (&mut searches[k], &watertight[k]);
+            if let (Some(instances), true) = (&self.instances, active & (1 << k) != 0) {
+                instances.any_triangle(scratch, walk_ray, tmax[k], |id, v| search.test(walk_ray, id, v));
+            }
+            *out = search.finish(walk_ray, hit);
         }
-        match (verdict, tie) {
-            (PrimaryCertainty::Certain, Some((id, vertices))) => tie_hit(&walk_ray, id, vertices),
-            (verdict, _) => verdict,
-        }
+        true
     }
 }
 
@@ -146,18 +269,16 @@ impl SceneBvh {
 /// the point along its long edges by more than the point's documented precision
 /// (docs/reference.md, "The adjudicator"); in f64 the point lies within f32 rounding of the
 /// ray's exact crossing.
-pub(in crate::trace) fn refine_barycentrics(origin: Vec3, direction: Vec3, hit: &mut Hit) {
-    let ray = RayForms { origin, direction }.in_f64(f64::INFINITY, 0.0);
+pub(in crate::trace) fn refine_barycentrics(walk: &WatertightRay, hit: &mut Hit) {
+    let ray = forms(walk).in_f64(f64::INFINITY, 0.0);
     if let Some(b) = ray.barycentrics(&hit.vertices.map(|p| p.as_dvec3().to_array())) {
         hit.barycentric = b.map(|b| b as f32);
     }
 }
 
 /// The hit on triangle `id` (which ties with the tracer's), from the watertight test.
-fn tie_hit(ray: &WatertightRay, id: u32, vertices: [Vec3; 3]) -> PrimaryCertainty {
+fn tie_hit(ray: &WatertightRay, id: u32, vertices: [Vec3; 3]) -> Option<Hit> {
     let [a, b, c] = vertices.map(Vec3A::from);
-    match ray.intersect(a, b, c, 0.0, f32::INFINITY) {
-        Some(h) => PrimaryCertainty::Tie(Hit { triangle: id, t: h.t, barycentric: h.barycentric, vertices }),
-        None => PrimaryCertainty::Uncertain,
-    }
+    let h = ray.intersect(a, b, c, 0.0, f32::INFINITY)?;
+    Some(Hit { triangle: id, t: h.t, barycentric: h.barycentric, vertices })
 }

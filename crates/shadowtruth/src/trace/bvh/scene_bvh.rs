@@ -290,7 +290,7 @@ impl SceneBvh {
     /// still active at the end (`walk_packet`'s `leaf` and `tmax`). Needs AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn walk_flat<const NEAREST: bool>(
+    pub(in crate::trace) fn walk_flat<const NEAREST: bool>(
         &self,
         scratch: &mut TraversalScratch,
         packet: &Packet,

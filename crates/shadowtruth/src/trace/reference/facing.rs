@@ -10,7 +10,7 @@
 //! plane and touches the neighbour across an edge, a doubt no precision resolves. `robust`'s
 //! orient3d takes points, not a direction; `verify` keeps exact arithmetic of its own.
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use num_bigint::BigInt;
 use std::cmp::Ordering;
 
@@ -23,40 +23,57 @@ pub(in crate::trace) enum LightPlace {
     Towards(Vec3),
 }
 
-/// Whether the light lies strictly on the side of T's plane the camera sees (`camera_side`). A
-/// surface seen exactly edge-on, or with the light exactly in its plane, does not face it.
-pub(in crate::trace) fn faces_light(t: &[Vec3; 3], camera: Ordering, light: LightPlace) -> bool {
-    let light = match light {
-        LightPlace::Point(l) => side(t, [l, t[0]]),
-        LightPlace::Towards(w) => side(t, [w, Vec3::ZERO]),
-    };
-    light != Ordering::Equal && light == camera
+/// T's plane as the facing test needs it: the normal n = (v1 − v0) × (v2 − v0) in f64, and the
+/// permanents of its 2×2 minors for the bound, both computed once for every side asked.
+pub(in crate::trace) struct Plane<'t> {
+    t: &'t [Vec3; 3],
+    normal: DVec3,
+    permanent: DVec3,
 }
 
-/// The side of T's plane (that of its normal (v1 − v0) × (v2 − v0)) the primary ray `view`
-/// comes from: `Greater` when the normal faces the camera.
-pub(in crate::trace) fn camera_side(t: &[Vec3; 3], view: Vec3) -> Ordering {
-    side(t, [view, Vec3::ZERO]).reverse()
-}
+impl<'t> Plane<'t> {
+    pub(in crate::trace) fn new(t: &'t [Vec3; 3]) -> Self {
+        let (e1, e2) = (t[1].as_dvec3() - t[0].as_dvec3(), t[2].as_dvec3() - t[0].as_dvec3());
+        let (a1, a2) = (e1.abs(), e2.abs());
+        let permanent = DVec3::new(a1.y * a2.z + a1.z * a2.y, a1.z * a2.x + a1.x * a2.z, a1.x * a2.y + a1.y * a2.x);
+        Plane { t, normal: e1.cross(e2), permanent }
+    }
 
-/// The sign of det[v1 − v0, v2 − v0, a − b].
-fn side(t: &[Vec3; 3], [a, b]: [Vec3; 2]) -> Ordering {
-    let rows = [[t[1], t[0]], [t[2], t[0]], [a, b]];
-    let m = rows.map(|[x, y]| (x.as_dvec3() - y.as_dvec3()).to_array());
-    let minor = |i: usize, j: usize| m[1][i] * m[2][j] - m[1][j] * m[2][i];
-    let det = m[0][0] * minor(1, 2) - m[0][1] * minor(0, 2) + m[0][2] * minor(0, 1);
-    let abs = m.map(|row| row.map(f64::abs));
-    let permanent_minor = |i: usize, j: usize| abs[1][i] * abs[2][j] + abs[1][j] * abs[2][i];
-    let permanent =
-        abs[0][0] * permanent_minor(1, 2) + abs[0][1] * permanent_minor(0, 2) + abs[0][2] * permanent_minor(0, 1);
-    // Shewchuk's orient3d bound, (7 + 56ε)ε·permanent with ε = 2⁻⁵³, rounded up to 8ε.
-    let bound = 8.0 * f64::EPSILON * 0.5 * permanent;
-    if det > bound {
-        Ordering::Greater
-    } else if -det > bound {
-        Ordering::Less
-    } else {
-        exact_side(rows)
+    /// The normal (v1 − v0) × (v2 − v0), in f64, not normalized.
+    pub(in crate::trace) fn normal(&self) -> DVec3 {
+        self.normal
+    }
+
+    /// The side of the plane (that of its normal) the primary ray `view` comes from:
+    /// `Greater` when the normal faces the camera.
+    pub(in crate::trace) fn camera_side(&self, view: Vec3) -> Ordering {
+        self.side(view, Vec3::ZERO).reverse()
+    }
+
+    /// Whether the light lies strictly on the side the camera sees (`camera_side`). A surface
+    /// seen exactly edge-on, or with the light exactly in its plane, does not face it.
+    pub(in crate::trace) fn faces_light(&self, camera: Ordering, light: LightPlace) -> bool {
+        let light = match light {
+            LightPlace::Point(l) => self.side(l, self.t[0]),
+            LightPlace::Towards(w) => self.side(w, Vec3::ZERO),
+        };
+        light != Ordering::Equal && light == camera
+    }
+
+    /// The sign of det[v1 − v0, v2 − v0, a − b] = n·(a − b), expanded along a − b as
+    /// Shewchuk's orient3d is along its third coordinate, with his bound (7 + 56ε)ε·permanent
+    /// (ε = 2⁻⁵³), rounded up to 8ε; where that cannot decide, in big integers.
+    fn side(&self, a: Vec3, b: Vec3) -> Ordering {
+        let w = a.as_dvec3() - b.as_dvec3();
+        let det = self.normal.dot(w);
+        let bound = 8.0 * (f64::EPSILON * 0.5) * self.permanent.dot(w.abs());
+        if det > bound {
+            Ordering::Greater
+        } else if -det > bound {
+            Ordering::Less
+        } else {
+            exact_side([[self.t[1], self.t[0]], [self.t[2], self.t[0]], [a, b]])
+        }
     }
 }
 
@@ -96,25 +113,26 @@ mod tests {
         let light = LightPlace::Point(LIGHT);
         // Seen from either side, the plane holding the light is edge-on to it.
         for camera in [Ordering::Greater, Ordering::Less] {
-            assert!(!faces_light(&[A, B, C], camera, light));
+            assert!(!Plane::new(&[A, B, C]).faces_light(camera, light));
         }
-        assert_eq!(side(&[A, B, C], [LIGHT, A]), Ordering::Equal);
+        assert_eq!(Plane::new(&[A, B, C]).side(LIGHT, A), Ordering::Equal);
         // The neighbour's normal (D − A) × (B − A) has n·(L − A) = +81/32768.
-        assert_eq!(side(&[A, D, B], [LIGHT, A]), Ordering::Greater);
-        assert_eq!(side(&[A, B, D], [LIGHT, A]), Ordering::Less);
+        assert_eq!(Plane::new(&[A, D, B]).side(LIGHT, A), Ordering::Greater);
+        assert_eq!(Plane::new(&[A, B, D]).side(LIGHT, A), Ordering::Less);
     }
 
     #[test]
     fn the_camera_turns_the_normal() {
         let t = [Vec3::ZERO, Vec3::X, Vec3::Y]; // normal +z
         let above = LightPlace::Towards(Vec3::new(0.0, 0.6, 0.8));
-        let seen = |view: Vec3, light| faces_light(&t, camera_side(&t, view), light);
+        let plane = Plane::new(&t);
+        let seen = |view: Vec3, light| plane.faces_light(plane.camera_side(view), light);
         assert!(seen(Vec3::new(0.0, 0.0, -1.0), above));
         assert!(!seen(Vec3::new(0.0, 0.0, 1.0), above));
         let below = LightPlace::Point(Vec3::new(0.2, 0.2, -3.0));
         assert!(seen(Vec3::new(0.1, 0.0, 1.0), below));
         assert!(!seen(Vec3::new(0.1, 0.0, -1.0), below));
-        assert_eq!(camera_side(&t, Vec3::new(1.0, 0.0, 0.0)), Ordering::Equal);
+        assert_eq!(plane.camera_side(Vec3::new(1.0, 0.0, 0.0)), Ordering::Equal);
     }
 
     #[test]
@@ -124,11 +142,12 @@ mod tests {
         // (B − A)ₓ(C − A)ᵧ − (B − A)ᵧ(C − A)ₓ = 0.125 · 0.02734375 > 0.
         let in_plane = C - A;
         assert_eq!(in_plane, Vec3::new(0.125, -0.048828125, 0.0));
-        let out = |z: f32| [in_plane + Vec3::new(0.0, 0.0, z), Vec3::ZERO];
         let t = [A, B, C];
-        assert_eq!(side(&t, out(2f32.powi(-60))), Ordering::Greater);
-        assert_eq!(side(&t, out(-(2f32.powi(-60)))), Ordering::Less);
-        assert_eq!(side(&t, out(0.0)), Ordering::Equal);
+        let plane = Plane::new(&t);
+        let out = |z: f32| plane.side(in_plane + Vec3::new(0.0, 0.0, z), Vec3::ZERO);
+        assert_eq!(out(2f32.powi(-60)), Ordering::Greater);
+        assert_eq!(out(-(2f32.powi(-60))), Ordering::Less);
+        assert_eq!(out(0.0), Ordering::Equal);
         assert_eq!(exact_side([[B, A], [C, A], [LIGHT, A]]), Ordering::Equal);
         // Subnormal entries are exact too.
         let w = Vec3::new(3.0, -2.0, f32::from_bits(1));

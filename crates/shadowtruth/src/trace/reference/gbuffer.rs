@@ -3,11 +3,11 @@
 
 use crate::scene::{Camera, Film, Light, LightKind, Scene};
 use crate::trace::bvh::hit::Hit;
-use crate::trace::bvh::primary_certificate::{PrimaryCertainty, refine_barycentrics};
+use crate::trace::bvh::primary_certificate::PrimaryCertainty;
 use crate::trace::bvh::scene_bvh::SceneBvh;
 use crate::trace::bvh::shadow_ray::SurfacePoint;
 use crate::trace::bvh::watertight::barycentric_point;
-use crate::trace::reference::facing::{LightPlace, camera_side, faces_light};
+use crate::trace::reference::facing::{LightPlace, Plane};
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use std::cmp::Ordering;
@@ -155,14 +155,14 @@ pub(in crate::trace) struct SurfaceSample {
 pub(in crate::trace) fn surface_sample(hit: &Hit, dir: Vec3, light: &LightSight) -> SurfaceSample {
     let verts = &hit.vertices;
     let p = barycentric_point(verts, hit.barycentric);
-    let (v0, v1, v2) = (verts[0].as_dvec3(), verts[1].as_dvec3(), verts[2].as_dvec3());
-    let camera = camera_side(verts, dir);
-    let mut ng = (v1 - v0).cross(v2 - v0).normalize();
+    let plane = Plane::new(verts);
+    let camera = plane.camera_side(dir);
+    let mut ng = plane.normal().normalize();
     if camera == Ordering::Less {
         ng = -ng;
     }
     let p32 = p.as_vec3();
-    let class = if !faces_light(verts, camera, light.place()) {
+    let class = if !plane.faces_light(camera, light.place()) {
         PixelClass::FacingAway
     } else if !light.reaches(p32.as_dvec3()) {
         PixelClass::OutsideLight
@@ -202,23 +202,23 @@ impl GBuffer {
             .zip(object.par_chunks_mut(w as usize))
             .enumerate()
             .for_each_init(
-                || (bvh.scratch(), vec![Vec3::ZERO; w as usize], vec![None; w as usize]),
-                |(scratch, dirs, hits), (y, (((((cls, pos), bary), nrm), tri), obj))| {
+                || {
+                    let row = w as usize;
+                    let certain = vec![PrimaryCertainty::Certain; row];
+                    (bvh.scratch(), vec![Vec3::ZERO; row], vec![None; row], certain)
+                },
+                |(scratch, dirs, hits, certainties), (y, (((((cls, pos), bary), nrm), tri), obj))| {
                     row_directions(&film, &columns, y, dirs);
                     bvh.closest_hits(scratch, camera.position, dirs, hits);
-                    for (x, hit) in hits.iter_mut().enumerate() {
-                        let certainty = bvh.certify_primary(scratch, camera.position, dirs[x], hit.as_ref());
-                        if let PrimaryCertainty::Tie(tie) = certainty {
-                            *hit = Some(tie);
-                        }
-                        let uncertain = certainty == PrimaryCertainty::Uncertain;
+                    bvh.certify_primaries(scratch, camera.position, dirs, hits, certainties);
+                    for (x, hit) in hits.iter().enumerate() {
+                        let uncertain = certainties[x] == PrimaryCertainty::Uncertain;
                         let Some(hit) = hit else {
                             if uncertain {
                                 cls[x] = PixelClass::Uncertain;
                             }
                             continue;
                         };
-                        refine_barycentrics(camera.position, dirs[x], hit);
                         let sample = surface_sample(hit, dirs[x], &sight);
                         let p = sample.point;
                         cls[x] = if uncertain { PixelClass::Uncertain } else { sample.class };
@@ -297,6 +297,8 @@ fn filled<T: Copy + Send + Sync>(value: T, n: usize) -> Vec<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::trace::bvh::primary_certificate::refine_barycentrics;
+    use crate::trace::bvh::watertight::WatertightRay;
     use crate::scene::load_scene;
     use std::path::Path;
 
@@ -320,7 +322,8 @@ mod tests {
                 if r.triangle != u32::MAX {
                     let vertices = scene.triangle(r.triangle);
                     let mut hit = Hit { triangle: r.triangle, t: r.t, barycentric: r.barycentric, vertices };
-                    refine_barycentrics(camera.position, directions[i], &mut hit);
+                    let walk = WatertightRay::new(camera.position.into(), directions[i].into());
+                    refine_barycentrics(&walk, &mut hit);
                     let p = barycentric_point(&vertices, hit.barycentric).as_vec3();
                     assert_eq!(p.to_array().map(f32::to_bits), g.position[i].to_array().map(f32::to_bits));
                     hits += 1;
