@@ -332,8 +332,50 @@ pub(in crate::trace) enum Crossing {
 }
 
 /// Whether every vertex of `other` lies exactly in the plane of `surface` (Shewchuk's exact
-/// orientation test).
+/// orientation test). An exact zero takes orient3d's slowest, exact stage, and the rays of
+/// neighbouring pixels ask it of the same pair again and again (every pixel of a surface under a
+/// decal), so each thread keeps its last answers, keyed by the coordinates themselves (so valid
+/// for any scene).
 pub(in crate::trace) fn in_one_plane(surface: &[Vec3; 3], other: &[Vec3; 3]) -> bool {
+    let (key, slot) = pair_key(surface, other);
+    COPLANAR.with_borrow_mut(|memo| match memo[slot] {
+        Some((k, answer)) if k == key => answer,
+        _ => {
+            let answer = orient_all_zero(surface, other);
+            memo[slot] = Some((key, answer));
+            answer
+        }
+    })
+}
+
+/// Whether this thread already found `other` exactly in the plane of `surface` (`in_one_plane`),
+/// without computing it: lets a shadow ray skip the f64 test of a triangle that can never
+/// occlude it.
+pub(in crate::trace) fn known_in_one_plane(surface: &[Vec3; 3], other: &[Vec3; 3]) -> bool {
+    let (key, slot) = pair_key(surface, other);
+    COPLANAR.with_borrow(|memo| memo[slot] == Some((key, true)))
+}
+
+fn pair_key(surface: &[Vec3; 3], other: &[Vec3; 3]) -> (PairKey, usize) {
+    let key: PairKey = std::array::from_fn(|i| {
+        let v = if i < 9 { surface[i / 3] } else { other[i / 3 - 3] };
+        v[i % 3].to_bits()
+    });
+    let hash = key.iter().fold(0u32, |h, &x| (h.rotate_left(5) ^ x).wrapping_mul(0x9E37_79B9));
+    (key, hash as usize % COPLANAR_SLOTS)
+}
+
+/// The bits of two triangles' coordinates.
+type PairKey = [u32; 18];
+
+const COPLANAR_SLOTS: usize = 16;
+
+thread_local! {
+    static COPLANAR: std::cell::RefCell<[Option<(PairKey, bool)>; COPLANAR_SLOTS]> =
+        const { std::cell::RefCell::new([None; COPLANAR_SLOTS]) };
+}
+
+fn orient_all_zero(surface: &[Vec3; 3], other: &[Vec3; 3]) -> bool {
     let c = |v: Vec3| robust::Coord3D { x: v.x as f64, y: v.y as f64, z: v.z as f64 };
     let [a, b, d] = surface.map(c);
     other.iter().all(|&v| robust::orient3d(a, b, d, c(v)) == 0.0)
@@ -344,6 +386,36 @@ mod tests {
     use super::*;
     use crate::trace::splitmix::SplitMix64;
     use glam::DVec3;
+
+    /// The remembered answers are the computed ones, whatever the order of the questions and
+    /// however many pairs share a slot: coplanar pairs on a lattice and pairs one ulp off it.
+    #[test]
+    fn remembered_coplanarity_is_the_computed_one() {
+        let mut rng = SplitMix64::new(11);
+        let plane = |x: f32, z: f32| Vec3::new(x, x / 8.0 + z / 16.0, z);
+        let pairs: Vec<([Vec3; 3], [Vec3; 3])> = (0..200)
+            .map(|k| {
+                let mut p = || plane(rng.range([-64.0, 64.0]).round() as f32, rng.range([-64.0, 64.0]).round() as f32);
+                let surface = [p(), p(), p()];
+                let mut other = [p(), p(), p()];
+                if k % 3 == 0 {
+                    other[1].y = other[1].y.next_up();
+                }
+                (surface, other)
+            })
+            .collect();
+        let mut coplanar = 0;
+        for round in 0..3 {
+            for (k, (surface, other)) in pairs.iter().enumerate().rev().skip(round) {
+                let expected = orient_all_zero(surface, other);
+                assert!(expected || !known_in_one_plane(surface, other), "round {round}, pair {k}");
+                assert_eq!(in_one_plane(surface, other), expected, "round {round}, pair {k}");
+                assert_eq!(known_in_one_plane(surface, other), expected, "just asked: round {round}, pair {k}");
+                coplanar += expected as usize;
+            }
+        }
+        assert!(coplanar > 100, "both kinds of pair are needed ({coplanar} coplanar)");
+    }
 
     /// The exact answer for the closed segment [o, l] and the closed triangle t (f32 points),
     /// from Shewchuk's exact orientations: the ends on opposite sides of the plane (or one on

@@ -45,15 +45,17 @@ pub struct SceneBvh {
 impl SceneBvh {
     pub fn build(scene: &Scene) -> Self {
         let (lo, hi) = scene.bounds();
-        let margin = segment_margin(lo.abs().max(hi.abs()).max_element());
+        let margin = segment_margin(lo, hi);
         let mut bvh = Self::build_with_margin(&scene.flat_triangles, margin);
         bvh.instances = InstanceLevel::build(scene, margin);
         bvh
     }
 
     pub fn build_from_triangles(tris: &[[Vec3; 3]]) -> Self {
-        let reach = tris.iter().flatten().fold(0.0f32, |m, v| m.max(v.abs().max_element()));
-        Self::build_with_margin(tris, segment_margin(reach))
+        let (lo, hi) = tris.iter().flatten().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(*v), hi.max(*v))
+        });
+        Self::build_with_margin(tris, segment_margin(lo, hi))
     }
 
     fn build_with_margin(tris: &[[Vec3; 3]], margin: f32) -> Self {
@@ -199,14 +201,18 @@ impl ShadowBits {
 }
 
 /// How far every box of the tree grows so that walking a shadow ray's f32 ray never drops a box
-/// its exact segment enters (shadow_search.rs). Within the scene's box (coordinates up to
-/// `reach`), the f32 ray lies within ε_o + t·ε_d of the exact segment: the f32 origin within
-/// 2⁻²⁴·reach plus the f64 point's error (2⁻⁴⁸·reach), the f32 direction within 2⁻²⁴ plus
-/// the f64 direction's error, whose part that grows with 1/length stays below 4·ε_p/length, and
-/// t at most the box's diagonal (2√3·reach). All of it is under 2⁻²¹·reach; 2⁻²⁰·reach
-/// (and the smallest normal f32, for a scene at the origin) is the margin.
-fn segment_margin(reach: f32) -> f32 {
-    (reach as f64 * 2f64.powi(-20)) as f32 + f32::MIN_POSITIVE
+/// its exact segment enters (shadow_search.rs), for a scene within the box [lo, hi]. Inside
+/// that box the f32 ray lies within ε_o + t·ε_d of the exact segment: the f32 origin within
+/// 2⁻²⁴·reach (reach the largest coordinate magnitude) plus the f64 point's error
+/// (ε_p < 2⁻⁴⁵·reach), the f32 direction within 2⁻²⁴ plus the f64 direction's error, whose
+/// part that grows with 1/length adds at most 3.5·ε_p over the segment, and t at most the box's
+/// diagonal. So 2⁻²⁴·(reach + diagonal), and a little; twice that is the margin (and the
+/// smallest normal f32, for a scene at the origin). Far from the origin the diagonal, not the
+/// distance, sets the second term: the margin of a 12-unit island 10⁵ units out is 0.012.
+fn segment_margin(lo: Vec3, hi: Vec3) -> f32 {
+    let reach = lo.abs().max(hi.abs()).max_element() as f64;
+    let diagonal = (hi.as_dvec3() - lo.as_dvec3()).length();
+    ((reach + diagonal) * 2f64.powi(-23)) as f32 + f32::MIN_POSITIVE
 }
 
 /// The most rays `shadow_occluded` takes, and `closest_hits` walks, at once.

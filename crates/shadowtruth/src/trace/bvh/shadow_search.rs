@@ -5,7 +5,7 @@
 //! surface (Shewchuk's exact orientation test, the `robust` crate) or degenerate never occludes.
 //! Whatever still remains makes the answer uncertain, unless a certain occluder turns up.
 
-use super::certified::{CertifiedRay, Verdict, in_one_plane};
+use super::certified::{CertifiedRay, Verdict, in_one_plane, known_in_one_plane};
 use super::shadow_ray::ShadowRay;
 use super::watertight::WatertightRay;
 use crate::scene::is_degenerate;
@@ -99,6 +99,10 @@ impl<'r> ShadowSearch<'r> {
     #[inline(never)]
     fn test_precisely(&mut self, id: u32, v: &[Vec3A; 3]) -> bool {
         let ray = self.ray;
+        // The pixels under a decal ask of the same coplanar pair, ray after ray.
+        if known_in_one_plane(&ray.surface, &v.map(Vec3::from)) {
+            return false;
+        }
         // Made here rather than kept: a packet holds eight searches, and doubts are rare.
         let precise = CertifiedRay::new(
             ray.origin.to_array(),

@@ -212,7 +212,9 @@ mod tests {
         let (lo, hi) = bvh.tree.bounds().expect("a tree");
         // The points reach a little past 10 (a corner plus a tenth of another point).
         let reach = tris.iter().flatten().fold(0.0f32, |m, v| m.max(v.abs().max_element()));
-        let margin = reach * 2f32.powi(-20);
+        // 2⁻²³ of the reach plus the diagonal of the triangles' box (`segment_margin`).
+        let diagonal = (root.1 - root.0).as_dvec3().length();
+        let margin = ((reach as f64 + diagonal) * 2f64.powi(-23)) as f32;
         assert!(
             lo.cmple(root.0 - Vec3A::splat(margin)).all() && hi.cmpge(root.1 + Vec3A::splat(margin)).all()
         );
