@@ -380,10 +380,23 @@ fn a_light_exactly_in_a_surface_plane_far_from_the_origin() {
         let on_plane: Vec<PixelClass> =
             (0..g.pixel_count()).filter(|&i| g.triangle[i] == 0).map(|i| g.class[i]).collect();
         let facing = on_plane.iter().filter(|&&c| c != PixelClass::FacingAway).count();
-        assert!(on_plane.len() > 500, "{distance:e} out: only {} pixels see the first triangle", on_plane.len());
-        assert_eq!(facing, 0, "{distance:e} out: {facing} of {} pixels in the light's plane face it", on_plane.len());
+        assert!(
+            on_plane.len() > 500,
+            "{distance:e} out: only {} pixels see the first triangle",
+            on_plane.len()
+        );
+        assert_eq!(
+            facing,
+            0,
+            "{distance:e} out: {facing} of {} pixels in the light's plane face it",
+            on_plane.len()
+        );
         assert!(g.evaluated.len() > 100, "{distance:e} out: {} pixels face the light", g.evaluated.len());
-        assert_eq!((r.uncertain.len(), g.count(PixelClass::Uncertain)), (0, 0), "{distance:e} out: flagged pixels");
+        assert_eq!(
+            (r.uncertain.len(), g.count(PixelClass::Uncertain)),
+            (0, 0),
+            "{distance:e} out: flagged pixels"
+        );
         let v = verify_view(&s, &bvh, &Adjudicator::new(&s), camera, light, PixelSelection::All);
         assert_eq!(v.cases, vec![], "{distance:e} out");
     }

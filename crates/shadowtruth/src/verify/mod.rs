@@ -157,11 +157,7 @@ pub enum Disagreement {
     },
     /// The right triangle, classed on the wrong side of the light: `facing_away` against
     /// facing it, or the reverse (counted with the primary disagreements).
-    Facing {
-        triangle: u32,
-        traced_facing: bool,
-        exact_facing: bool,
-    },
+    Facing { triangle: u32, traced_facing: bool, exact_facing: bool },
 }
 
 /// One pixel where the tracer and the exact answer differ.

@@ -9,8 +9,8 @@
 //! Equal distances go to the lowest triangle id.
 
 use super::exact::{Diff, Filtered, Term, det3_exact, det3_filtered, det3_sign};
-use crate::scene::{Light, LightKind};
 use super::segment::no_opposite_signs;
+use crate::scene::{Light, LightKind};
 use glam::{DVec3, Vec3};
 use num_bigint::BigInt;
 use num_traits::{Signed, ToPrimitive, Zero};

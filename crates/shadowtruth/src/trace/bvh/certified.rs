@@ -356,17 +356,18 @@ pub(in crate::trace) fn known_in_one_plane(surface: &[Vec3; 3], other: &[Vec3; 3
     COPLANAR.with_borrow(|memo| memo[slot] == Some((key, true)))
 }
 
+/// The pair itself, and its slot: a hash of a few coordinates (cheap, since every doubt far from
+/// the origin asks; the full key is compared).
 fn pair_key(surface: &[Vec3; 3], other: &[Vec3; 3]) -> (PairKey, usize) {
-    let key: PairKey = std::array::from_fn(|i| {
-        let v = if i < 9 { surface[i / 3] } else { other[i / 3 - 3] };
-        v[i % 3].to_bits()
-    });
-    let hash = key.iter().fold(0u32, |h, &x| (h.rotate_left(5) ^ x).wrapping_mul(0x9E37_79B9));
-    (key, hash as usize % COPLANAR_SLOTS)
+    let bits =
+        [surface[0].x, surface[1].y, surface[2].z, other[0].x, other[1].y, other[2].z].map(f32::to_bits);
+    let hash = bits.iter().fold(0u32, |h, &x| (h.rotate_left(5) ^ x).wrapping_mul(0x9E37_79B9));
+    ((*surface, *other), (hash >> 28) as usize % COPLANAR_SLOTS)
 }
 
-/// The bits of two triangles' coordinates.
-type PairKey = [u32; 18];
+/// Two triangles, as asked (coordinates are finite: `==` is equality of the values, and ±0
+/// lie in the same planes).
+type PairKey = ([Vec3; 3], [Vec3; 3]);
 
 const COPLANAR_SLOTS: usize = 16;
 
@@ -395,7 +396,9 @@ mod tests {
         let plane = |x: f32, z: f32| Vec3::new(x, x / 8.0 + z / 16.0, z);
         let pairs: Vec<([Vec3; 3], [Vec3; 3])> = (0..200)
             .map(|k| {
-                let mut p = || plane(rng.range([-64.0, 64.0]).round() as f32, rng.range([-64.0, 64.0]).round() as f32);
+                let mut p = || {
+                    plane(rng.range([-64.0, 64.0]).round() as f32, rng.range([-64.0, 64.0]).round() as f32)
+                };
                 let surface = [p(), p(), p()];
                 let mut other = [p(), p(), p()];
                 if k % 3 == 0 {
@@ -410,7 +413,11 @@ mod tests {
                 let expected = orient_all_zero(surface, other);
                 assert!(expected || !known_in_one_plane(surface, other), "round {round}, pair {k}");
                 assert_eq!(in_one_plane(surface, other), expected, "round {round}, pair {k}");
-                assert_eq!(known_in_one_plane(surface, other), expected, "just asked: round {round}, pair {k}");
+                assert_eq!(
+                    known_in_one_plane(surface, other),
+                    expected,
+                    "just asked: round {round}, pair {k}"
+                );
                 coplanar += expected as usize;
             }
         }

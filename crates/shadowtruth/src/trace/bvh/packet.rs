@@ -367,7 +367,11 @@ mod tests {
                 );
                 let mut single_certified = single;
                 let certainty = bvh.certify_primary(&mut scratch, origin, *d, &mut single_certified);
-                assert_eq!((certainties[k], certified[k]), (certainty, single_certified), "round {round}, ray {k}");
+                assert_eq!(
+                    (certainties[k], certified[k]),
+                    (certainty, single_certified),
+                    "round {round}, ray {k}"
+                );
                 hit_count += single.is_some() as usize;
             }
             let towards = dirs[0];

@@ -81,7 +81,9 @@ impl<'h> PrimarySearch<'h> {
                 let (crossing, b) = forms(walk).in_f64(f64::INFINITY, 0.0).crossing_and_barycentrics(&v);
                 let refined = b.map(|b| b.map(|b| b as f32));
                 match crossing {
-                    Crossing::Through { t_lo, t_hi } => (0.5 * (t_lo + t_hi), 0.5 * (t_hi - t_lo), false, refined),
+                    Crossing::Through { t_lo, t_hi } => {
+                        (0.5 * (t_lo + t_hi), 0.5 * (t_hi - t_lo), false, refined)
+                    }
                     _ => (0.0, 0.0, true, refined),
                 }
             }

@@ -52,9 +52,10 @@ impl SceneBvh {
     }
 
     pub fn build_from_triangles(tris: &[[Vec3; 3]]) -> Self {
-        let (lo, hi) = tris.iter().flatten().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), v| {
-            (lo.min(*v), hi.max(*v))
-        });
+        let (lo, hi) = tris
+            .iter()
+            .flatten()
+            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
         Self::build_with_margin(tris, segment_margin(lo, hi))
     }
 

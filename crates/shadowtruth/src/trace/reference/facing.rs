@@ -35,7 +35,8 @@ impl<'t> Plane<'t> {
     pub(in crate::trace) fn new(t: &'t [Vec3; 3]) -> Self {
         let (e1, e2) = (t[1].as_dvec3() - t[0].as_dvec3(), t[2].as_dvec3() - t[0].as_dvec3());
         let (a1, a2) = (e1.abs(), e2.abs());
-        let permanent = DVec3::new(a1.y * a2.z + a1.z * a2.y, a1.z * a2.x + a1.x * a2.z, a1.x * a2.y + a1.y * a2.x);
+        let permanent =
+            DVec3::new(a1.y * a2.z + a1.z * a2.y, a1.z * a2.x + a1.x * a2.z, a1.x * a2.y + a1.y * a2.x);
         Plane { t, normal: e1.cross(e2), permanent }
     }
 
@@ -151,6 +152,9 @@ mod tests {
         assert_eq!(exact_side([[B, A], [C, A], [LIGHT, A]]), Ordering::Equal);
         // Subnormal entries are exact too.
         let w = Vec3::new(3.0, -2.0, f32::from_bits(1));
-        assert_eq!(exact_side([[Vec3::X, Vec3::ZERO], [Vec3::Y, Vec3::ZERO], [w, Vec3::ZERO]]), Ordering::Greater);
+        assert_eq!(
+            exact_side([[Vec3::X, Vec3::ZERO], [Vec3::Y, Vec3::ZERO], [w, Vec3::ZERO]]),
+            Ordering::Greater
+        );
     }
 }

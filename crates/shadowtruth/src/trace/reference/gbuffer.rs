@@ -297,9 +297,9 @@ fn filled<T: Copy + Send + Sync>(value: T, n: usize) -> Vec<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::load_scene;
     use crate::trace::bvh::primary_certificate::refine_barycentrics;
     use crate::trace::bvh::watertight::WatertightRay;
-    use crate::scene::load_scene;
     use std::path::Path;
 
     /// The rays `reference --timing` times as primary rays are the G-buffer's, with the same
