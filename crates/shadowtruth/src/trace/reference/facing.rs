@@ -103,10 +103,16 @@ mod tests {
 
     /// A triangle of an island moved 10⁵ units out whose plane holds the spot light exactly
     /// (checked in rationals), and its two neighbours, which face it by 81/32768 and 35/4096.
-    const A: Vec3 = Vec3::new(60073.625, 30036.521484375, -74088.5);
-    const B: Vec3 = Vec3::new(60073.75, 30036.4453125, -74088.375);
-    const C: Vec3 = Vec3::new(60073.75, 30036.47265625, -74088.5);
-    const D: Vec3 = Vec3::new(60073.625, 30036.4921875, -74088.375);
+    /// The coordinates are exact f32 values (multiples of 2⁻⁹), written out in full.
+    #[allow(clippy::excessive_precision)]
+    mod island {
+        use glam::Vec3;
+        pub const A: Vec3 = Vec3::new(60073.625, 30036.521484375, -74088.5);
+        pub const B: Vec3 = Vec3::new(60073.75, 30036.4453125, -74088.375);
+        pub const C: Vec3 = Vec3::new(60073.75, 30036.47265625, -74088.5);
+        pub const D: Vec3 = Vec3::new(60073.625, 30036.4921875, -74088.375);
+    }
+    use island::{A, B, C, D};
     const LIGHT: Vec3 = Vec3::new(60061.0, 30042.0, -74091.0);
 
     #[test]
