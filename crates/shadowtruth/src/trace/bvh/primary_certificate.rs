@@ -9,9 +9,11 @@
 
 use super::certified::{CertifiedRay, Crossing, Verdict, in_one_plane};
 use super::hit::Hit;
-use super::node_test::{self, NodeRay};
+use super::node_test::NodeRay;
 #[cfg(target_arch = "x86_64")]
-use super::packet::{LANES, Packet};
+use super::packet::LANES;
+#[cfg(target_arch = "x86_64")]
+use super::scene_bvh::primary_packet;
 use super::scene_bvh::{RAYS_PER_BATCH, SceneBvh};
 use super::scratch::TraversalScratch;
 use super::walk::{ANY_ORDER, walk};
@@ -233,16 +235,10 @@ impl SceneBvh {
         hits: &mut [Option<Hit>],
         out: &mut [PrimaryCertainty],
     ) -> bool {
-        if directions.len() < 2 || directions.len() > LANES || !node_test::wide_available() {
-            return false;
-        }
-        let lane = |k: usize| k.min(directions.len() - 1);
-        let watertight: [WatertightRay; LANES] =
-            std::array::from_fn(|k| WatertightRay::new(origin.into(), directions[lane(k)].into()));
-        // SAFETY: the processor has AVX2 (`wide_available`).
-        let Some(mut packet) = (unsafe { Packet::new(&watertight[..directions.len()]) }) else {
+        let Some((watertight, mut packet)) = primary_packet(origin, directions) else {
             return false;
         };
+        let lane = |k: usize| k.min(directions.len() - 1);
         let own: [Option<Hit>; LANES] = std::array::from_fn(|k| hits[lane(k)]);
         let mut searches: [PrimarySearch; LANES] =
             std::array::from_fn(|k| PrimarySearch::new(&watertight[k], own[k].as_ref()));

@@ -325,14 +325,7 @@ impl SceneBvh {
         directions: &[Vec3],
         hits: &mut [Option<Hit>],
     ) -> bool {
-        if directions.len() < 2 || directions.len() > LANES || !node_test::wide_available() {
-            return false;
-        }
-        let lane = |k: usize| k.min(directions.len() - 1);
-        let watertight: [WatertightRay; LANES] =
-            std::array::from_fn(|k| WatertightRay::new(origin.into(), directions[lane(k)].into()));
-        // SAFETY: the processor has AVX2 (`wide_available`).
-        let Some(packet) = (unsafe { Packet::new(&watertight[..directions.len()]) }) else {
+        let Some((watertight, packet)) = primary_packet(origin, directions) else {
             return false;
         };
         let mut best = [None; LANES];
@@ -364,4 +357,23 @@ impl SceneBvh {
         }
         true
     }
+}
+
+/// The primary rays from `origin` along `directions` (two to eight) as a packet, each lane's
+/// watertight ray beside it (lanes past the last repeat it), or `None` where they cannot share
+/// a walk or the processor has no AVX2.
+#[cfg(target_arch = "x86_64")]
+pub(in crate::trace) fn primary_packet(
+    origin: Vec3,
+    directions: &[Vec3],
+) -> Option<([WatertightRay; LANES], Packet)> {
+    if directions.len() < 2 || directions.len() > LANES || !node_test::wide_available() {
+        return None;
+    }
+    let lane = |k: usize| k.min(directions.len() - 1);
+    let watertight: [WatertightRay; LANES] =
+        std::array::from_fn(|k| WatertightRay::new(origin.into(), directions[lane(k)].into()));
+    // SAFETY: the processor has AVX2 (`wide_available`).
+    let packet = unsafe { Packet::new(&watertight[..directions.len()]) }?;
+    Some((watertight, packet))
 }
