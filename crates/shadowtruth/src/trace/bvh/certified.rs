@@ -183,17 +183,18 @@ impl<F: Real> CertifiedRay<F> {
     /// The barycentrics (b0, b1, b2) of the point where this ray's line crosses the plane of
     /// `v`: the watertight test's edge functions over their sum (`None` edge-on).
     pub(in crate::trace) fn barycentrics(&self, v: &[[F; 3]; 3]) -> Option<[F; 3]> {
-        let e = self.shear(v).e;
-        let det = e[0] + e[1] + e[2];
-        (det != F::zero()).then(|| e.map(|e| e / det))
+        Self::barycentrics_of(&self.shear(v))
     }
 
     /// `crossing(v)` and `barycentrics(v)` from one shear.
     pub(in crate::trace) fn crossing_and_barycentrics(&self, v: &[[F; 3]; 3]) -> (Crossing, Option<[F; 3]>) {
         let s = self.shear(v);
+        (self.crossing_of(&s, false), Self::barycentrics_of(&s))
+    }
+
+    fn barycentrics_of(s: &Sheared<F>) -> Option<[F; 3]> {
         let det = s.e[0] + s.e[1] + s.e[2];
-        let barycentrics = (det != F::zero()).then(|| s.e.map(|e| e / det));
-        (self.crossing_of(&s, false), barycentrics)
+        (det != F::zero()).then(|| s.e.map(|e| e / det))
     }
 
     /// Whether the exact segment meets the closed triangle `v`.
