@@ -6,6 +6,7 @@ mod clip;
 mod depth_format;
 mod imported_view;
 mod layer;
+mod moment_map;
 mod multi_depth;
 mod projection;
 mod rasterize;
@@ -18,6 +19,9 @@ pub const MAX_SHADOW_MAP_RESOLUTION: u32 = 16384;
 /// What `LightView::light_size` holds; PCSS reads it from here.
 pub use crate::scene::LightSize;
 pub use layer::{DepthLayer, DepthPairLayer};
+pub use moment_map::{
+    MAX_BLUR_RADIUS_TEXELS, MapBlur, MomentLayer, MomentWarp, evsm_negative, evsm_positive,
+};
 pub use multi_depth::{DepthSelection, MAX_DEPTHS_PER_TEXEL, MultiDepthLayer};
 pub use projection::{LightView, Projection};
 pub use rasterize::{

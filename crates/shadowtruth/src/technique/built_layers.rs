@@ -3,7 +3,8 @@
 
 use super::{LayerNeeds, Layers};
 use crate::raster::{
-    DepthFormat, DepthLayer, DepthPairLayer, LightView, MultiDepthLayer, RasterSettings, Rasterizer,
+    DepthFormat, DepthLayer, DepthPairLayer, LightView, MomentLayer, MultiDepthLayer, RasterSettings,
+    Rasterizer,
 };
 use crate::scene::Scene;
 
@@ -13,6 +14,7 @@ pub enum BuiltLayers {
     Nearest(DepthLayer),
     TwoNearest(DepthPairLayer),
     MultiDepth(MultiDepthLayer),
+    Moments(MomentLayer),
 }
 
 impl BuiltLayers {
@@ -34,6 +36,13 @@ impl BuiltLayers {
             slope_units: needs.slope_units,
             ..RasterSettings::default()
         };
+        if let Some(m) = needs.moments {
+            return BuiltLayers::Moments(MomentLayer::from_depth(
+                &rasterizer.nearest(&settings),
+                m.warp,
+                m.blur,
+            ));
+        }
         match (needs.second_layer, needs.multi_depth) {
             (true, _) => BuiltLayers::TwoNearest(rasterizer.two_nearest(&settings)),
             (false, Some(m)) => BuiltLayers::MultiDepth(MultiDepthLayer::from_base(
@@ -51,6 +60,7 @@ impl BuiltLayers {
             BuiltLayers::Nearest(l) => Layers::Nearest(l),
             BuiltLayers::TwoNearest(l) => Layers::TwoNearest(l),
             BuiltLayers::MultiDepth(l) => Layers::MultiDepth(l),
+            BuiltLayers::Moments(l) => Layers::Moments(l),
         }
     }
 
@@ -59,6 +69,7 @@ impl BuiltLayers {
             BuiltLayers::Nearest(l) => l.memory_bytes(),
             BuiltLayers::TwoNearest(l) => l.memory_bytes(),
             BuiltLayers::MultiDepth(l) => l.memory_bytes(),
+            BuiltLayers::Moments(l) => l.memory_bytes(),
         }
     }
 }

@@ -14,8 +14,10 @@ mod command;
 mod depth_layers;
 mod external;
 mod filter_params;
+mod filterable;
 mod kernel;
 mod mdsm;
+mod moment_tests;
 mod normal_offset;
 mod params;
 mod pcf;
@@ -41,8 +43,12 @@ pub use command::{
 pub use depth_layers::{DualDepth, DualParams, Midpoint, MidpointParams, SecondDepth, SecondDepthParams};
 pub use external::ExternalParams;
 pub use filter_params::{KernelSpec, TapBiasSpec};
+pub use filterable::{
+    BlurSpec, EsmParams, Evsm2Params, Evsm4Params, EvsmParams, MomentNeeds, MsmParams, VsmParams,
+};
 pub use kernel::{Kernel, POISSON_SIZES, poisson_set};
 pub use mdsm::{MdsmParams, SelectSpec};
+pub use moment_tests::{chebyshev_upper_bound, hamburger_shadow_intensity, reduce_bleeding};
 pub use normal_offset::{FalloffSpec, NormalOffset, NormalOffsetParams, OffsetFalloff};
 pub use params::{ReferenceKind, TechniqueParams, TechniqueSpecError};
 pub use pcf::DEFAULT_BOX_SIZE as PCF_DEFAULT_BOX_SIZE;
@@ -53,7 +59,7 @@ pub use shade::{ShadeContext, ShadeOrder, shade_evaluated};
 pub use spec::TechniqueSpec;
 pub use tap_bias::TapBias;
 
-use crate::raster::{Culling, DepthLayer, DepthPairLayer, DepthSelection, MultiDepthLayer};
+use crate::raster::{Culling, DepthLayer, DepthPairLayer, DepthSelection, MomentLayer, MultiDepthLayer};
 use glam::Vec3;
 
 /// One receiver: the G-buffer's surface point, its geometric normal (which faces the light) and
@@ -76,6 +82,8 @@ pub struct LayerNeeds {
     pub second_layer: bool,
     /// A multiple-depth map derived from the nearest layer (Pagot et al. 2004).
     pub multi_depth: Option<MultiDepthNeeds>,
+    /// The blurred moments of a filterable map, derived from the nearest layer.
+    pub moments: Option<MomentNeeds>,
 }
 
 /// The n-SM a technique reads: `depths` per texel, selected over `neighbourhood`² texels.
@@ -94,17 +102,19 @@ impl Default for LayerNeeds {
             slope_units: 0.0,
             second_layer: false,
             multi_depth: None,
+            moments: None,
         }
     }
 }
 
-/// The depth layers a technique reads: the nearest surface, the two nearest (z1, z2), or the n
-/// depths of a multiple-depth map.
+/// The depth layers a technique reads: the nearest surface, the two nearest (z1, z2), the n
+/// depths of a multiple-depth map, or the filtered moments of a filterable map.
 #[derive(Clone, Copy)]
 pub enum Layers<'a> {
     Nearest(&'a DepthLayer),
     TwoNearest(&'a DepthPairLayer),
     MultiDepth(&'a MultiDepthLayer),
+    Moments(&'a MomentLayer),
 }
 
 impl<'a> Layers<'a> {
@@ -124,8 +134,17 @@ impl<'a> Layers<'a> {
         }
     }
 
+    /// The filtered moments; only filterable techniques (which asked for them) call this.
+    pub fn moments(&self) -> &'a MomentLayer {
+        match self {
+            Layers::Moments(l) => l,
+            _ => panic!("the technique did not ask for moments"),
+        }
+    }
+
     pub fn resolution(&self) -> u32 {
         match self {
+            Layers::Moments(l) => l.resolution,
             Layers::Nearest(l) => l.resolution,
             Layers::TwoNearest(l) => l.resolution,
             Layers::MultiDepth(l) => l.resolution,

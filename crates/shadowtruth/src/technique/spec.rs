@@ -7,9 +7,10 @@
 
 use super::canonical::CanonicalFields;
 use super::{
-    AdaptiveParams, CommandParams, ConstantParams, DualParams, ExternalParams, MdsmParams, MidpointParams,
-    NoneParams, NormalOffsetParams, PcfParams, PcssParams, ReceiverPlaneParams, ReferenceKind,
-    SecondDepthParams, SlopeScaledParams, Technique, TechniqueParams, TechniqueSpecError,
+    AdaptiveParams, CommandParams, ConstantParams, DualParams, EsmParams, Evsm2Params, Evsm4Params,
+    ExternalParams, MdsmParams, MidpointParams, MsmParams, NoneParams, NormalOffsetParams, PcfParams,
+    PcssParams, ReceiverPlaneParams, ReferenceKind, SecondDepthParams, SlopeScaledParams, Technique,
+    TechniqueParams, TechniqueSpecError, VsmParams,
 };
 use serde::{Deserialize, Serialize};
 
@@ -68,6 +69,16 @@ techniques! {
     "mdsm" => Mdsm(MdsmParams),
     /// Percentage-closer soft shadows (Fernando 2005).
     "pcss" => Pcss(PcssParams),
+    /// Variance shadow map (Donnelly & Lauritzen 2006) with light-bleeding reduction.
+    "vsm" => Vsm(VsmParams),
+    /// Exponential shadow map (Annen et al. 2008).
+    "esm" => Esm(EsmParams),
+    /// Exponential variance shadow map, positive warp (Lauritzen & McCool 2008).
+    "evsm2" => Evsm2(Evsm2Params),
+    /// Exponential variance shadow map, positive and negative warps.
+    "evsm4" => Evsm4(Evsm4Params),
+    /// Four-moment Hamburger moment shadow map (Peters & Klein 2015).
+    "msm" => Msm(MsmParams),
     /// Another renderer's visibility buffer, read from an image file and scored as it is.
     "external" => External(ExternalParams),
     /// Another renderer run once per setting through the command protocol (docs/engines.md).
