@@ -123,7 +123,7 @@ where
 }
 
 /// Default search ranges of the parameters that have an obvious one.
-const DEFAULT_RANGES: [(&str, f64, f64); 8] = [
+const DEFAULT_RANGES: [(&str, f64, f64); 16] = [
     ("bias_depth", 1e-6, 0.1),
     ("bias_world", 1e-5, 1.0),
     ("scale_texels", 0.01, 10.0),
@@ -132,6 +132,15 @@ const DEFAULT_RANGES: [(&str, f64, f64); 8] = [
     ("k", 1e-6, 0.1),
     ("z_offset", 1e-5, 0.1),
     ("radius_texels", 0.25, 8.0),
+    // The filterable maps' (docs/formulas.md, "Filterable shadow maps").
+    ("bleeding_reduction", 0.01, 0.95),
+    ("min_variance", 1e-8, 1e-2),
+    ("exponent", 5.0, 88.0),
+    ("positive_exponent", 5.0, 44.0),
+    ("negative_exponent", 1.0, 44.0),
+    ("variance_bias", 1e-4, 0.1),
+    ("moment_bias", 1e-6, 1e-2),
+    ("depth_bias", 1e-6, 0.1),
 ];
 
 impl TuneArgs {
