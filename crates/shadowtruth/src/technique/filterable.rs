@@ -94,6 +94,15 @@ pub enum BlurSpec {
 
 const DEFAULT_BLUR_RADIUS_TEXELS: u32 = 1;
 
+/// The technique that reads `warp`'s moments under the blur a spec names.
+fn filterable(
+    warp: MomentWarp,
+    (blur, radius): (BlurSpec, Option<u32>),
+    reconstruction: Reconstruction,
+) -> Option<Box<dyn Technique>> {
+    Some(Box::new(Filterable { needs: MomentNeeds { warp, blur: map_blur(blur, radius) }, reconstruction }))
+}
+
 fn map_blur(blur: BlurSpec, radius: Option<u32>) -> MapBlur {
     let radius_texels = radius.unwrap_or(DEFAULT_BLUR_RADIUS_TEXELS);
     match blur {
@@ -172,16 +181,11 @@ impl TechniqueParams for VsmParams {
     }
 
     fn build(&self) -> Option<Box<dyn Technique>> {
-        Some(Box::new(Filterable {
-            needs: MomentNeeds {
-                warp: MomentWarp::Depth2,
-                blur: map_blur(self.blur, self.blur_radius_texels),
-            },
-            reconstruction: Reconstruction::Vsm {
-                min_variance: self.min_variance as f32,
-                bleeding_reduction: self.bleeding_reduction as f32,
-            },
-        }))
+        let reconstruction = Reconstruction::Vsm {
+            min_variance: self.min_variance as f32,
+            bleeding_reduction: self.bleeding_reduction as f32,
+        };
+        filterable(MomentWarp::Depth2, (self.blur, self.blur_radius_texels), reconstruction)
     }
 
     fn reference_kind(&self) -> ReferenceKind {
@@ -219,13 +223,8 @@ impl TechniqueParams for EsmParams {
 
     fn build(&self) -> Option<Box<dyn Technique>> {
         let exponent = self.exponent as f32;
-        Some(Box::new(Filterable {
-            needs: MomentNeeds {
-                warp: MomentWarp::Exponential { exponent },
-                blur: map_blur(self.blur, self.blur_radius_texels),
-            },
-            reconstruction: Reconstruction::Esm { exponent },
-        }))
+        let warp = MomentWarp::Exponential { exponent };
+        filterable(warp, (self.blur, self.blur_radius_texels), Reconstruction::Esm { exponent })
     }
 
     fn reference_kind(&self) -> ReferenceKind {
@@ -291,22 +290,20 @@ impl EvsmParams {
         check_blur(self.blur, self.blur_radius_texels)
     }
 
-    fn build(&self, four: bool) -> Box<dyn Technique> {
+    fn build(&self, four: bool) -> Option<Box<dyn Technique>> {
         let positive = self.positive_exponent as f32;
         let negative = four.then(|| self.negative_exponent.unwrap_or(DEFAULT_NEGATIVE_EXPONENT) as f32);
         let warp = match negative {
             Some(negative) => MomentWarp::Evsm4 { positive, negative },
             None => MomentWarp::Evsm2 { positive },
         };
-        Box::new(Filterable {
-            needs: MomentNeeds { warp, blur: map_blur(self.blur, self.blur_radius_texels) },
-            reconstruction: Reconstruction::Evsm {
-                positive,
-                negative,
-                variance_bias: self.variance_bias as f32,
-                bleeding_reduction: self.bleeding_reduction as f32,
-            },
-        })
+        let reconstruction = Reconstruction::Evsm {
+            positive,
+            negative,
+            variance_bias: self.variance_bias as f32,
+            bleeding_reduction: self.bleeding_reduction as f32,
+        };
+        filterable(warp, (self.blur, self.blur_radius_texels), reconstruction)
     }
 
     fn canonical_fields(&self, f: &mut CanonicalFields, four: bool) {
@@ -326,7 +323,7 @@ impl TechniqueParams for Evsm2Params {
     }
 
     fn build(&self) -> Option<Box<dyn Technique>> {
-        Some(self.0.build(false))
+        self.0.build(false)
     }
 
     fn reference_kind(&self) -> ReferenceKind {
@@ -344,7 +341,7 @@ impl TechniqueParams for Evsm4Params {
     }
 
     fn build(&self) -> Option<Box<dyn Technique>> {
-        Some(self.0.build(true))
+        self.0.build(true)
     }
 
     fn reference_kind(&self) -> ReferenceKind {
@@ -391,17 +388,12 @@ impl TechniqueParams for MsmParams {
     }
 
     fn build(&self) -> Option<Box<dyn Technique>> {
-        Some(Box::new(Filterable {
-            needs: MomentNeeds {
-                warp: MomentWarp::Power4,
-                blur: map_blur(self.blur, self.blur_radius_texels),
-            },
-            reconstruction: Reconstruction::Msm {
-                moment_bias: self.moment_bias as f32,
-                depth_bias: self.depth_bias as f32,
-                bleeding_reduction: self.bleeding_reduction as f32,
-            },
-        }))
+        let reconstruction = Reconstruction::Msm {
+            moment_bias: self.moment_bias as f32,
+            depth_bias: self.depth_bias as f32,
+            bleeding_reduction: self.bleeding_reduction as f32,
+        };
+        filterable(MomentWarp::Power4, (self.blur, self.blur_radius_texels), reconstruction)
     }
 
     fn reference_kind(&self) -> ReferenceKind {
