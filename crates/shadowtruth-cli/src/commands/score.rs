@@ -213,8 +213,8 @@ fn parse_map_technique(json: &str) -> Result<TechniqueSpec, String> {
     match spec.build() {
         None => Err(format!("{} reads no shadow map", spec.name())),
         Some(t) if t.layer_needs() != LayerNeeds::default() => Err(format!(
-            "{} reads layers an imported shadow map does not hold (culling, raster bias, a second layer or \
-             multiple depths): only single-layer techniques read one",
+            "{} reads layers an imported shadow map does not hold (culling, raster bias, a second layer, \
+             multiple depths or moments): only single-layer techniques read one",
             spec.label()
         )),
         Some(_) => Ok(spec),

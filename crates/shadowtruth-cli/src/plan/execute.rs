@@ -146,7 +146,7 @@ fn check_imported_map(plan: &Plan, groups: &LayerGroups) -> Result<(), PlanError
             let label = plan.techniques[members[0]].label();
             return Err(PlanError::Invalid(format!(
                 "technique {label} reads layers an imported shadow map does not hold (culling, raster bias, a \
-                 second layer or multiple depths): only single-layer techniques read one"
+                 second layer, multiple depths or moments): only single-layer techniques read one"
             )));
         }
     }
