@@ -105,6 +105,21 @@ fn two_stacked_occluders_bleed_next_to_the_upper_edge_by_chebyshevs_bound() {
     let pixels = ground(&scene, serde_json::json!({ "technique": "vsm", "min_variance": 0 }));
     // Under the lower slab's far half (x ∈ (0, 1)) the ground is in shadow of the lower slab
     // alone; next to x = 0 the filter region also sees the upper slab, one unit nearer the sun.
+    // The filter region holds a fraction a of the upper slab's depth z_u and 1 − a of the
+    // lower's z_l, and the receiver sits Δ_r behind the lower: Chebyshev's bound
+    // a(1 − a)Δ² / (a(1 − a)Δ² + (Δ_r + aΔ)²), Δ = z_l − z_u, is at most its maximum over a.
+    // In light depth the slabs and the ground are 1 world unit apart (depth is linear).
+    let view = LightView::new(&scene.lights[0], scene.bounds(), RESOLUTION);
+    let depth = |y: f32| view.project(glam::Vec3::new(0.5, y, 0.0)).unwrap().z;
+    let (zu, zl, zr) = (depth(1.99), depth(0.99), depth(0.0));
+    let (delta, behind) = (zl - zu, zr - zl);
+    let bound = (0..=1000)
+        .map(|k| {
+            let a = k as f32 / 1000.0;
+            let var = a * (1.0 - a) * delta * delta;
+            var / (var + (behind + a * delta).powi(2))
+        })
+        .fold(0.0f32, f32::max);
     let mut bled = 0;
     for &(x, z, v, lit) in &pixels {
         if !(x > 0.0 && x < 1.0 - 3.0 * texel && z.abs() < 1.0 - 3.0 * texel) {
@@ -115,21 +130,6 @@ fn two_stacked_occluders_bleed_next_to_the_upper_edge_by_chebyshevs_bound() {
             assert_eq!(v, 0.0, "at ({x}, {z}) the region sees the lower slab alone");
             continue;
         }
-        // The filter region holds a fraction a of the upper slab's depth z_u and 1 − a of the
-        // lower's z_l, and the receiver sits Δ_r behind the lower: Chebyshev's bound
-        // a(1 − a)Δ² / (a(1 − a)Δ² + (Δ_r + aΔ)²), Δ = z_l − z_u, is at most its maximum over a.
-        // In light depth the slabs and the ground are 1 world unit apart (depth is linear).
-        let view = LightView::new(&scene.lights[0], scene.bounds(), RESOLUTION);
-        let depth = |y: f32| view.project(glam::Vec3::new(0.5, y, 0.0)).unwrap().z;
-        let (zu, zl, zr) = (depth(1.99), depth(0.99), depth(0.0));
-        let (delta, behind) = (zl - zu, zr - zl);
-        let bound = (0..=1000)
-            .map(|k| {
-                let a = k as f32 / 1000.0;
-                let var = a * (1.0 - a) * delta * delta;
-                var / (var + (behind + a * delta).powi(2))
-            })
-            .fold(0.0f32, f32::max);
         assert!(v <= bound * 1.0001, "at ({x}, {z}): {v} above Chebyshev's bound {bound}");
         if v > 0.01 {
             bled += 1;
