@@ -60,6 +60,7 @@ fn run(
         soft: None,
         pipeline: None,
         cascades: None,
+        cube: None,
         temporal: None,
     }
 }

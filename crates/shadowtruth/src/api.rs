@@ -11,7 +11,7 @@
 use crate::error::{Error, Result};
 use crate::import::{ImportedImage, evaluated_visibility};
 use crate::metrics::{Counts, score_hard};
-use crate::raster::{DepthFormat, LightView, MAX_SHADOW_MAP_RESOLUTION};
+use crate::raster::{CubeMap, DepthFormat, LightView, MAX_SHADOW_MAP_RESOLUTION};
 use crate::scene::{Camera, Light, Scene};
 use crate::technique::{BuiltLayers, ShadeContext, ShadeOrder, TechniqueSpec, shade_evaluated};
 use crate::trace::{GBuffer, HardReference};
@@ -35,7 +35,8 @@ pub fn load_scene(path: impl AsRef<Path>) -> Result<Scene> {
 }
 
 /// The view of a `resolution`² shadow map of `light`: fitted to the scene's bounds for a
-/// directional light, the cone's perspective for a spot light (docs/conventions.md).
+/// directional light, the cone's perspective for a spot light (docs/conventions.md). A point
+/// light's map is a cube of six views (`cube_map`), so it has no one view: an error.
 ///
 /// ```
 /// # let scene = shadowtruth::load_scene(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/plane_box.json"))?;
@@ -50,7 +51,35 @@ pub fn light_view(scene: &Scene, light: &Light, resolution: u32) -> Result<Light
             "shadow-map resolution {resolution}: must be between 1 and {MAX_SHADOW_MAP_RESOLUTION}"
         )));
     }
+    if light.is_point() {
+        return Err(Error::Invalid(format!(
+            "light '{}' is a point light: its shadow map is a cube of six views (`cube_map`)",
+            light.name
+        )));
+    }
     Ok(LightView::new(light, scene.bounds(), resolution))
+}
+
+/// The six faces of a point light's cube shadow map, each `resolution`² texels plus its guard
+/// band (docs/point-lights.md).
+///
+/// ```
+/// # let scene = shadowtruth::load_scene(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/room.json"))?;
+/// let cube = shadowtruth::cube_map(&scene.lights[0], 512)?;
+/// assert_eq!(cube.faces.len(), 6);
+/// assert_eq!(cube.faces[0].resolution, 512 + 2 * cube.guard_texels);
+/// # Ok::<(), shadowtruth::Error>(())
+/// ```
+pub fn cube_map(light: &Light, resolution: u32) -> Result<CubeMap> {
+    if !light.is_point() {
+        return Err(Error::Invalid(format!("light '{}' is not a point light: it has one view", light.name)));
+    }
+    if !(1..=MAX_SHADOW_MAP_RESOLUTION).contains(&resolution) {
+        return Err(Error::Invalid(format!(
+            "shadow-map resolution {resolution}: must be between 1 and {MAX_SHADOW_MAP_RESOLUTION}"
+        )));
+    }
+    Ok(CubeMap::new(light, resolution))
 }
 
 /// Rasterizes the depth layers `technique` reads (nearest, two nearest, or a multiple-depth

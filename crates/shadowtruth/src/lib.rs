@@ -51,11 +51,11 @@ pub mod technique;
 pub mod trace;
 pub mod verify;
 
-pub use api::{light_view, load_scene, rasterize_layers, score_imported, score_visibility, shade_technique};
+pub use api::{cube_map, light_view, load_scene, rasterize_layers, score_imported, score_visibility, shade_technique};
 pub use error::{Error, Result};
 pub use import::{ImportedImage, ReadOptions, read_depth, read_visibility};
 pub use metrics::Counts;
-pub use raster::{DepthFormat, LightView};
+pub use raster::{CubeMap, DepthFormat, LightView};
 pub use scene::{Camera, Light, Scene};
 pub use technique::{BuiltLayers, TechniqueSpec};
 pub use trace::{GBuffer, HardReference, SceneBvh, trace_hard_reference, trace_scored_view};

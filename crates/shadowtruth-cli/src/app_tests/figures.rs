@@ -278,6 +278,7 @@ fn record(
         soft: None,
         pipeline: None,
         cascades: None,
+        cube: None,
         temporal: None,
     }
 }

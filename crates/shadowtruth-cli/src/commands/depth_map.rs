@@ -39,6 +39,14 @@ pub(super) fn depth_map(a: DepthMapArgs) -> Result<u8> {
     let format = a.format;
     let scene = load_scene(&a.scene)?;
     let light = pick(&scene.lights, a.light.as_deref(), |l| &l.name, "light", &a.scene)?;
+    if light.is_point() {
+        anyhow::bail!(
+            "{}: light '{}' is a point light, whose shadow map is a cube of six faces; depth-map writes the one \
+             map of a directional or spot light",
+            a.scene.display(),
+            light.name
+        );
+    }
     let view = LightView::new(light, scene.bounds(), a.resolution);
     let settings = RasterSettings { format, culling: a.cull.culling(), ..RasterSettings::default() };
     let layer = if a.layer == 1 {

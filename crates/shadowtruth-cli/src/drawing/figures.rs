@@ -73,11 +73,10 @@ pub fn shaded_base(gbuffer: &GBuffer, light: &Light) -> IndexedImage {
                 PixelClass::Background => BACKGROUND_GREY as f32 / 255.0,
                 PixelClass::FacingAway => 0.22 + 0.18 * sky,
                 cls => {
-                    let l = match &light.kind {
-                        LightKind::Directional { direction, .. } => -direction.normalize(),
-                        LightKind::Spot { position, .. } => {
-                            (*position - gbuffer.position[i]).normalize_or(Vec3::Y)
-                        }
+                    let l = match (&light.kind, light.position()) {
+                        (LightKind::Directional { direction, .. }, _) => -direction.normalize(),
+                        (_, Some(position)) => (position - gbuffer.position[i]).normalize_or(Vec3::Y),
+                        (_, None) => unreachable!("lights other than directional ones have a position"),
                     };
                     let lambert = n.dot(l).max(0.0);
                     if cls == PixelClass::Evaluated {

@@ -118,6 +118,7 @@ fn gate_reports() -> &'static (crate::gate::CheckedReport, crate::gate::CheckedR
             soft: None,
             pipeline: None,
             cascades: None,
+            cube: None,
             temporal: None,
         }
     };

@@ -177,6 +177,7 @@ mod tests {
             soft: None,
             pipeline: None,
             cascades: None,
+            cube: None,
             temporal: None,
         }
     }

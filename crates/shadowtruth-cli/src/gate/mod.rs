@@ -72,6 +72,7 @@ pub(crate) fn test_run(
         soft: None,
         pipeline: None,
         cascades: None,
+        cube: None,
         temporal: None,
     }
 }

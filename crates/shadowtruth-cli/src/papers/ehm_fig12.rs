@@ -153,7 +153,7 @@ fn measure(front: &View, back: &View, regions: &FrontRegions, setup: &IslandSetu
 
 fn setup_json(scene: &Scene, setup: &IslandSetup, light: &Light) -> Value {
     let height = match light.kind {
-        LightKind::Spot { position, .. } => position.y,
+        LightKind::Spot { position, .. } | LightKind::Point { position, .. } => position.y,
         LightKind::Directional { .. } => f32::NAN,
     };
     json!({ "light_height_m": height, "scene_scale_m": scene_scale(scene, setup.scale),

@@ -19,7 +19,7 @@ use super::portion::Portion;
 use super::references::ViewReferences;
 use super::run_record::{run_record, timings};
 use super::select::{
-    Selected, check_area_light_sizes, check_cascaded_lights, check_plan, check_run_count, load_selected,
+    Selected, check_area_light_sizes, check_multi_map_lights, check_plan, check_run_count, load_selected,
 };
 use super::trace_view;
 use super::{Pipeline, Plan, PlanError};
@@ -63,7 +63,7 @@ pub fn execute_portion(
     check_plan(plan)?;
     let selected = load_selected(plan)?;
     check_area_light_sizes(plan, &selected)?;
-    check_cascaded_lights(plan, &selected)?;
+    check_multi_map_lights(plan, &selected)?;
     check_frames(plan)?;
     // The limit holds for the whole plan, whatever share of it runs here.
     check_run_count(plan, selected.iter().map(|s| s.pairs.len()).sum())?;

@@ -1,8 +1,9 @@
 //! One shadow map of a view at one depth format, as every technique reads it: the light view
-//! (or cascades), the light-map position of every evaluated pixel and the shading order, all
+//! (or cascades, or a cube's faces), the light-map position of every evaluated pixel and the shading order, all
 //! borrowed from the resolution's set-up (`map_setup.rs`).
 
 use super::cascaded_map::CascadedMap;
+use super::cube_faces::CubeFaces;
 use glam::Vec3;
 use shadowtruth::metrics::LightUv;
 use shadowtruth::raster::{DepthFormat, LightView};
@@ -11,12 +12,13 @@ use shadowtruth::technique::{BuiltLayers, ShadeContext, ShadeOrder, Technique, s
 
 /// One shadow map's set-up within a view: the light view and what is built from it once.
 pub(crate) struct MapSetting<'a> {
-    /// The map (the first cascade's, for a light with cascades).
+    /// The map (the first cascade's or face's, for a light with several).
     pub view: &'a LightView,
     pub light_uv: &'a LightUv,
-    /// The shading order of the one map (None for cascades, which hold their own).
+    /// The shading order of the one map (None for cascades and cubes, which hold their own).
     pub order: Option<&'a ShadeOrder>,
     pub cascaded: Option<&'a CascadedMap>,
+    pub cube: Option<&'a CubeFaces>,
     pub resolution: u32,
     pub format: DepthFormat,
     /// The scene's bounds, computed once per view.
@@ -24,11 +26,12 @@ pub(crate) struct MapSetting<'a> {
 }
 
 impl<'a> MapSetting<'a> {
-    /// The light views of the map: each cascade's, or the one.
+    /// The light views of the map: each cascade's or face's, or the one.
     pub(crate) fn views(&self) -> Vec<&'a LightView> {
-        match self.cascaded {
-            Some(c) => c.cascades.views.iter().collect(),
-            None => vec![self.view],
+        match (self.cascaded, self.cube) {
+            (Some(c), _) => c.cascades.views.iter().collect(),
+            (None, Some(c)) => c.cube.faces.iter().collect(),
+            (None, None) => vec![self.view],
         }
     }
 
@@ -45,10 +48,11 @@ impl<'a> MapSetting<'a> {
 
     /// The technique's visibility of every evaluated pixel through `contexts` (`contexts`).
     pub(crate) fn shade(&self, technique: &dyn Technique, contexts: &[ShadeContext]) -> Vec<f32> {
-        match (self.cascaded, self.order) {
-            (Some(cascaded), _) => cascaded.orders.shade(technique, contexts),
-            (None, Some(order)) => shade_evaluated(technique, order, &contexts[0]),
-            (None, None) => unreachable!("one map has its shading order"),
+        match (self.cascaded, self.cube, self.order) {
+            (Some(cascaded), _, _) => cascaded.orders.shade(technique, contexts),
+            (None, Some(cube), _) => cube.orders.shade(technique, contexts),
+            (None, None, Some(order)) => shade_evaluated(technique, order, &contexts[0]),
+            (None, None, None) => unreachable!("one map has its shading order"),
         }
     }
 }

@@ -1,8 +1,9 @@
 //! What one shadow-map resolution of a view builds before any technique runs: the light view
-//! (or the light's cascades), the light-map position of every evaluated pixel (for the
-//! attribution) and the shading order. Shared by every depth format and technique.
+//! (or the light's cascades, or a point light's cube), the light-map position of every evaluated
+//! pixel (for the attribution) and the shading order. Shared by every depth format and technique.
 
 use super::cascaded_map::CascadedMap;
+use super::cube_faces::CubeFaces;
 use super::map_setting::MapSetting;
 use super::{Plan, PlanError};
 use glam::Vec3;
@@ -13,12 +14,13 @@ use shadowtruth::technique::ShadeOrder;
 use shadowtruth::trace::GBuffer;
 
 pub(crate) struct MapSetup {
-    /// The map (the first cascade's, for a light with cascades).
+    /// The map (the first cascade's or face's, for a light with several).
     view: LightView,
     light_uv: LightUv,
-    /// The one map's shading order; cascades hold their own.
+    /// The one map's shading order; cascades and cubes hold their own.
     order: Option<ShadeOrder>,
     cascaded: Option<CascadedMap>,
+    cube: Option<CubeFaces>,
     resolution: u32,
 }
 
@@ -36,19 +38,23 @@ impl MapSetup {
             .cascades
             .is_some()
             .then(|| CascadedMap::new(light, camera, first_camera, bounds, resolution, gbuffer));
-        let view = match (&plan.shadow_map, &cascaded) {
-            (Some(map_file), _) => {
+        let cube = light.is_point().then(|| CubeFaces::new(light, resolution, gbuffer));
+        let view = match (&plan.shadow_map, &cascaded, &cube) {
+            (Some(map_file), _, _) => {
                 map_file.light_view(light, bounds).map_err(|e| PlanError::Import(e.into()))?
             }
-            (None, Some(c)) => c.cascades.views[0].clone(),
-            (None, None) => LightView::new(light, bounds, resolution),
+            (None, Some(c), _) => c.cascades.views[0].clone(),
+            (None, None, Some(c)) => c.cube.faces[0].clone(),
+            (None, None, None) => LightView::new(light, bounds, resolution),
         };
-        let light_uv = match &cascaded {
-            Some(c) => c.light_uv(gbuffer, resolution),
-            None => LightUv::new(gbuffer, &view),
+        let light_uv = match (&cascaded, &cube) {
+            (Some(c), _) => c.light_uv(gbuffer, resolution),
+            (None, Some(c)) => c.light_uv(gbuffer),
+            (None, None) => LightUv::new(gbuffer, &view),
         };
-        let order = cascaded.is_none().then(|| ShadeOrder::new(gbuffer, &view));
-        Ok(MapSetup { view, light_uv, order, cascaded, resolution })
+        let single = cascaded.is_none() && cube.is_none();
+        let order = single.then(|| ShadeOrder::new(gbuffer, &view));
+        Ok(MapSetup { view, light_uv, order, cascaded, cube, resolution })
     }
 
     /// The setting of one depth format.
@@ -63,18 +69,20 @@ impl MapSetup {
             light_uv: &self.light_uv,
             order: self.order.as_ref(),
             cascaded: self.cascaded.as_ref(),
+            cube: self.cube.as_ref(),
             resolution: self.resolution,
             format,
             scene_bounds,
         }
     }
 
-    /// The light views the maps are drawn from (each cascade's, or the one): equal views draw
-    /// equal maps.
+    /// The light views the maps are drawn from (each cascade's or face's, or the one): equal
+    /// views draw equal maps.
     pub fn views(&self) -> Vec<LightView> {
-        match &self.cascaded {
-            Some(c) => c.cascades.views.clone(),
-            None => vec![self.view.clone()],
+        match (&self.cascaded, &self.cube) {
+            (Some(c), _) => c.cascades.views.clone(),
+            (None, Some(c)) => c.cube.faces.clone(),
+            (None, None) => vec![self.view.clone()],
         }
     }
 }

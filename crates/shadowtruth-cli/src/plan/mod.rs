@@ -5,6 +5,7 @@
 mod area_light;
 mod backend;
 mod cascaded_map;
+mod cube_faces;
 mod default_plan;
 mod error;
 mod events;

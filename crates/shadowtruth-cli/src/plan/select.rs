@@ -5,7 +5,7 @@
 use super::{Plan, PlanError, PlanInputError};
 use shadowtruth::raster::MAX_SHADOW_MAP_RESOLUTION;
 use shadowtruth::scene::{Problem, Scene, SceneError, load_scene};
-use shadowtruth::technique::ReferenceKind;
+use shadowtruth::technique::{ReferenceKind, TechniqueSpec};
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
 use std::path::{Path, PathBuf};
@@ -200,18 +200,32 @@ pub(crate) fn check_area_light_sizes(plan: &Plan, selected: &[Selected]) -> Resu
     Ok(())
 }
 
-/// Cascades are drawn and shaded here: a cascaded light cannot run on the GPU pipeline or read
-/// an imported shadow map (one map), and is refused at its path in the scene file.
-pub(crate) fn check_cascaded_lights(plan: &Plan, selected: &[Selected]) -> Result<(), PlanError> {
-    let why = match (plan.pipeline, &plan.shadow_map) {
-        (super::Pipeline::Gpu, _) => "the GPU pipeline draws one map per light",
-        (_, Some(_)) => "an imported shadow map is one map",
-        _ => return Ok(()),
+/// Cascades and cube maps are drawn and shaded here: a cascaded or point light cannot run on the
+/// GPU pipeline or read an imported shadow map (one map), and is refused at its path in the
+/// scene file; a point light cannot be exported to a renderer's command either (a view export
+/// holds one map per light).
+pub(crate) fn check_multi_map_lights(plan: &Plan, selected: &[Selected]) -> Result<(), PlanError> {
+    let one_map = match (plan.pipeline, &plan.shadow_map) {
+        (super::Pipeline::Gpu, _) => Some("the GPU pipeline draws one map per light"),
+        (_, Some(_)) => Some("an imported shadow map is one map"),
+        _ => None,
     };
+    let commands = plan.techniques.iter().any(|t| matches!(t, TechniqueSpec::Command(_)));
+    let exported = commands.then_some("`command` techniques read a view export, which holds one map per light");
     for sel in selected {
-        if let Some(&(_, li)) = sel.pairs.iter().find(|&&(_, li)| sel.scene.lights[li].cascades.is_some()) {
-            let message = format!("has cascades, which run on the CPU pipeline only: {why}");
-            let path = format!("lights[{li}].cascades");
+        for &(_, li) in &sel.pairs {
+            let light = &sel.scene.lights[li];
+            let (path, message) = match (one_map.or(exported), one_map) {
+                (Some(why), _) if light.is_point() => (
+                    format!("lights[{li}].type"),
+                    format!("is a point light, whose six-face cube map runs on the CPU pipeline only: {why}"),
+                ),
+                (_, Some(why)) if light.cascades.is_some() => (
+                    format!("lights[{li}].cascades"),
+                    format!("has cascades, which run on the CPU pipeline only: {why}"),
+                ),
+                _ => continue,
+            };
             return Err(PlanInputError::one(&sel.scene.source, &path, message).into());
         }
     }

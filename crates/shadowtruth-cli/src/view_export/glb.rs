@@ -202,6 +202,7 @@ fn light_json(l: &GlbLight) -> (Value, Value) {
             });
             (light, position)
         }
+        LightKind::Point { .. } => unreachable!("view export refuses scenes with point lights"),
     };
     let mut node = frame_node(&l.light.name, position, right, up, forward);
     node["extras"] = extras;

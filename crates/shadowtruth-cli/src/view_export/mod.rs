@@ -63,6 +63,13 @@ pub(crate) fn write_view_export(
     dir: &Path,
     mut progress: impl FnMut(&str),
 ) -> Result<Vec<PathBuf>> {
+    if let Some(point) = scene.lights.iter().find(|l| l.is_point()) {
+        anyhow::bail!(
+            "light '{}' is a point light: a view export holds directional and spot lights, each with its one \
+             shadow map",
+            point.name
+        );
+    }
     std::fs::create_dir_all(dir)
         .with_context(|| format!("--out {}: cannot create the output folder", dir.display()))?;
     progress("tracing the G-buffer");
@@ -185,6 +192,7 @@ fn light_json(light: &Light, view: &LightView, node: usize) -> Value {
             object["near"] = num(*near);
             object["far"] = num(*far);
         }
+        LightKind::Point { .. } => unreachable!("view export refuses scenes with point lights"),
     }
     if let Ok(size) = light.size() {
         let field = match size {

@@ -21,7 +21,7 @@ impl ShadowEye {
         let world_from_light = view.light_from_world.as_dmat4().inverse();
         let basis = |i: usize| world_from_light.col(i).truncate().normalize();
         let position = match light.kind {
-            LightKind::Spot { position, .. } => position,
+            LightKind::Spot { position, .. } | LightKind::Point { position, .. } => position,
             LightKind::Directional { .. } => world_from_light.col(3).truncate().as_vec3(),
         };
         ShadowEye { position, right: basis(0), up: basis(1), forward: -basis(2) }

@@ -49,6 +49,9 @@ pub(super) fn check_map_light(
             // w, the view depth, grows along row 3's xyz.
             check_direction("its axis (row 3)", m.row(3).truncate(), direction, name)
         }
+        LightKind::Point { .. } => Err(format!(
+            "one map, but light '{name}' is a point light: its shadow map is a cube of six faces"
+        )),
     }
 }
 

@@ -100,6 +100,18 @@ impl LightUv {
         resolution: u32,
         view_of: impl Fn(Vec3) -> Option<&'v LightView> + Sync,
     ) -> LightUv {
+        Self::through_maps(gbuffer, resolution, |p| view_of(p).map(|view| (view, 0)))
+    }
+
+    /// Projects every evaluated pixel of `gbuffer` into the map (`view`, `index`) its surface
+    /// point chooses, each `resolution`² texels: the maps laid side by side along u, map `index`
+    /// from u = 2·index, so that pixels on different maps (a cube's faces) are never within a
+    /// texel of each other.
+    pub fn through_maps<'v>(
+        gbuffer: &GBuffer,
+        resolution: u32,
+        map_of: impl Fn(Vec3) -> Option<(&'v LightView, usize)> + Sync,
+    ) -> LightUv {
         let w = gbuffer.width as usize;
         let n = resolution as f32;
         let mut texel = vec![[f32::NAN; 2]; gbuffer.pixel_count()];
@@ -111,8 +123,9 @@ impl LightUv {
                         continue;
                     }
                     let position = gbuffer.position[i];
-                    if let Some(p) = view_of(position).and_then(|view| view.project(position)) {
-                        *out = [p.x * n, p.y * n];
+                    let Some((view, index)) = map_of(position) else { continue };
+                    if let Some(p) = view.project(position) {
+                        *out = [(p.x + 2.0 * index as f32) * n, p.y * n];
                     }
                 }
             });

@@ -76,7 +76,9 @@ impl LightView {
                 let forward = direction.as_dvec3().try_normalize().unwrap_or(DVec3::NEG_Y);
                 LightView { to_light: Some((-forward).as_vec3()), ..view }
             }
-            LightKind::Spot { position, .. } => LightView { position: Some(position), ..view },
+            LightKind::Spot { position, .. } | LightKind::Point { position, .. } => {
+                LightView { position: Some(position), ..view }
+            }
         })
     }
 }

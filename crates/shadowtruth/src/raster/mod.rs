@@ -3,6 +3,7 @@
 
 mod cascades;
 mod clip;
+mod cube_map;
 mod depth_format;
 mod imported_view;
 mod layer;
@@ -12,6 +13,7 @@ mod projection;
 mod rasterize;
 
 pub use cascades::{CascadeChoice, Cascades, default_max_distance, split_distances};
+pub use cube_map::{CUBE_FACE_NAMES, CubeMap, SEAM_TEXELS};
 pub use depth_format::DepthFormat;
 
 /// Largest shadow-map side accepted, in texels.

@@ -1,5 +1,6 @@
 //! Light projections: orthographic for a directional light (frustum fitted to the scene bounds),
-//! perspective for a spot light. Depth d ∈ [0, 1], smaller is closer.
+//! perspective for a spot light and for each face of a point light's cube (`cube_map.rs`). Depth
+//! d ∈ [0, 1], smaller is closer.
 
 use crate::scene::{Light, LightKind, LightSize};
 use glam::{DMat4, DVec3, DVec4, Mat4, Vec3};
@@ -26,7 +27,7 @@ pub struct LightView {
     pub far: f32,
     /// Unit vector towards the light for a directional light; None for a spot light.
     pub to_light: Option<Vec3>,
-    /// Position of a spot light.
+    /// Position of a spot or point light.
     pub position: Option<Vec3>,
     /// The light's area size, when the scene gives one (PCSS reads it).
     pub light_size: Option<LightSize>,
@@ -41,12 +42,16 @@ impl LightView {
     /// radii behind the bounds' centre, so near > 0. Empty or non-finite bounds fall back to the
     /// unit cube [−1, 1]³. Spot: perspective from `position` along `direction`, full fov =
     /// `cone_deg` (clamped to [0.01°, 179°]), the light's near/far (fixed up to 0 < near < far).
-    /// Matrices are built in f64 and rounded once to f32. Never panics.
+    /// Point: the +x face of its cube (`CubeMap` builds all six). Matrices are built in f64 and
+    /// rounded once to f32. Never panics.
     pub fn new(light: &Light, scene_bounds: (Vec3, Vec3), resolution: u32) -> Self {
         let view = match light.kind {
             LightKind::Directional { direction, .. } => directional(direction, scene_bounds, resolution),
             LightKind::Spot { position, direction, cone_deg, near, far, .. } => {
                 spot(position, direction, cone_deg, near, far, resolution)
+            }
+            LightKind::Point { .. } => {
+                return super::cube_map::CubeMap::new(light, resolution).faces.swap_remove(0);
             }
         };
         LightView { light_size: light.size().ok(), ..view }
@@ -101,7 +106,12 @@ fn unit_direction(direction: Vec3) -> DVec3 {
 fn light_from_world(eye: DVec3, forward: DVec3) -> DMat4 {
     let up_hint = if forward.y.abs() > 0.99 { DVec3::X } else { DVec3::Y };
     let right = forward.cross(up_hint).normalize();
-    let up = right.cross(forward);
+    view_from_basis(eye, right, right.cross(forward), forward)
+}
+
+/// light_from_world of an eye at `eye` with the orthonormal, right-handed `right`, `up` and
+/// `forward` (view x, y and −z).
+pub(crate) fn view_from_basis(eye: DVec3, right: DVec3, up: DVec3, forward: DVec3) -> DMat4 {
     DMat4::from_cols(
         DVec4::new(right.x, up.x, -forward.x, 0.0),
         DVec4::new(right.y, up.y, -forward.y, 0.0),
@@ -216,12 +226,27 @@ fn directional(direction: Vec3, scene_bounds: (Vec3, Vec3), resolution: u32) -> 
 
 fn spot(position: Vec3, direction: Vec3, cone_deg: f32, near: f32, far: f32, resolution: u32) -> LightView {
     let forward = unit_direction(direction);
-    let eye = position.as_dvec3();
-    let eye = if eye.is_finite() { eye } else { DVec3::ZERO };
-    let light_from_world = light_from_world(eye, forward);
-
+    let eye = finite_or_origin(position);
     let cone_deg = if cone_deg.is_finite() { (cone_deg as f64).clamp(0.01, 179.0) } else { 90.0 };
     let tan_half_fov = (0.5 * cone_deg).to_radians().tan();
+    perspective(light_from_world(eye, forward), eye, tan_half_fov, (near, far), resolution)
+}
+
+/// A light's f64 position, or the origin when it is not finite.
+pub(crate) fn finite_or_origin(position: Vec3) -> DVec3 {
+    let eye = position.as_dvec3();
+    if eye.is_finite() { eye } else { DVec3::ZERO }
+}
+
+/// The square perspective map of an eye at `eye` with view `light_from_world`, half-angle
+/// atan(`tan_half_fov`) and the light's near/far (fixed up to 0 < near < far).
+pub(crate) fn perspective(
+    light_from_world: DMat4,
+    eye: DVec3,
+    tan_half_fov: f64,
+    (near, far): (f32, f32),
+    resolution: u32,
+) -> LightView {
     let n = if near.is_finite() && near > 0.0 { near as f64 } else { 1e-3 };
     let f = if far.is_finite() && far as f64 > n * (1.0 + 1e-6) { far as f64 } else { 2.0 * n };
 

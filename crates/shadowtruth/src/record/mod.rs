@@ -88,6 +88,10 @@ pub struct RunRecord {
     /// A run on cascaded shadow maps: the cascades and their counts (docs/cascades.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cascades: Option<CascadesRecord>,
+    /// A run under a point light: its cube map and the counts of each face
+    /// (docs/point-lights.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cube: Option<CubeRecord>,
     /// A run over the frames of a path: per-frame errors and flicker (docs/temporal.md). Its
     /// `counts` are then summed over every frame.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -127,6 +131,28 @@ pub struct CascadeCounts {
     pub evaluated: u64,
     pub false_shadow: u64,
     pub false_lit: u64,
+}
+
+/// The cube map a run under a point light read, and its counts per face.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CubeRecord {
+    /// Texels drawn beyond each face's edges (0: filters clamp at the seams).
+    pub guard_texels: u32,
+    /// Each face's map side with its guard band: `resolution + 2·guard_texels`.
+    pub face_texels: u32,
+    /// The faces in the cube's order (+x, −x, +y, −y, +z, −z).
+    pub faces: Vec<CubeFaceRecord>,
+}
+
+/// One face of a cube map and the evaluated pixels it shaded.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CubeFaceRecord {
+    /// "+x", "-x", "+y", "-y", "+z" or "-z".
+    pub face: String,
+    /// Evaluated pixels within `raster::SEAM_TEXELS` texels of the face's edge, and their false
+    /// ones.
+    pub near_seam: CascadeCounts,
+    pub counts: CascadeCounts,
 }
 
 /// A run over the frames of a path (docs/temporal.md).
@@ -281,6 +307,7 @@ pub(crate) fn test_run(label: &str) -> RunRecord {
         soft: None,
         pipeline: None,
         cascades: None,
+        cube: None,
         temporal: None,
     }
 }

@@ -5,10 +5,11 @@
 //! each with its JSON path.
 
 use super::cascade_settings::read_cascades;
+use super::cube_settings::read_cube_settings;
 use super::path::{CameraPath, Keyframes};
 use super::path_format::{read_camera_path, read_light_path};
 use super::shapes::Shape;
-use super::{Camera, Light, LightKind, LightSize, SCENE_FORMAT, Transform};
+use super::{Camera, CubeSettings, Light, LightKind, LightSize, SCENE_FORMAT, Transform};
 use crate::json_input::{
     Problems, Reader, as_array_of, as_bool, as_name, as_positive, as_positive_array, as_string, count,
     open_range, show,
@@ -276,6 +277,9 @@ fn read_camera(r: &mut Reader) -> Option<Camera> {
 fn read_light(r: &mut Reader) -> Option<Light> {
     let name = r.required("name", as_name);
     let light_type = r.required("type", as_string);
+    if light_type.as_deref() == Some("point") {
+        return read_point_light(r, name);
+    }
     let spot = light_type.as_deref() == Some("spot");
     let path = r.optional_object("path", |p| read_light_path(p, spot));
     let direction = match path.clone() {
@@ -300,26 +304,21 @@ fn read_light(r: &mut Reader) -> Option<Light> {
                 Some(p) => p.as_ref().and_then(|p| p.position.as_ref()).map(|k| k.values[0].as_vec3()),
             };
             let cone_deg = r.required("cone_deg", open_range(0.0, 180.0));
-            let near = r.required("near", as_positive);
-            let far = r.required("far", as_positive);
+            let (near, far) = read_near_far(r)?;
             let radius = r.optional(LightSize::RADIUS_FIELD, as_positive);
-            let (near, far) = (near?, far?);
-            if far <= near {
-                r.problem("far", format!("must be greater than `near` ({})", show(near)));
-                return None;
-            }
             let kind = LightKind::Spot {
                 position: position?,
                 direction: direction?,
                 cone_deg: cone_deg? as f32,
-                near: near as f32,
-                far: far as f32,
+                near,
+                far,
                 radius: radius.map(|x| x as f32),
             };
             Light { name: name?, kind, path: None, cascades: None }
         }
         Some(other) => {
-            r.problem("type", format!("unknown light type \"{other}\"; expected directional or spot"));
+            let message = format!("unknown light type \"{other}\"; expected directional, spot or point");
+            r.problem("type", message);
             r.ignore_unknown = true;
             return None;
         }
@@ -333,6 +332,10 @@ fn read_light(r: &mut Reader) -> Option<Light> {
         r.problem("cascades", "cascaded shadow maps are for directional lights only");
         return None;
     }
+    if r.get("cube_map").is_some() {
+        r.problem("cube_map", "cube shadow maps are for point lights only");
+        return None;
+    }
     // Present and invalid (reported): the light is not made.
     light.path = match path {
         Some(read) => Some(read?),
@@ -343,6 +346,48 @@ fn read_light(r: &mut Reader) -> Option<Light> {
         None => None,
     };
     Some(light)
+}
+
+/// A point light: `position`, `near`, `far`, an optional sphere `radius` and `cube_map`.
+fn read_point_light(r: &mut Reader, name: Option<String>) -> Option<Light> {
+    let mut refused = false;
+    for (field, why) in [
+        ("path", "point lights do not move along paths"),
+        ("direction", "a point light shines every way: it has no direction"),
+        ("cascades", "cascaded shadow maps are for directional lights only"),
+    ] {
+        // Asked for, so that the problem is this one rather than an unknown field.
+        if r.get(field).is_some() {
+            r.problem(field, why);
+            refused = true;
+        }
+    }
+    let position = r.required("position", as_vec3);
+    let near_far = read_near_far(r);
+    let radius = r.optional(LightSize::RADIUS_FIELD, as_positive);
+    let cube = r.optional_object("cube_map", read_cube_settings);
+    let cube = match cube {
+        Some(read) => read?,
+        None => CubeSettings::default(),
+    };
+    let (near, far) = near_far?;
+    if refused {
+        return None;
+    }
+    let kind = LightKind::Point { position: position?, near, far, radius: radius.map(|x| x as f32), cube };
+    Some(Light { name: name?, kind, path: None, cascades: None })
+}
+
+/// A spot or point light's `near` and `far`, with far beyond near.
+fn read_near_far(r: &mut Reader) -> Option<(f32, f32)> {
+    let near = r.required("near", as_positive);
+    let far = r.required("far", as_positive);
+    let (near, far) = (near?, far?);
+    if far <= near {
+        r.problem("far", format!("must be greater than `near` ({})", show(near)));
+        return None;
+    }
+    Some((near as f32, far as f32))
 }
 
 /// Whether `position`, `look_at` and `up` give a camera frame; if not, the problem is reported

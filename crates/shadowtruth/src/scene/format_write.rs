@@ -161,6 +161,13 @@ struct FileLight<'a> {
     path: Option<FilePath>,
     #[serde(skip_serializing_if = "Option::is_none")]
     cascades: Option<FileCascades>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    cube_map: Option<FileCube>,
+}
+
+#[derive(Serialize)]
+struct FileCube {
+    guard_texels: u32,
 }
 
 #[derive(Serialize)]
@@ -264,6 +271,7 @@ fn file_light(index: usize, light: &Light) -> Result<FileLight<'_>, UnwritableSc
         radius: None,
         path,
         cascades: light.cascades.as_ref().map(file_cascades),
+        cube_map: None,
     };
     match light.kind {
         LightKind::Directional { direction, angular_diameter_deg } => {
@@ -277,6 +285,12 @@ fn file_light(index: usize, light: &Light) -> Result<FileLight<'_>, UnwritableSc
             file.direction = given.then(|| direction.to_array());
             (file.cone_deg, file.near, file.far, file.radius) =
                 (Some(cone_deg), Some(near), Some(far), radius);
+        }
+        LightKind::Point { position, near, far, radius, cube } => {
+            file.light_type = "point";
+            file.position = Some(position.to_array());
+            (file.near, file.far, file.radius) = (Some(near), Some(far), radius);
+            file.cube_map = Some(FileCube { guard_texels: cube.guard_texels });
         }
     }
     Ok(file)
@@ -430,8 +444,19 @@ mod tests {
         Light { name: "lamp".into(), kind, path: None, cascades: None }
     }
 
+    fn point(radius: Option<f32>, guard_texels: u32) -> Light {
+        let kind = LightKind::Point {
+            position: Vec3::new(2.5, 3.75, -1.0),
+            near: 0.05,
+            far: 40.0,
+            radius,
+            cube: crate::scene::CubeSettings { guard_texels },
+        };
+        Light { name: "lamp_point".into(), kind, path: None, cascades: None }
+    }
+
     #[test]
-    fn scene_file_meshes_shapes_and_lights_of_both_kinds_read_back_as_written() {
+    fn scene_file_meshes_shapes_and_lights_of_every_kind_read_back_as_written() {
         let shapes = [
             Shape::Plane { size: [40.0, 12.5], subdivisions: 3 },
             Shape::Box { size: [1.0, 2.0, 0.125] },
@@ -475,6 +500,8 @@ mod tests {
                 spot(Some(0.5)),
                 Light { name: "bare".into(), ..sun(None) },
                 Light { name: "small".into(), ..spot(None) },
+                point(Some(0.125), 0),
+                Light { name: "bulb".into(), ..point(None, 12) },
             ],
         };
         let text = assert_round_trip(&file);

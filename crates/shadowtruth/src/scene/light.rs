@@ -1,7 +1,8 @@
-//! Directional and spot lights, each with the optional area-light size of its own kind (used by
-//! the soft references and PCSS).
+//! Directional, spot and point lights, each with the optional area-light size of its own kind
+//! (used by the soft references and PCSS).
 
 use super::cascade_settings::CascadeSettings;
+use super::cube_settings::CubeSettings;
 use super::path::LightPath;
 use glam::Vec3;
 
@@ -14,6 +15,10 @@ pub enum LightKind {
     /// `near` and `far` the depth range along the axis. `radius` (world units): the radius of a
     /// disk centred at `position` and facing along the axis, when it is an area light.
     Spot { position: Vec3, direction: Vec3, cone_deg: f32, near: f32, far: f32, radius: Option<f32> },
+    /// A light at `position` shining every way, up to the distance `far` (its range); `near` is
+    /// the near plane of its shadow map's faces. `radius` (world units): the radius of a sphere
+    /// centred at `position`, when it is an area light. Its shadow map is a cube (`cube`).
+    Point { position: Vec3, near: f32, far: f32, radius: Option<f32>, cube: CubeSettings },
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -33,12 +38,12 @@ pub struct Light {
 pub enum LightSize {
     /// A directional light's angular diameter, degrees.
     AngularDiameterDeg(f32),
-    /// A spot light's disk radius, world units.
+    /// A spot light's disk radius or a point light's sphere radius, world units.
     Radius(f32),
 }
 
 impl LightSize {
-    /// The scene-file fields of the two sizes (a directional light's, a spot light's).
+    /// The scene-file fields of the two sizes (a directional light's, a spot or point light's).
     pub const ANGULAR_DIAMETER_FIELD: &str = "angular_diameter_deg";
     pub const RADIUS_FIELD: &str = "radius";
 
@@ -77,13 +82,15 @@ pub struct NoLightSize {
 
 impl LightKind {
     /// The area size of the light: the angular diameter of a directional light, the disk radius
-    /// of a spot light; or which of the two it lacks.
+    /// of a spot light, the sphere radius of a point light; or which of the two it lacks.
     pub fn size(&self) -> Result<LightSize, NoLightSize> {
         let (size, field) = match *self {
             LightKind::Directional { angular_diameter_deg, .. } => {
                 (angular_diameter_deg.map(LightSize::AngularDiameterDeg), LightSize::ANGULAR_DIAMETER_FIELD)
             }
-            LightKind::Spot { radius, .. } => (radius.map(LightSize::Radius), LightSize::RADIUS_FIELD),
+            LightKind::Spot { radius, .. } | LightKind::Point { radius, .. } => {
+                (radius.map(LightSize::Radius), LightSize::RADIUS_FIELD)
+            }
         };
         size.ok_or(NoLightSize { field })
     }
@@ -103,6 +110,8 @@ impl Light {
                         *position = track.at(t).as_vec3();
                     }
                 }
+                // Scene files give point lights no path.
+                LightKind::Point { .. } => {}
             }
         }
         light
@@ -110,6 +119,19 @@ impl Light {
 
     pub fn is_directional(&self) -> bool {
         matches!(self.kind, LightKind::Directional { .. })
+    }
+
+    /// Whether the light is a point light, whose shadow map has six faces.
+    pub fn is_point(&self) -> bool {
+        matches!(self.kind, LightKind::Point { .. })
+    }
+
+    /// The light's position (a spot or point light's), or None for a directional light.
+    pub fn position(&self) -> Option<Vec3> {
+        match self.kind {
+            LightKind::Directional { .. } => None,
+            LightKind::Spot { position, .. } | LightKind::Point { position, .. } => Some(position),
+        }
     }
 
     /// See [`LightKind::size`].

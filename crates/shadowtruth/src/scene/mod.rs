@@ -4,6 +4,7 @@
 mod budget;
 mod camera;
 mod cascade_settings;
+mod cube_settings;
 mod error;
 mod format;
 mod format_write;
@@ -24,6 +25,7 @@ mod view_key;
 
 pub use camera::{Camera, Film, FilmRow};
 pub use cascade_settings::{CascadeFit, CascadeSettings, MAX_CASCADES, SplitScheme};
+pub use cube_settings::{CubeSettings, MAX_GUARD_TEXELS};
 pub use error::{Problem, SceneError};
 pub use format::{
     Geometry, MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE, MAX_INSTANCED_TRIANGLES, MAX_INSTANCES, MAX_SCENE_TRIANGLES,

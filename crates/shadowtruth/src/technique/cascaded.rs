@@ -1,11 +1,12 @@
 //! Shading through cascaded shadow maps (docs/cascades.md): every evaluated pixel is shaded by
 //! the technique through the cascade its view depth falls in, with that cascade's light view and
 //! layers (so biases in texels are that cascade's texels); in a blend band, through two cascades,
-//! mixed linearly; beyond the last cascade, lit.
+//! mixed linearly; beyond the last cascade, lit. A point light's cube map is shaded the same
+//! way, its six faces cascades that never blend (`CascadeOrders::of_faces`).
 
 use super::shade::shade_into;
 use super::{ShadeContext, ShadeOrder, Technique};
-use crate::raster::{CascadeChoice, Cascades};
+use crate::raster::{CascadeChoice, Cascades, CubeMap, LightView};
 use crate::trace::GBuffer;
 use rayon::prelude::*;
 
@@ -24,7 +25,22 @@ impl CascadeOrders {
     pub fn new(gbuffer: &GBuffer, cascades: &Cascades) -> Self {
         let choices: Vec<CascadeChoice> =
             gbuffer.evaluated.par_iter().map(|&i| cascades.choose(gbuffer.position[i as usize])).collect();
-        let count = cascades.views.len();
+        Self::from_choices(gbuffer, &cascades.views, choices)
+    }
+
+    /// Each evaluated pixel shaded through the face of `cube` its point's direction selects.
+    pub fn of_faces(gbuffer: &GBuffer, cube: &CubeMap) -> Self {
+        let choices: Vec<CascadeChoice> = gbuffer
+            .evaluated
+            .par_iter()
+            .map(|&i| CascadeChoice::One(cube.face_of(gbuffer.position[i as usize])))
+            .collect();
+        Self::from_choices(gbuffer, &cube.faces, choices)
+    }
+
+    /// The shading orders of `views` for the pixels `choices` sends to each.
+    fn from_choices(gbuffer: &GBuffer, views: &[LightView], choices: Vec<CascadeChoice>) -> Self {
+        let count = views.len();
         let (mut first, mut second) = (vec![Vec::new(); count], vec![Vec::new(); count]);
         for (k, choice) in choices.iter().enumerate() {
             match *choice {
@@ -36,7 +52,7 @@ impl CascadeOrders {
                 CascadeChoice::Beyond => {}
             }
         }
-        let order = |(c, slots): (usize, Vec<u32>)| ShadeOrder::of_pixels(gbuffer, &cascades.views[c], slots);
+        let order = |(c, slots): (usize, Vec<u32>)| ShadeOrder::of_pixels(gbuffer, &views[c], slots);
         CascadeOrders {
             choices,
             first: first.into_iter().enumerate().map(order).collect(),

@@ -54,7 +54,7 @@ pub use params::{ReferenceKind, TechniqueParams, TechniqueSpecError};
 pub use pcf::DEFAULT_BOX_SIZE as PCF_DEFAULT_BOX_SIZE;
 pub use pcf::{AffineDepth, LayerSpec, Pcf, PcfParams, TapDepth, TapThreshold};
 pub use pcss::{Pcss, PcssParams};
-pub use receiver_plane::{ReceiverPlane, ReceiverPlaneParams, receiver_plane_slope};
+pub use receiver_plane::{ReceiverPlane, ReceiverPlaneParams, receiver_plane_slope, receiver_plane_slope_at};
 pub use shade::{ShadeContext, ShadeOrder, shade_evaluated};
 pub use spec::TechniqueSpec;
 pub use tap_bias::TapBias;

@@ -32,7 +32,7 @@ use super::tap_bias::TapBias;
 use super::{
     AdaptiveBias, DualDepth, EpsilonSpec, KernelSpec, LayerNeeds, Layers, Midpoint, ReferenceKind, Sample,
     SecondDepth, ShadeContext, TapBiasSpec, Technique, TechniqueParams, TechniqueSpecError,
-    receiver_plane_slope,
+    receiver_plane_slope_at,
 };
 use serde::{Deserialize, Serialize};
 
@@ -159,7 +159,7 @@ fn receiver_plane_taps(
     (x0, row0): (i64, i64),
     bias_depth: f32,
 ) -> TapDepth {
-    let Some((z_u, z_v)) = receiver_plane_slope(ctx.view, &ctx.scene.triangle(s.triangle)) else {
+    let Some((z_u, z_v)) = receiver_plane_slope_at(ctx.view, &ctx.scene.triangle(s.triangle), s.position) else {
         return TapDepth::Flat(uvd.z - bias_depth);
     };
     let res = ctx.layers.resolution();

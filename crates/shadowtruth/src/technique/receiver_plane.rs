@@ -3,7 +3,8 @@
 //! the point where the map was sampled: `z_c = z + z_u·(u_c − u) + z_v·(v_c − v)` at the centre
 //! (u_c, v_c) of the texel that holds the receiver. A GPU takes (z_u, z_v) from screen-space
 //! derivatives; we take them exactly from the hit triangle's plane in (u, v, d) space (planes stay
-//! planes under the light's projection). No clamp; `bias_depth` adds a constant bias only when
+//! planes under the light's projection), through its projected vertices or, where one lies
+//! behind the light, through points of the plane around the receiver. No clamp; `bias_depth` adds a constant bias only when
 //! asked.
 
 use super::canonical::CanonicalFields;
@@ -12,7 +13,7 @@ use super::{
     LayerNeeds, Sample, ShadeContext, Technique, TechniqueParams, TechniqueSpecError, texel_at, texel_centre,
 };
 use crate::raster::LightView;
-use glam::{DVec2, Vec3};
+use glam::{DVec2, DVec3, Vec3};
 use serde::{Deserialize, Serialize};
 
 pub struct ReceiverPlane {
@@ -25,6 +26,35 @@ pub fn receiver_plane_slope(view: &LightView, tri: &[Vec3; 3]) -> Option<(f64, f
     let p0 = view.project(tri[0])?.as_dvec3();
     let p1 = view.project(tri[1])?.as_dvec3();
     let p2 = view.project(tri[2])?.as_dvec3();
+    slope_through(p0, p1, p2)
+}
+
+/// `receiver_plane_slope`, or, when a vertex lies behind a perspective light (a large floor
+/// under a point light's face), the same plane's slope from three points of it around `point`
+/// (in front of the light): d is affine in (u, v) over a plane, so any three of its points give
+/// the slope. The points are `point` and two steps of 1 % of its view depth along the plane,
+/// which keeps them in front of the light (the view depth changes by at most the step).
+pub fn receiver_plane_slope_at(view: &LightView, tri: &[Vec3; 3], point: Vec3) -> Option<(f64, f64)> {
+    if let Some(slope) = receiver_plane_slope(view, tri) {
+        return Some(slope);
+    }
+    let (v0, v1, v2) = (tri[0].as_dvec3(), tri[1].as_dvec3(), tri[2].as_dvec3());
+    let normal = (v1 - v0).cross(v2 - v0).try_normalize()?;
+    let tangent = (v1 - v0).normalize();
+    let bitangent = normal.cross(tangent);
+    let clip_from_world = view.clip_from_world.as_dmat4();
+    let project = |p: DVec3| {
+        let c = clip_from_world * p.extend(1.0);
+        (c.w > 0.0).then(|| DVec3::new(0.5 * c.x / c.w + 0.5, 0.5 * c.y / c.w + 0.5, c.z / c.w))
+    };
+    let p = point.as_dvec3();
+    let step = 0.01 * (clip_from_world * p.extend(1.0)).w;
+    slope_through(project(p)?, project(p + step * tangent)?, project(p + step * bitangent)?)
+}
+
+/// (∂d/∂u, ∂d/∂v) of the plane through three projected points; None when they are collinear in
+/// (u, v).
+fn slope_through(p0: DVec3, p1: DVec3, p2: DVec3) -> Option<(f64, f64)> {
     let (e1, e2) = (p1 - p0, p2 - p0);
     let det = DVec2::new(e1.x, e1.y).perp_dot(DVec2::new(e2.x, e2.y));
     if det.abs() < 1e-300 {
@@ -46,7 +76,7 @@ impl Technique for ReceiverPlane {
         let (x, row) = texel_at(map.resolution, uvd.x, uvd.y);
         let (u_c, v_c) = texel_centre(map.resolution, x, row);
         let tri = &ctx.scene.triangle(s.triangle);
-        let z_c = match receiver_plane_slope(ctx.view, tri) {
+        let z_c = match receiver_plane_slope_at(ctx.view, tri, s.position) {
             Some((z_u, z_v)) => uvd.z + (z_u * (u_c - uvd.x) as f64 + z_v * (v_c - uvd.y) as f64) as f32,
             None => uvd.z,
         };

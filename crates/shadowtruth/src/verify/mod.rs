@@ -69,7 +69,7 @@ impl<'a> Adjudicator<'a> {
     pub fn judge(&self, point: &SurfacePoint, light: &Light, stack: &mut CullStack) -> Judgement {
         let p = self.anchored(point.triangle, point.barycentric);
         let (toward, direction, s_max) = match &light.kind {
-            LightKind::Spot { position, .. } => {
+            LightKind::Spot { position, .. } | LightKind::Point { position, .. } => {
                 (Toward::Point(*position), position.as_dvec3() - p.approx(), 1.0)
             }
             LightKind::Directional { direction, .. } => {

@@ -8,7 +8,7 @@ use super::nodes::NodeItem;
 use super::problem::GltfProblem;
 use crate::json_input::{as_positive, count, open_range};
 use crate::scene::format::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE};
-use crate::scene::{Camera, Light, LightKind, box_corners};
+use crate::scene::{Camera, CubeSettings, Light, LightKind, MAX_GUARD_TEXELS, box_corners};
 use glam::{DAffine3, DVec3};
 use gltf::khr_lights_punctual::Kind;
 
@@ -138,6 +138,10 @@ fn light_kind(
     problems: &mut Vec<GltfProblem>,
 ) -> Option<LightKind> {
     let at = format!("extensions.KHR_lights_punctual.lights[{}]", light.index());
+    if let Kind::Point = light.kind() {
+        // A point light shines every way: only its node's position matters.
+        return point_light(light, item, extras, &at, bounds, problems);
+    }
     let Some((forward, _)) = frame(&item.world) else {
         problems.push(GltfProblem::new(
             format!("nodes[{}]", item.node),
@@ -151,11 +155,7 @@ fn light_kind(
             let angular = extras.get("angular_diameter_deg", open_range(0.0, 90.0), problems);
             Some(LightKind::Directional { direction, angular_diameter_deg: angular.map(|a| a as f32) })
         }
-        Kind::Point => {
-            let message = "point lights are not supported: shadowtruth's lights are directional or spot";
-            problems.push(GltfProblem::new(format!("{at}.type"), message));
-            None
-        }
+        Kind::Point => unreachable!("point lights are read above"),
         Kind::Spot { outer_cone_angle, .. } => {
             let cone_deg = match extras.get("cone_deg", open_range(0.0, 180.0), problems) {
                 Some(cone) => cone,
@@ -170,11 +170,7 @@ fn light_kind(
             let position = item.world.translation;
             let range = spot_light_range(light.range(), &at, problems)?;
             let (near, far) = spot_range(position, range, extras, &at, bounds, problems)?;
-            let radius = extras.get("radius", as_positive, problems).map(|r| r as f32);
-            if radius.is_some_and(|r| !(r.is_finite() && r > 0.0)) {
-                problems.push(extras.problem("radius", "must be positive within the range of f32 numbers"));
-                return None;
-            }
+            let radius = light_radius(extras, problems)?;
             let (position, cone_deg) = (position.as_vec3(), cone_deg as f32);
             if !position.is_finite() {
                 problems.push(outside_f32(item));
@@ -183,6 +179,41 @@ fn light_kind(
             Some(LightKind::Spot { position, direction, cone_deg, near, far, radius })
         }
     }
+}
+
+/// A point light: its node's position, its range as far (as for a spot light), and from the
+/// extras its near plane, sphere `radius` and cube map's `guard_texels`.
+fn point_light(
+    light: &gltf::khr_lights_punctual::Light,
+    item: &NodeItem,
+    extras: &Extras,
+    at: &str,
+    bounds: &impl Fn() -> (DVec3, DVec3),
+    problems: &mut Vec<GltfProblem>,
+) -> Option<LightKind> {
+    let position = item.world.translation;
+    let range = spot_light_range(light.range(), at, problems)?;
+    let (near, far) = spot_range(position, range, extras, at, bounds, problems)?;
+    let radius = light_radius(extras, problems)?;
+    let guard = extras.get("guard_texels", count(0, MAX_GUARD_TEXELS as u64), problems);
+    let cube = CubeSettings { guard_texels: guard.unwrap_or(CubeSettings::default().guard_texels) };
+    let position = position.as_vec3();
+    if !position.is_finite() {
+        problems.push(outside_f32(item));
+        return None;
+    }
+    Some(LightKind::Point { position, near, far, radius, cube })
+}
+
+/// The extras' area-light `radius` (`Some(None)` when absent); None when it is not usable
+/// (reported).
+fn light_radius(extras: &Extras, problems: &mut Vec<GltfProblem>) -> Option<Option<f32>> {
+    let radius = extras.get("radius", as_positive, problems).map(|r| r as f32);
+    if radius.is_some_and(|r| !(r.is_finite() && r > 0.0)) {
+        problems.push(extras.problem("radius", "must be positive within the range of f32 numbers"));
+        return None;
+    }
+    Some(radius)
 }
 
 /// A camera or light node whose world position f32 cannot hold.
@@ -209,7 +240,7 @@ enum FarSource {
     Default,
 }
 
-/// A spot light's (near, far): the extras' when given; else far is `range`, or the distance to
+/// A spot or point light's (near, far): the extras' when given; else far is `range`, or the distance to
 /// the farthest corner of the scene's bounds plus 1 %; near is far / 1000. `at` is the light's
 /// JSON path (`extensions.KHR_lights_punctual.lights[i]`).
 fn spot_range(

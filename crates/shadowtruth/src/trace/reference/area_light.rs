@@ -6,6 +6,12 @@
 //!   radiance, like the sun).
 //! - Spot light with `radius` R: points uniform in area on the disk of radius R centred at the
 //!   light's position and facing along its axis; each shadow ray is the segment to its point.
+//! - Point light with `radius` R (a sphere light): directions uniform in solid angle over the
+//!   cone the sphere subtends from the pixel's point (half-angle asin(R/d) at distance d, as
+//!   Shirley et al. sample spheres, "Monte Carlo techniques for direct lighting calculations",
+//!   TOG 1996), each shadow ray the segment to where its direction first meets the sphere: the
+//!   fraction of the sphere's visible disk that is unoccluded. A point inside the sphere takes
+//!   the segment to its centre for every sample.
 //!
 //! The unit square is split into n×n strata, each jittered by a hash of (pixel, stratum) (never
 //! by a generator's state, so the bits do not depend on the thread count) and mapped to the unit
@@ -42,6 +48,8 @@ enum Emitter {
     Cap { axis: DVec3, tangent: DVec3, bitangent: DVec3, one_minus_cos: f64 },
     /// Disk centre, its frame and radius.
     Disk { centre: DVec3, tangent: DVec3, bitangent: DVec3, radius: f64 },
+    /// Sphere centre and radius.
+    Sphere { centre: DVec3, radius: f64 },
 }
 
 fn emitter(light: &Light, grid: u32) -> Result<Emitter, AreaLightError> {
@@ -68,6 +76,9 @@ fn emitter(light: &Light, grid: u32) -> Result<Emitter, AreaLightError> {
             let radius = size.value();
             let (tangent, bitangent) = orthonormal_frame(direction.as_dvec3().normalize());
             Ok(Emitter::Disk { centre: position.as_dvec3(), tangent, bitangent, radius: radius as f64 })
+        }
+        LightKind::Point { position, .. } => {
+            Ok(Emitter::Sphere { centre: position.as_dvec3(), radius: size.value() as f64 })
         }
     }
 }
@@ -101,10 +112,12 @@ pub fn trace_area_light_reference(
                 Emitter::Cap { axis, tangent, bitangent, one_minus_cos } => {
                     // Uniform in solid angle: the disk's r² is the cap's area fraction,
                     // 1 − cos θ = r²(1 − cos θmax); sin θ / r = √(k(2 − r²k)).
-                    let r2k = (dx * dx + dy * dy) * one_minus_cos;
-                    let sin_over_r = (one_minus_cos * (2.0 - r2k)).sqrt();
-                    let dir = ((1.0 - r2k) * axis + sin_over_r * (dx * tangent + dy * bitangent)).normalize();
+                    let dir = cap_direction((dx, dy), axis, (tangent, bitangent), one_minus_cos);
                     (n64.dot(dir) > 0.0).then(|| ShadowRay::along(&point, dir))
+                }
+                Emitter::Sphere { centre, radius } => {
+                    let q = sphere_point(p64, (dx, dy), centre, radius);
+                    (n64.dot(q - p64) > 0.0).then(|| ShadowRay::to_point(&point, q))
                 }
                 Emitter::Disk { centre, tangent, bitangent, radius } => {
                     let q = centre + radius * (dx * tangent + dy * bitangent);
@@ -117,4 +130,62 @@ pub fn trace_area_light_reference(
         }
         Estimate::Mean { samples: m }
     }))
+}
+
+/// The direction of concentric-disk point (dx, dy) on the cap of `one_minus_cos` = 1 − cos θmax
+/// around the unit `axis`, uniform in solid angle: the disk's r² is the cap's area fraction,
+/// 1 − cos θ = r²(1 − cos θmax); sin θ / r = √(k(2 − r²k)).
+fn cap_direction((dx, dy): (f64, f64), axis: DVec3, (tangent, bitangent): (DVec3, DVec3), one_minus_cos: f64) -> DVec3 {
+    let r2k = (dx * dx + dy * dy) * one_minus_cos;
+    let sin_over_r = (one_minus_cos * (2.0 - r2k)).sqrt();
+    ((1.0 - r2k) * axis + sin_over_r * (dx * tangent + dy * bitangent)).normalize()
+}
+
+/// Where the direction of disk point (dx, dy), uniform in solid angle over the cone a sphere
+/// subtends from `p`, first meets the sphere; its centre when `p` lies inside it.
+fn sphere_point(p: DVec3, disk: (f64, f64), centre: DVec3, radius: f64) -> DVec3 {
+    let to_centre = centre - p;
+    let d2 = to_centre.length_squared();
+    let s2 = radius * radius / d2; // sin² θmax
+    if !(s2 < 1.0) {
+        return centre;
+    }
+    // 1 − cos θmax = sin²/(1 + cos): no cancellation for small or distant spheres.
+    let one_minus_cos = s2 / (1.0 + (1.0 - s2).sqrt());
+    let axis = to_centre / d2.sqrt();
+    let dir = cap_direction(disk, axis, orthonormal_frame(axis), one_minus_cos);
+    // The nearer root of |p + t·dir − centre| = R; a grazing direction rounds to the tangent point.
+    let b = dir.dot(to_centre);
+    let t = b - (b * b - (d2 - radius * radius)).max(0.0).sqrt();
+    p + t * dir
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sphere_samples_lie_on_the_sphere_and_cover_its_visible_cap() {
+        let (centre, radius) = (DVec3::new(1.0, 4.0, -2.0), 0.5);
+        let p = DVec3::new(0.3, 0.2, 0.1);
+        let axis = (centre - p).normalize();
+        let d = (centre - p).length();
+        // The tangent cone's half-angle: every sample within it, the rim reached.
+        let cos_max = (1.0 - (radius / d).powi(2)).sqrt();
+        let mut rim = 1.0f64;
+        for &(dx, dy) in &[(0.0, 0.0), (1.0, 0.0), (0.0, -1.0), (0.6, 0.8), (-0.3, 0.2)] {
+            let q = sphere_point(p, (dx, dy), centre, radius);
+            assert!(((q - centre).length() - radius).abs() < 1e-12, "{q}");
+            let cos = (q - p).normalize().dot(axis);
+            assert!(cos >= cos_max - 1e-12, "{cos} < {cos_max}");
+            // The sample faces p: it is on the near side of the sphere.
+            assert!((q - centre).dot(p - centre) >= -1e-9);
+            rim = rim.min(cos);
+        }
+        assert!((rim - cos_max).abs() < 1e-9, "the unit circle's points reach the rim: {rim} vs {cos_max}");
+        // The centre of the disk is the sphere's nearest point.
+        let q = sphere_point(p, (0.0, 0.0), centre, radius);
+        assert!((q - (centre - radius * axis)).length() < 1e-12);
+        assert_eq!(sphere_point(centre + DVec3::X * 0.1, (0.5, 0.5), centre, radius), centre);
+    }
 }

@@ -176,6 +176,12 @@ fn hash_view(h: &mut Sha256, scene: &Scene, camera: &Camera, light: &Light) {
             floats(h, &direction.to_array());
             floats(h, &[*cone_deg, *near, *far]);
         }
+        // The map's near plane and cube are no part of the reference: only the range is.
+        LightKind::Point { position, far, .. } => {
+            h.update(b"point");
+            floats(h, &position.to_array());
+            floats(h, &[*far]);
+        }
     }
 }
 

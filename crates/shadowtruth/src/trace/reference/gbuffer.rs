@@ -21,7 +21,7 @@ pub enum PixelClass {
     /// The surface, with its normal turned towards the camera, has N·L ≤ 0 (decided exactly,
     /// `facing.rs`): in attached shadow.
     FacingAway,
-    /// Outside the spot light's cone or depth range.
+    /// Outside the spot light's cone or depth range, or beyond a point light's range.
     OutsideLight,
     /// Scored: lit or shadowed by occluders only.
     Evaluated,
@@ -99,6 +99,7 @@ impl GBuffer {
 pub(in crate::trace) enum LightSight {
     Directional { towards: DVec3 },
     Spot { position: DVec3, axis: DVec3, cos_half: f64, near: f64, far: f64 },
+    Point { position: DVec3, range: f64 },
 }
 
 impl LightSight {
@@ -115,6 +116,9 @@ impl LightSight {
                 near: *near as f64,
                 far: *far as f64,
             },
+            LightKind::Point { position, far, .. } => {
+                LightSight::Point { position: position.as_dvec3(), range: *far as f64 }
+            }
         }
     }
 
@@ -123,12 +127,14 @@ impl LightSight {
     pub(in crate::trace) fn place(&self) -> LightPlace {
         match *self {
             LightSight::Directional { towards } => LightPlace::Towards(towards.as_vec3()),
-            LightSight::Spot { position, .. } => LightPlace::Point(position.as_vec3()),
+            LightSight::Spot { position, .. } | LightSight::Point { position, .. } => {
+                LightPlace::Point(position.as_vec3())
+            }
         }
     }
 
     /// Whether the light reaches `p`: a spot light strictly inside its cone, within [near, far]
-    /// along its axis.
+    /// along its axis; a point light within its range (its near plane is its maps' alone).
     #[inline]
     pub(in crate::trace) fn reaches(&self, p: DVec3) -> bool {
         match *self {
@@ -138,6 +144,7 @@ impl LightSight {
                 let along = offset.dot(axis);
                 offset.normalize().dot(axis) > cos_half && along >= near && along <= far
             }
+            LightSight::Point { position, range } => (p - position).length_squared() <= range * range,
         }
     }
 }

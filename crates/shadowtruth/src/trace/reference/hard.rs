@@ -88,7 +88,9 @@ pub fn hard_shadow_ray(point: &SurfacePoint, light: &Light) -> ShadowRay {
 pub(in crate::trace) fn shadow_ray_to_centre(point: &SurfacePoint, light: &LightSight) -> ShadowRay {
     match *light {
         LightSight::Directional { towards } => ShadowRay::along(point, towards),
-        LightSight::Spot { position, .. } => ShadowRay::to_point(point, position),
+        LightSight::Spot { position, .. } | LightSight::Point { position, .. } => {
+            ShadowRay::to_point(point, position)
+        }
     }
 }
 
