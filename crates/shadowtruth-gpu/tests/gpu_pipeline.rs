@@ -285,3 +285,52 @@ fn exact_depth_plane_matches_the_gpu_more_closely() {
         }
     }
 }
+
+/// A point light's cube (scenes/point/room.json, faces of 512² plus a guard band of 8 texels):
+/// each face drawn by the device against the CPU rasterizer under the bounds of
+/// `depth_map_matches_the_cpu_rasterizer`, and each face's pixels shaded through its own map (the
+/// GPU's and the CPU's) agreeing as `gpu_shading_agrees_with_the_cpu_techniques` requires.
+#[test]
+fn cube_faces_match_the_cpu() {
+    let gpu = gpu();
+    let scene = shadowtruth::load_scene(common::repo().join("scenes/point/room.json")).unwrap();
+    let light = &scene.lights[0];
+    let cube = shadowtruth::cube_map(light, 512).unwrap();
+    assert_eq!(cube.guard_texels, 8);
+    let g = GBuffer::trace(&scene, &shadowtruth::SceneBvh::build(&scene), &scene.cameras[0], light);
+    println!("{:4} {:>8} {:>9} {:>9} {:72} {:>8} {:>8}", "face", "pixels", "coverage", "outside", "technique", "counted", "full");
+    for (f, view) in cube.faces.iter().enumerate() {
+        let settings = RasterSettings::default();
+        let cpu = rasterize_nearest(&scene, view, &settings);
+        let gpu_map = gpu_layer(&gpu, &scene, view, &settings);
+        let n = view.resolution as usize;
+        let (mut coverage, mut outside) = (0, 0);
+        for row in 0..n {
+            for x in 0..n {
+                let (c, d) = (cpu.depth[row * n + x], gpu_map.depth[row * n + x]);
+                if (c < 1.0) != (d < 1.0) {
+                    coverage += 1;
+                } else {
+                    outside += ((c - d).abs() > local_step(&cpu, x, row) / 64.0 + 4e-6) as u32;
+                }
+            }
+        }
+        assert!(coverage <= 1 && outside <= 1, "face {f}: {coverage} coverage, {outside} depth differences");
+        // The face's own pixels: those whose direction from the light it is chosen for.
+        let mut on_face = g.clone();
+        on_face.evaluated.retain(|&i| cube.face_of(g.position[i as usize]) == f);
+        for json in TECHNIQUES {
+            let spec: TechniqueSpec = serde_json::from_str(json).unwrap();
+            let technique = GpuTechnique::from_spec(&spec).unwrap();
+            let layers = shadowtruth::rasterize_layers(&scene, view, DepthFormat::F32, &spec).unwrap();
+            let cpu_visibility = shadowtruth::shade_technique(&spec, &scene, &on_face, view, &layers).unwrap();
+            let own = GpuDepthMap::render(&gpu, &scene, view, &GpuTechnique::raster_settings(&spec)).unwrap();
+            let full = shade_visibility(&gpu, &on_face, view, &own, technique).unwrap();
+            let (full_agree, counted) = agreement(&spec, view, &on_face, &cpu_visibility, &full);
+            let pixels = on_face.evaluated.len();
+            println!("{f:4} {pixels:>8} {coverage:>9} {outside:>9} {:72} {counted:>8.4} {full_agree:>8.5}", spec.label());
+            let slope = GpuTechnique::raster_settings(&spec).slope_factor != 0.0;
+            assert!(slope || full_agree >= 0.99, "face {f} {}: {full_agree}", spec.label());
+        }
+    }
+}

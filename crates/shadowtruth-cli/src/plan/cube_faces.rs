@@ -34,6 +34,11 @@ impl CubeFaces {
         CubeFaces { cube, orders, face_of }
     }
 
+    /// The face that shades evaluated pixel `k` (in `gbuffer.evaluated` order).
+    pub fn face(&self, k: usize) -> usize {
+        self.face_of[k].0 as usize
+    }
+
     /// The light-map position of every evaluated pixel in its face, the faces side by side.
     pub fn light_uv(&self, gbuffer: &GBuffer) -> LightUv {
         let faces = &self.cube.faces;

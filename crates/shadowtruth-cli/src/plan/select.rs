@@ -200,25 +200,22 @@ pub(crate) fn check_area_light_sizes(plan: &Plan, selected: &[Selected]) -> Resu
     Ok(())
 }
 
-/// Cascades and cube maps are drawn and shaded here: a cascaded or point light cannot run on the
-/// GPU pipeline or read an imported shadow map (one map), and is refused at its path in the
-/// scene file; a point light cannot be exported to a renderer's command either (a view export
-/// holds one map per light).
+/// Cascades are drawn and shaded on the CPU pipeline only, a point light's cube on either: a
+/// cascaded light cannot run on the GPU pipeline, neither can read an imported shadow map (one
+/// map), and a point light cannot be exported to a renderer's command (a view export holds one
+/// map per light). Each is refused at its path in the scene file.
 pub(crate) fn check_multi_map_lights(plan: &Plan, selected: &[Selected]) -> Result<(), PlanError> {
-    let one_map = match (plan.pipeline, &plan.shadow_map) {
-        (super::Pipeline::Gpu, _) => Some("the GPU pipeline draws one map per light"),
-        (_, Some(_)) => Some("an imported shadow map is one map"),
-        _ => None,
-    };
+    let gpu = (plan.pipeline == super::Pipeline::Gpu).then_some("the GPU pipeline draws a cube's faces but no cascades");
+    let imported = plan.shadow_map.is_some().then_some("an imported shadow map is one map");
     let commands = plan.techniques.iter().any(|t| matches!(t, TechniqueSpec::Command(_)));
     let exported = commands.then_some("`command` techniques read a view export, which holds one map per light");
     for sel in selected {
         for &(_, li) in &sel.pairs {
             let light = &sel.scene.lights[li];
-            let (path, message) = match (one_map.or(exported), one_map) {
+            let (path, message) = match (imported.or(exported), gpu.or(imported)) {
                 (Some(why), _) if light.is_point() => (
                     format!("lights[{li}].type"),
-                    format!("is a point light, whose six-face cube map runs on the CPU pipeline only: {why}"),
+                    format!("is a point light, whose six-face cube map only the CPU and GPU pipelines draw: {why}"),
                 ),
                 (_, Some(why)) if light.cascades.is_some() => (
                     format!("lights[{li}].cascades"),

@@ -1,6 +1,6 @@
-//! The GPU back-end: each layer group's map drawn on a Vulkan device once per map setting
-//! (timed as `prepare`), then every member technique shaded there (`shade`), each the median of
-//! the plan's repeats.
+//! The GPU back-end: each layer group's map (or a point light's six faces) drawn on a Vulkan
+//! device once per map setting (timed as `prepare`), then every member technique shaded there
+//! (`shade`), each the median of the plan's repeats.
 
 use super::{MapBackend, ProducedRun, RunRecorder};
 use crate::plan::events::TracedView;
@@ -45,35 +45,52 @@ impl MapBackend for GpuBackend<'_> {
         let gpu = &self.device;
         let failed =
             |e: GpuError| PlanError::Invalid(format!("{}/{}/{}: {e}", scene.name, camera.name, light.name));
-        // One map per layer group, as on the CPU: drawn once, read by every technique of the
-        // group. Imported techniques are in no group (`imported.rs`).
+        // The maps drawn: the one, or a point light's six faces, each evaluated pixel shaded
+        // through its own face (as on the CPU).
+        let views = map.views();
+        let view_of = |k: usize| map.cube.map_or(0, |cube| cube.face(k));
+        let layer_memory_bytes = views.iter().map(|v| v.resolution as u64 * v.resolution as u64 * 4).sum();
+        // One map per layer group and view, as on the CPU: drawn once, read by every technique of
+        // the group. Imported techniques are in no group (`imported.rs`).
         for (needs, members) in self.groups {
             recorder.stage(&format!(
                 "{}/{}/{}: {}² on the GPU",
                 scene.name, camera.name, light.name, map.resolution
             ))?;
             let settings = GpuTechnique::raster_settings_of(needs);
-            let (depth_map, prepare_ms) = try_timed_median(self.plan.repeats, || {
-                let drawn = gpu.checked(|| GpuDepthMap::render(gpu, scene, map.view, &settings))?;
-                gpu.wait()?;
-                Ok(drawn)
-            })
-            .map_err(failed)?;
+            let mut depth_maps = Vec::with_capacity(views.len());
+            let mut prepare_ms = 0.0;
+            for view in &views {
+                let (depth_map, ms) = try_timed_median(self.plan.repeats, || {
+                    let drawn = gpu.checked(|| GpuDepthMap::render(gpu, scene, view, &settings))?;
+                    gpu.wait()?;
+                    Ok(drawn)
+                })
+                .map_err(failed)?;
+                depth_maps.push(depth_map);
+                prepare_ms += ms;
+            }
             for &ti in members {
                 let spec = &self.plan.techniques[ti];
                 let technique = GpuTechnique::from_spec(spec).map_err(failed)?;
-                let (image, shade_ms) = try_timed_median(self.plan.repeats, || {
-                    gpu.checked(|| shade_visibility(gpu, traced.gbuffer, map.view, &depth_map, technique))
-                })
-                .map_err(failed)?;
-                let visibility: Vec<f32> =
-                    traced.gbuffer.evaluated.iter().map(|&i| image[i as usize]).collect();
+                let mut images = Vec::with_capacity(views.len());
+                let mut shade_ms = 0.0;
+                for (view, depth_map) in views.iter().zip(&depth_maps) {
+                    let (image, ms) = try_timed_median(self.plan.repeats, || {
+                        gpu.checked(|| shade_visibility(gpu, traced.gbuffer, view, depth_map, technique))
+                    })
+                    .map_err(failed)?;
+                    images.push(image);
+                    shade_ms += ms;
+                }
+                let evaluated = traced.gbuffer.evaluated.iter().enumerate();
+                let visibility: Vec<f32> = evaluated.map(|(k, &i)| images[view_of(k)][i as usize]).collect();
                 let run = ProducedRun {
                     spec,
                     visibility: &visibility,
                     prepare_ms,
                     shade_ms,
-                    layer_memory_bytes: map.resolution as u64 * map.resolution as u64 * 4,
+                    layer_memory_bytes,
                     pipeline: Some(&self.used),
                 };
                 recorder.record(run)?;
