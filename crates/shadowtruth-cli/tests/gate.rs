@@ -60,7 +60,7 @@ fn run(
         soft: None,
         pipeline: None,
         cascades: None,
-        cube: None,
+        point_map: None,
         temporal: None,
     }
 }

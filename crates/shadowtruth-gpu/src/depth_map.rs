@@ -25,6 +25,9 @@ impl GpuDepthMap {
         view: &LightView,
         settings: &RasterSettings,
     ) -> Result<Self, GpuError> {
+        if view.projection == shadowtruth::raster::Projection::Paraboloid {
+            return Err(GpuError(crate::visibility::PARABOLOID.into()));
+        }
         let bias = depth_bias(settings)?;
         let map = GpuDepthMap::empty(gpu, view.resolution)?;
         let module = gpu.device.create_shader_module(wgpu::include_wgsl!("depth.wgsl"));

@@ -52,6 +52,7 @@ impl Params {
         match view.projection {
             Projection::Orthographic { .. } => p.ortho_texel_world = view.texel_world_size(glam::Vec3::ZERO),
             Projection::Perspective { tan_half_fov } => (p.perspective, p.tan_half_fov) = (1, tan_half_fov),
+            Projection::Paraboloid => unreachable!("shade_visibility refuses paraboloids"),
         }
         match technique {
             GpuTechnique::Plain => p.technique = 0,
@@ -70,6 +71,10 @@ impl Params {
     }
 }
 
+/// Why a dual-paraboloid map is not drawn or shaded here: its shaders apply one matrix.
+pub(crate) const PARABOLOID: &str =
+    "a dual-paraboloid map is not a projective map: the GPU pipeline draws and shades projective maps only";
+
 /// Visibility of every camera pixel, row by row from the top (1 lit, 0 shadowed; pixels the
 /// G-buffer does not evaluate are 1), as `shadowtruth::shade_technique` returns it.
 pub fn shade_visibility(
@@ -87,6 +92,9 @@ pub fn shade_visibility(
     }
     if bytes > gpu.limits.max_storage_buffer_binding_size {
         return Err(GpuError(format!("a {width}×{height} view does not fit the GPU's storage buffers")));
+    }
+    if view.projection == Projection::Paraboloid {
+        return Err(GpuError(PARABOLOID.into()));
     }
     if map.resolution != view.resolution {
         return Err(GpuError("the depth map is not of the light view's resolution".into()));

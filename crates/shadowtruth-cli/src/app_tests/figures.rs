@@ -278,7 +278,7 @@ fn record(
         soft: None,
         pipeline: None,
         cascades: None,
-        cube: None,
+        point_map: None,
         temporal: None,
     }
 }

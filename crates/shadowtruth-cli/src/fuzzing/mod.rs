@@ -118,7 +118,7 @@ fn gate_reports() -> &'static (crate::gate::CheckedReport, crate::gate::CheckedR
             soft: None,
             pipeline: None,
             cascades: None,
-            cube: None,
+            point_map: None,
             temporal: None,
         }
     };

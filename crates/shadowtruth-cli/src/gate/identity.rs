@@ -177,7 +177,7 @@ mod tests {
             soft: None,
             pipeline: None,
             cascades: None,
-            cube: None,
+            point_map: None,
             temporal: None,
         }
     }

@@ -72,7 +72,7 @@ pub(crate) fn test_run(
         soft: None,
         pipeline: None,
         cascades: None,
-        cube: None,
+        point_map: None,
         temporal: None,
     }
 }

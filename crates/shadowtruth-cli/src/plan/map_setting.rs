@@ -3,7 +3,7 @@
 //! borrowed from the resolution's set-up (`map_setup.rs`).
 
 use super::cascaded_map::CascadedMap;
-use super::cube_faces::CubeFaces;
+use super::point_faces::PointFaces;
 use glam::Vec3;
 use shadowtruth::metrics::LightUv;
 use shadowtruth::raster::{DepthFormat, LightView};
@@ -18,7 +18,7 @@ pub(crate) struct MapSetting<'a> {
     /// The shading order of the one map (None for cascades and cubes, which hold their own).
     pub order: Option<&'a ShadeOrder>,
     pub cascaded: Option<&'a CascadedMap>,
-    pub cube: Option<&'a CubeFaces>,
+    pub cube: Option<&'a PointFaces>,
     pub resolution: u32,
     pub format: DepthFormat,
     /// The scene's bounds, computed once per view.
@@ -30,7 +30,7 @@ impl<'a> MapSetting<'a> {
     pub(crate) fn views(&self) -> Vec<&'a LightView> {
         match (self.cascaded, self.cube) {
             (Some(c), _) => c.cascades.views.iter().collect(),
-            (None, Some(c)) => c.cube.faces.iter().collect(),
+            (None, Some(c)) => c.views().iter().collect(),
             (None, None) => vec![self.view],
         }
     }

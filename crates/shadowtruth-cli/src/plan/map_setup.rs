@@ -3,7 +3,7 @@
 //! pixel (for the attribution) and the shading order. Shared by every depth format and technique.
 
 use super::cascaded_map::CascadedMap;
-use super::cube_faces::CubeFaces;
+use super::point_faces::PointFaces;
 use super::map_setting::MapSetting;
 use super::{Plan, PlanError};
 use glam::Vec3;
@@ -20,7 +20,7 @@ pub(crate) struct MapSetup {
     /// The one map's shading order; cascades and cubes hold their own.
     order: Option<ShadeOrder>,
     cascaded: Option<CascadedMap>,
-    cube: Option<CubeFaces>,
+    cube: Option<PointFaces>,
     resolution: u32,
 }
 
@@ -38,13 +38,13 @@ impl MapSetup {
             .cascades
             .is_some()
             .then(|| CascadedMap::new(light, camera, first_camera, bounds, resolution, gbuffer));
-        let cube = light.is_point().then(|| CubeFaces::new(light, resolution, gbuffer));
+        let cube = light.is_point().then(|| PointFaces::new(light, resolution, gbuffer));
         let view = match (&plan.shadow_map, &cascaded, &cube) {
             (Some(map_file), _, _) => {
                 map_file.light_view(light, bounds).map_err(|e| PlanError::Import(e.into()))?
             }
             (None, Some(c), _) => c.cascades.views[0].clone(),
-            (None, None, Some(c)) => c.cube.faces[0].clone(),
+            (None, None, Some(c)) => c.views()[0].clone(),
             (None, None, None) => LightView::new(light, bounds, resolution),
         };
         let light_uv = match (&cascaded, &cube) {
@@ -81,7 +81,7 @@ impl MapSetup {
     pub fn views(&self) -> Vec<LightView> {
         match (&self.cascaded, &self.cube) {
             (Some(c), _) => c.cascades.views.clone(),
-            (None, Some(c)) => c.cube.faces.clone(),
+            (None, Some(c)) => c.views().to_vec(),
             (None, None) => vec![self.view.clone()],
         }
     }

@@ -5,7 +5,7 @@
 mod area_light;
 mod backend;
 mod cascaded_map;
-mod cube_faces;
+mod point_faces;
 mod default_plan;
 mod error;
 mod events;
@@ -37,7 +37,7 @@ pub use layers::{BinnedView, build_layers_timed};
 pub(crate) use map_setup::MapSetup;
 pub use portion::{MapKey, Portion};
 pub(crate) use references::ViewReferences;
-pub(crate) use select::{check_plan, load_selected};
+pub(crate) use select::{check_multi_map_lights, check_plan, load_selected};
 pub use shard::Shard;
 pub use spec::{
     DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, DEFAULT_MAX_RUNS, MAX_FRAMES, MAX_REFERENCE_GRID,

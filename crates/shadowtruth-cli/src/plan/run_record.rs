@@ -35,7 +35,7 @@ pub(super) fn run_record(
         soft: soft_reference.map(|r| score_soft(gbuffer, &r.visibility, visibility)),
         pipeline: None,
         cascades: map.cascaded.map(|c| c.record(gbuffer, scored_against, visibility)),
-        cube: map.cube.map(|c| c.record(gbuffer, scored_against, visibility)),
+        point_map: map.cube.map(|c| c.record(gbuffer, scored_against, visibility)),
         temporal: None,
     }
 }

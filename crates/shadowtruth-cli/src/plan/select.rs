@@ -4,7 +4,7 @@
 
 use super::{Plan, PlanError, PlanInputError};
 use shadowtruth::raster::MAX_SHADOW_MAP_RESOLUTION;
-use shadowtruth::scene::{Problem, Scene, SceneError, load_scene};
+use shadowtruth::scene::{LightKind, PointMap, Problem, Scene, SceneError, load_scene};
 use shadowtruth::technique::{ReferenceKind, TechniqueSpec};
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
@@ -200,11 +200,14 @@ pub(crate) fn check_area_light_sizes(plan: &Plan, selected: &[Selected]) -> Resu
     Ok(())
 }
 
-/// Cascades are drawn and shaded on the CPU pipeline only, a point light's cube on either: a
-/// cascaded light cannot run on the GPU pipeline, neither can read an imported shadow map (one
-/// map), and a point light cannot be exported to a renderer's command (a view export holds one
-/// map per light). Each is refused at its path in the scene file.
+/// Cascades are drawn and shaded on the CPU pipeline only, a point light's cube on either, its
+/// dual paraboloids on the CPU only: a cascaded light or dual paraboloids cannot run on the GPU
+/// pipeline, neither can read an imported shadow map (one map), and a point light cannot be
+/// exported to a renderer's command (a view export holds one map per light). Each is refused at
+/// its path in the scene file; a technique that needs a projective map is refused on dual
+/// paraboloids by name.
 pub(crate) fn check_multi_map_lights(plan: &Plan, selected: &[Selected]) -> Result<(), PlanError> {
+    check_paraboloid_lights(plan, selected)?;
     let gpu = (plan.pipeline == super::Pipeline::Gpu).then_some("the GPU pipeline draws a cube's faces but no cascades");
     let imported = plan.shadow_map.is_some().then_some("an imported shadow map is one map");
     let commands = plan.techniques.iter().any(|t| matches!(t, TechniqueSpec::Command(_)));
@@ -223,6 +226,38 @@ pub(crate) fn check_multi_map_lights(plan: &Plan, selected: &[Selected]) -> Resu
                 ),
                 _ => continue,
             };
+            return Err(PlanInputError::one(&sel.scene.source, &path, message).into());
+        }
+    }
+    Ok(())
+}
+
+/// Dual-paraboloid maps are not projective: the GPU pipeline (whose shaders apply one matrix)
+/// and the techniques that read the projection as a matrix (`Technique::needs_projective_map`)
+/// cannot run on them.
+fn check_paraboloid_lights(plan: &Plan, selected: &[Selected]) -> Result<(), PlanError> {
+    let projective =
+        plan.techniques.iter().find(|t| t.build().is_some_and(|technique| technique.needs_projective_map()));
+    for sel in selected {
+        for &(_, li) in &sel.pairs {
+            let light = &sel.scene.lights[li];
+            if !matches!(light.kind, LightKind::Point { map: PointMap::DualParaboloid, .. }) {
+                continue;
+            }
+            let message = match (plan.pipeline, projective) {
+                (super::Pipeline::Gpu, _) => {
+                    "is a dual-paraboloid map, which the GPU pipeline does not draw: its shaders apply one \
+                     projective matrix"
+                        .to_string()
+                }
+                (_, Some(t)) => format!(
+                    "is a dual-paraboloid map, which is not projective: technique {} reads the light's projection \
+                     as a matrix (an adaptive bias's light rays, PCSS's frustum)",
+                    t.label()
+                ),
+                _ => continue,
+            };
+            let path = format!("lights[{li}].shadow_map");
             return Err(PlanInputError::one(&sel.scene.source, &path, message).into());
         }
     }

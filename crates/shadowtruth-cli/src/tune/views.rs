@@ -7,7 +7,7 @@
 
 use crate::plan::{
     BinnedView, ExportedViews, MapSetup, Plan, PlanError, TracedView, ViewReferences, build_layers_timed,
-    load_selected, run_setting,
+    check_multi_map_lights, load_selected, run_setting,
 };
 use glam::Vec3;
 use shadowtruth::metrics::{Counts, add_false_counts};
@@ -61,7 +61,9 @@ impl TuneViews {
     ) -> Result<Self, PlanError> {
         let format = *plan.depth_formats.first().unwrap_or(&DepthFormat::F32);
         let mut scenes = Vec::new();
-        for selected in load_selected(plan)? {
+        let selected = load_selected(plan)?;
+        check_multi_map_lights(plan, &selected)?;
+        for selected in selected {
             let scene = selected.scene;
             stage(&format!("{}: building the BVH", scene.name));
             let bvh = SceneBvh::build(&scene);

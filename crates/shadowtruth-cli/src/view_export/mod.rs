@@ -217,6 +217,7 @@ fn light_json(light: &Light, view: &LightView, node: usize) -> Value {
             map["fov_y_deg"] = num((2.0 * (tan_half_fov as f64).atan()).to_degrees() as f32);
             map["aspect"] = json!(1);
         }
+        Projection::Paraboloid => unreachable!("view export refuses point lights"),
     }
     let eye = ShadowEye::of(light, view);
     map["eye"] = json!({

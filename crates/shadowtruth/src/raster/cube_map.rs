@@ -15,7 +15,7 @@
 //! down the face. Face selection and the depth of every texel do not depend on that choice.
 
 use super::projection::{LightView, finite_or_origin, perspective, view_from_basis};
-use crate::scene::{Light, LightKind};
+use crate::scene::{CubeSettings, Light, LightKind, PointMap};
 use glam::{DVec3, Vec3};
 
 /// The faces' names, in the cube's order.
@@ -37,10 +37,15 @@ pub struct CubeMap {
 }
 
 impl CubeMap {
-    /// The cube of the point `light` with faces of `resolution`² texels (plus its guard band).
+    /// The cube of the point `light` with faces of `resolution`² texels (plus its guard band;
+    /// none for a light whose map is dual paraboloids, which `DualParaboloid` builds).
     pub fn new(light: &Light, resolution: u32) -> Self {
-        let LightKind::Point { position, near, far, cube, .. } = light.kind else {
+        let LightKind::Point { position, near, far, map, .. } = light.kind else {
             unreachable!("cube maps are built for point lights only")
+        };
+        let cube = match map {
+            PointMap::Cube(cube) => cube,
+            PointMap::DualParaboloid => CubeSettings { guard_texels: 0 },
         };
         let guard = cube.guard_texels;
         let eye = finite_or_origin(position);
@@ -105,7 +110,6 @@ fn face_axes(face: usize) -> (DVec3, DVec3) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::CubeSettings;
 
     fn lamp(guard_texels: u32) -> Light {
         let kind = LightKind::Point {
@@ -113,7 +117,7 @@ mod tests {
             near: 0.1,
             far: 50.0,
             radius: None,
-            cube: CubeSettings { guard_texels },
+            map: PointMap::Cube(CubeSettings { guard_texels }),
         };
         Light { name: "lamp".into(), kind, path: None, cascades: None }
     }

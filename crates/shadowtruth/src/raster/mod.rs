@@ -5,6 +5,7 @@ mod cascades;
 mod clip;
 mod cube_map;
 mod depth_format;
+mod dual_paraboloid;
 mod imported_view;
 mod layer;
 mod moment_map;
@@ -15,6 +16,7 @@ mod rasterize;
 pub use cascades::{CascadeChoice, Cascades, default_max_distance, split_distances};
 pub use cube_map::{CUBE_FACE_NAMES, CubeMap, SEAM_TEXELS};
 pub use depth_format::DepthFormat;
+pub use dual_paraboloid::{DualParaboloid, PARABOLOID_NAMES};
 
 /// Largest shadow-map side accepted, in texels.
 pub const MAX_SHADOW_MAP_RESOLUTION: u32 = 16384;

@@ -2,8 +2,8 @@
 //! perspective for a spot light and for each face of a point light's cube (`cube_map.rs`). Depth
 //! d ∈ [0, 1], smaller is closer.
 
-use crate::scene::{Light, LightKind, LightSize};
-use glam::{DMat4, DVec3, DVec4, Mat4, Vec3};
+use crate::scene::{Light, LightKind, LightSize, PointMap};
+use glam::{DMat4, DVec3, DVec4, Mat4, Vec3, Vec4};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Projection {
@@ -11,6 +11,12 @@ pub enum Projection {
     Orthographic { left: f32, right: f32, bottom: f32, top: f32 },
     /// Symmetric frustum of half-angle `atan(tan_half_fov)`; square map.
     Perspective { tan_half_fov: f32 },
+    /// One hemisphere of a dual-paraboloid map (Brabec, Annen and Seidel 2002): the direction
+    /// d = (p − eye)/|p − eye| in view space maps to (x, y) = (d.x, d.y)/(1 − d.z) ∈ the unit
+    /// disk (the view looks down −z), and depth is linear in the distance: d = (|p − eye| −
+    /// near)/(far − near). Not a matrix: `clip_from_world` holds `light_from_world`, and the
+    /// rasterizer and `project` apply the map per vertex and per receiver (`paraboloid_clip`).
+    Paraboloid,
 }
 
 /// The light's camera for one shadow-map resolution.
@@ -42,7 +48,8 @@ impl LightView {
     /// radii behind the bounds' centre, so near > 0. Empty or non-finite bounds fall back to the
     /// unit cube [−1, 1]³. Spot: perspective from `position` along `direction`, full fov =
     /// `cone_deg` (clamped to [0.01°, 179°]), the light's near/far (fixed up to 0 < near < far).
-    /// Point: the +x face of its cube (`CubeMap` builds all six). Matrices are built in f64 and
+    /// Point: the +x face of its cube (`CubeMap` builds all six) or its first paraboloid
+    /// (`DualParaboloid`). Matrices are built in f64 and
     /// rounded once to f32. Never panics.
     pub fn new(light: &Light, scene_bounds: (Vec3, Vec3), resolution: u32) -> Self {
         let view = match light.kind {
@@ -50,8 +57,11 @@ impl LightView {
             LightKind::Spot { position, direction, cone_deg, near, far, .. } => {
                 spot(position, direction, cone_deg, near, far, resolution)
             }
-            LightKind::Point { .. } => {
+            LightKind::Point { map: PointMap::Cube(_), .. } => {
                 return super::cube_map::CubeMap::new(light, resolution).faces.swap_remove(0);
+            }
+            LightKind::Point { map: PointMap::DualParaboloid, .. } => {
+                return super::dual_paraboloid::DualParaboloid::new(light, resolution).hemispheres.swap_remove(0);
             }
         };
         LightView { light_size: light.size().ok(), ..view }
@@ -61,7 +71,7 @@ impl LightView {
     /// u, v ∈ [0, 1] across the map (v up), d the light depth. None when w ≤ 0.
     #[inline]
     pub fn project(&self, p: Vec3) -> Option<Vec3> {
-        let c = self.clip_from_world * p.extend(1.0);
+        let c = self.clip_of(p);
         if c.w <= 0.0 {
             return None;
         }
@@ -69,10 +79,26 @@ impl LightView {
         Some(Vec3::new(0.5 * c.x * inv_w + 0.5, 0.5 * c.y * inv_w + 0.5, c.z * inv_w))
     }
 
-    /// Distance of `p` along the light's axis (the view-space −z).
+    /// The clip-space position of world point `p` in f32, as a vertex shader computes it:
+    /// `clip_from_world · p`, or a paraboloid's map (w = 1; w = 0 for a direction straight
+    /// behind it, and for the eye itself).
+    #[inline]
+    pub fn clip_of(&self, p: Vec3) -> Vec4 {
+        match self.projection {
+            Projection::Paraboloid => paraboloid_clip(self, p),
+            _ => self.clip_from_world * p.extend(1.0),
+        }
+    }
+
+    /// Distance of `p` along the light's axis (the view-space −z); for a paraboloid, its
+    /// distance from the eye (what its depth is linear in).
     #[inline]
     pub fn view_depth(&self, p: Vec3) -> f32 {
-        -(self.light_from_world.transform_point3(p).z)
+        let q = self.light_from_world.transform_point3(p);
+        match self.projection {
+            Projection::Paraboloid => q.length(),
+            _ => -q.z,
+        }
     }
 
     /// Light depth d of a point at view depth `view_depth` (linear for orthographic,
@@ -80,19 +106,42 @@ impl LightView {
     pub fn depth_of_view_depth(&self, view_depth: f64) -> f64 {
         let (n, f) = (self.near as f64, self.far as f64);
         match self.projection {
-            Projection::Orthographic { .. } => (view_depth - n) / (f - n),
+            Projection::Orthographic { .. } | Projection::Paraboloid => (view_depth - n) / (f - n),
             Projection::Perspective { .. } => f * (view_depth - n) / (view_depth * (f - n)),
         }
     }
 
-    /// World size of one texel at `p`: frustum width / N (orthographic) or 2·D·tan(fov/2)/N.
+    /// World size of one texel at `p`: frustum width / N (orthographic), 2·D·tan(fov/2)/N
+    /// (perspective), or for a paraboloid D·(2/N)·(1 + cos θ) at distance D and angle θ from its
+    /// axis (r = tan(θ/2) in the disk, so a texel of 2/N in r spans (4/N)·cos²(θ/2) radians).
     pub fn texel_world_size(&self, p: Vec3) -> f32 {
         let n = self.resolution as f32;
         match self.projection {
             Projection::Orthographic { left, right, bottom, top } => (right - left).max(top - bottom) / n,
             Projection::Perspective { tan_half_fov } => 2.0 * self.view_depth(p) * tan_half_fov / n,
+            Projection::Paraboloid => {
+                let q = self.light_from_world.transform_point3(p);
+                let distance = q.length();
+                (distance - q.z) * 2.0 / n
+            }
         }
     }
+}
+
+/// A paraboloid hemisphere's clip position of `p` (`Projection::Paraboloid`), in f32 as a
+/// vertex shader computes it: q = light_from_world · p, L = |q|, h = L − q.z (L·(1 + cos θ));
+/// x = q.x/h, y = q.y/h, z = (L − near)/(far − near), w = 1. A point straight behind the
+/// paraboloid or at its eye (h = 0) has w = 0.
+#[inline]
+pub(crate) fn paraboloid_clip(view: &LightView, p: Vec3) -> Vec4 {
+    let q = view.light_from_world.transform_point3(p);
+    let distance = q.length();
+    let h = distance - q.z;
+    if !(h > 0.0) {
+        return Vec4::ZERO;
+    }
+    let depth = (distance - view.near) / (view.far - view.near);
+    Vec4::new(q.x / h, q.y / h, depth, 1.0)
 }
 
 /// Unit view direction in f64; a zero or non-finite direction falls back to straight down.

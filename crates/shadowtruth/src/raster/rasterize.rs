@@ -2,7 +2,8 @@
 //! f32 arithmetic, near-plane clipping, per-object back-face culling of closed objects.
 //!
 //! The pipeline of a GPU (D3D11 / Vulkan rules):
-//! 1. vertex: clip = clip_from_world · p in f32;
+//! 1. vertex: clip = clip_from_world · p in f32 (a dual paraboloid's hemisphere: the triangle
+//!    cut to the hemisphere, then each vertex mapped to its disk, `dual_paraboloid.rs`);
 //! 2. clip against the depth range 0 ≤ z ≤ w (near and far planes, so no texel gets a depth
 //!    outside [0, 1] and nothing behind a spot light wraps) and an x/y guard band far outside
 //!    the map (`clip.rs`); fan-triangulate the clipped polygon;
@@ -19,7 +20,8 @@
 //! state crossing rows), so the split never changes the result.
 
 use super::clip::clip_triangle;
-use super::{DepthFormat, DepthLayer, DepthPairLayer, LightView};
+use super::dual_paraboloid::front_part;
+use super::{DepthFormat, DepthLayer, DepthPairLayer, LightView, Projection};
 use crate::scene::Scene;
 use rayon::prelude::*;
 
@@ -354,11 +356,12 @@ fn bin_by_band(scene: &Scene, view: &LightView) -> Bands {
 /// rounding of clipped vertices (clipping only shrinks the triangle); otherwise from its full
 /// set-up without culling (culling only removes triangles; offsets never move rows).
 fn band_range(tri: &[glam::Vec3; 3], view: &LightView, scratch: &mut Vec<RasterTriangle>) -> (u16, u16) {
-    let clip = tri.map(|p| view.clip_from_world * p.extend(1.0));
+    let clip = tri.map(|p| view.clip_of(p));
     if !clip.iter().all(|c| c.is_finite()) {
         return (0, 0);
     }
-    let rows = if clip.iter().all(|c| c.w > 0.0) {
+    let paraboloid = view.projection == Projection::Paraboloid;
+    let rows = if !paraboloid && clip.iter().all(|c| c.w > 0.0) {
         let n = view.resolution as f32;
         let ys = clip.map(|c| snap((1.0 - (0.5 * c.y * (1.0 / c.w) + 0.5)) * n));
         let lo = ys.iter().min().expect("three") - SUBTEXEL;
@@ -379,7 +382,8 @@ fn guard_band(resolution: u32) -> f32 {
 }
 
 /// Appends the raster triangles of world triangle `tri` (none when culled or clipped away,
-/// several when clipping made a polygon).
+/// several when clipping made a polygon). A paraboloid's triangle is first cut to its
+/// hemisphere, and each triangle of the cut polygon's fan mapped per vertex (`dual_paraboloid.rs`).
 fn setup_triangle(
     tri: &[glam::Vec3; 3],
     closed: bool,
@@ -387,7 +391,25 @@ fn setup_triangle(
     settings: &RasterSettings,
     out: &mut Vec<RasterTriangle>,
 ) {
-    let clip = tri.map(|p| view.clip_from_world * p.extend(1.0));
+    if view.projection == Projection::Paraboloid {
+        let (front, len) = front_part(view, tri);
+        for k in 1..len.saturating_sub(1) {
+            setup_mapped(&[front[0], front[k], front[k + 1]], closed, view, settings, out);
+        }
+        return;
+    }
+    setup_mapped(tri, closed, view, settings, out);
+}
+
+/// `setup_triangle` of a triangle whose vertices the view maps one by one (`LightView::clip_of`).
+fn setup_mapped(
+    tri: &[glam::Vec3; 3],
+    closed: bool,
+    view: &LightView,
+    settings: &RasterSettings,
+    out: &mut Vec<RasterTriangle>,
+) {
+    let clip = tri.map(|p| view.clip_of(p));
     if !clip.iter().all(|c| c.is_finite()) {
         return;
     }

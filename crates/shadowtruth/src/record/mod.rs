@@ -88,10 +88,10 @@ pub struct RunRecord {
     /// A run on cascaded shadow maps: the cascades and their counts (docs/cascades.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cascades: Option<CascadesRecord>,
-    /// A run under a point light: its cube map and the counts of each face
-    /// (docs/point-lights.md).
+    /// A run under a point light: its map (a cube or dual paraboloids) and the counts of each
+    /// face (docs/point-lights.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub cube: Option<CubeRecord>,
+    pub point_map: Option<PointMapRecord>,
     /// A run over the frames of a path: per-frame errors and flicker (docs/temporal.md). Its
     /// `counts` are then summed over every frame.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -133,24 +133,28 @@ pub struct CascadeCounts {
     pub false_lit: u64,
 }
 
-/// The cube map a run under a point light read, and its counts per face.
+/// The map a run under a point light read, and its counts per face.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct CubeRecord {
-    /// Texels drawn beyond each face's edges (0: filters clamp at the seams).
+pub struct PointMapRecord {
+    /// "cube" or "dual_paraboloid".
+    pub layout: String,
+    /// A cube's texels drawn beyond each face's edges (0: filters clamp at the seams; 0 for
+    /// paraboloids).
     pub guard_texels: u32,
-    /// Each face's map side with its guard band: `resolution + 2·guard_texels`.
+    /// Each face's map side: `resolution + 2·guard_texels`.
     pub face_texels: u32,
-    /// The faces in the cube's order (+x, −x, +y, −y, +z, −z).
-    pub faces: Vec<CubeFaceRecord>,
+    /// The faces in the map's order (a cube's +x, −x, +y, −y, +z, −z; the paraboloids' front
+    /// (−y), back (+y)).
+    pub faces: Vec<PointFaceRecord>,
 }
 
-/// One face of a cube map and the evaluated pixels it shaded.
+/// One face of a point light's map and the evaluated pixels it shaded.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct CubeFaceRecord {
-    /// "+x", "-x", "+y", "-y", "+z" or "-z".
+pub struct PointFaceRecord {
+    /// "+x", "-x", "+y", "-y", "+z", "-z", "front (-y)" or "back (+y)".
     pub face: String,
-    /// Evaluated pixels within `raster::SEAM_TEXELS` texels of the face's edge, and their false
-    /// ones.
+    /// Evaluated pixels within `raster::SEAM_TEXELS` texels of the face's edge (a paraboloid's
+    /// rim), and their false ones.
     pub near_seam: CascadeCounts,
     pub counts: CascadeCounts,
 }
@@ -307,7 +311,7 @@ pub(crate) fn test_run(label: &str) -> RunRecord {
         soft: None,
         pipeline: None,
         cascades: None,
-        cube: None,
+        point_map: None,
         temporal: None,
     }
 }

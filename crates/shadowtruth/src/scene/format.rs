@@ -5,11 +5,11 @@
 //! each with its JSON path.
 
 use super::cascade_settings::read_cascades;
-use super::cube_settings::read_cube_settings;
+use super::point_map::{as_layout, read_cube_settings};
 use super::path::{CameraPath, Keyframes};
 use super::path_format::{read_camera_path, read_light_path};
 use super::shapes::Shape;
-use super::{Camera, CubeSettings, Light, LightKind, LightSize, SCENE_FORMAT, Transform};
+use super::{Camera, CubeSettings, Light, PointMap, LightKind, LightSize, SCENE_FORMAT, Transform};
 use crate::json_input::{
     Problems, Reader, as_array_of, as_bool, as_name, as_positive, as_positive_array, as_string, count,
     open_range, show,
@@ -348,7 +348,8 @@ fn read_light(r: &mut Reader) -> Option<Light> {
     Some(light)
 }
 
-/// A point light: `position`, `near`, `far`, an optional sphere `radius` and `cube_map`.
+/// A point light: `position`, `near`, `far`, an optional sphere `radius`, its `shadow_map`
+/// ("cube" or "dual_paraboloid") and a cube's `cube_map`.
 fn read_point_light(r: &mut Reader, name: Option<String>) -> Option<Light> {
     let mut refused = false;
     for (field, why) in [
@@ -365,16 +366,22 @@ fn read_point_light(r: &mut Reader, name: Option<String>) -> Option<Light> {
     let position = r.required("position", as_vec3);
     let near_far = read_near_far(r);
     let radius = r.optional(LightSize::RADIUS_FIELD, as_positive);
+    let layout = r.optional_or("shadow_map", as_layout, "cube");
     let cube = r.optional_object("cube_map", read_cube_settings);
-    let cube = match cube {
-        Some(read) => read?,
-        None => CubeSettings::default(),
+    let map = match (layout?, cube) {
+        ("cube", Some(read)) => PointMap::Cube(read?),
+        ("cube", None) => PointMap::Cube(CubeSettings::default()),
+        (_, Some(_)) => {
+            r.problem("cube_map", "sets a cube map, but `shadow_map` is dual_paraboloid");
+            return None;
+        }
+        (_, None) => PointMap::DualParaboloid,
     };
     let (near, far) = near_far?;
     if refused {
         return None;
     }
-    let kind = LightKind::Point { position: position?, near, far, radius: radius.map(|x| x as f32), cube };
+    let kind = LightKind::Point { position: position?, near, far, radius: radius.map(|x| x as f32), map };
     Some(Light { name: name?, kind, path: None, cascades: None })
 }
 

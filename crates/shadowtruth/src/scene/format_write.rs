@@ -162,6 +162,8 @@ struct FileLight<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     cascades: Option<FileCascades>,
     #[serde(skip_serializing_if = "Option::is_none")]
+    shadow_map: Option<&'static str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     cube_map: Option<FileCube>,
 }
 
@@ -271,6 +273,7 @@ fn file_light(index: usize, light: &Light) -> Result<FileLight<'_>, UnwritableSc
         radius: None,
         path,
         cascades: light.cascades.as_ref().map(file_cascades),
+        shadow_map: None,
         cube_map: None,
     };
     match light.kind {
@@ -286,11 +289,14 @@ fn file_light(index: usize, light: &Light) -> Result<FileLight<'_>, UnwritableSc
             (file.cone_deg, file.near, file.far, file.radius) =
                 (Some(cone_deg), Some(near), Some(far), radius);
         }
-        LightKind::Point { position, near, far, radius, cube } => {
+        LightKind::Point { position, near, far, radius, map } => {
             file.light_type = "point";
             file.position = Some(position.to_array());
             (file.near, file.far, file.radius) = (Some(near), Some(far), radius);
-            file.cube_map = Some(FileCube { guard_texels: cube.guard_texels });
+            file.shadow_map = Some(map.name());
+            if let crate::scene::PointMap::Cube(cube) = map {
+                file.cube_map = Some(FileCube { guard_texels: cube.guard_texels });
+            }
         }
     }
     Ok(file)
@@ -444,14 +450,13 @@ mod tests {
         Light { name: "lamp".into(), kind, path: None, cascades: None }
     }
 
-    fn point(radius: Option<f32>, guard_texels: u32) -> Light {
-        let kind = LightKind::Point {
-            position: Vec3::new(2.5, 3.75, -1.0),
-            near: 0.05,
-            far: 40.0,
-            radius,
-            cube: crate::scene::CubeSettings { guard_texels },
+    /// A point light with a cube of `guard_texels`, or dual paraboloids (None).
+    fn point(radius: Option<f32>, guard_texels: Option<u32>) -> Light {
+        let map = match guard_texels {
+            Some(guard_texels) => crate::scene::PointMap::Cube(crate::scene::CubeSettings { guard_texels }),
+            None => crate::scene::PointMap::DualParaboloid,
         };
+        let kind = LightKind::Point { position: Vec3::new(2.5, 3.75, -1.0), near: 0.05, far: 40.0, radius, map };
         Light { name: "lamp_point".into(), kind, path: None, cascades: None }
     }
 
@@ -500,8 +505,9 @@ mod tests {
                 spot(Some(0.5)),
                 Light { name: "bare".into(), ..sun(None) },
                 Light { name: "small".into(), ..spot(None) },
-                point(Some(0.125), 0),
-                Light { name: "bulb".into(), ..point(None, 12) },
+                point(Some(0.125), Some(0)),
+                Light { name: "bulb".into(), ..point(None, Some(12)) },
+                Light { name: "paraboloids".into(), ..point(None, None) },
             ],
         };
         let text = assert_round_trip(&file);

@@ -2,7 +2,7 @@
 //! (used by the soft references and PCSS).
 
 use super::cascade_settings::CascadeSettings;
-use super::cube_settings::CubeSettings;
+use super::point_map::PointMap;
 use super::path::LightPath;
 use glam::Vec3;
 
@@ -17,8 +17,8 @@ pub enum LightKind {
     Spot { position: Vec3, direction: Vec3, cone_deg: f32, near: f32, far: f32, radius: Option<f32> },
     /// A light at `position` shining every way, up to the distance `far` (its range); `near` is
     /// the near plane of its shadow map's faces. `radius` (world units): the radius of a sphere
-    /// centred at `position`, when it is an area light. Its shadow map is a cube (`cube`).
-    Point { position: Vec3, near: f32, far: f32, radius: Option<f32>, cube: CubeSettings },
+    /// centred at `position`, when it is an area light. `map`: a cube or two paraboloids.
+    Point { position: Vec3, near: f32, far: f32, radius: Option<f32>, map: PointMap },
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -121,7 +121,7 @@ impl Light {
         matches!(self.kind, LightKind::Directional { .. })
     }
 
-    /// Whether the light is a point light, whose shadow map has six faces.
+    /// Whether the light is a point light, whose shadow map has several faces.
     pub fn is_point(&self) -> bool {
         matches!(self.kind, LightKind::Point { .. })
     }

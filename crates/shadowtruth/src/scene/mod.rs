@@ -4,7 +4,6 @@
 mod budget;
 mod camera;
 mod cascade_settings;
-mod cube_settings;
 mod error;
 mod format;
 mod format_write;
@@ -18,6 +17,7 @@ mod obj;
 mod path;
 mod path_format;
 mod placement;
+mod point_map;
 mod shapes;
 mod transform;
 mod triangles;
@@ -25,7 +25,6 @@ mod view_key;
 
 pub use camera::{Camera, Film, FilmRow};
 pub use cascade_settings::{CascadeFit, CascadeSettings, MAX_CASCADES, SplitScheme};
-pub use cube_settings::{CubeSettings, MAX_GUARD_TEXELS};
 pub use error::{Problem, SceneError};
 pub use format::{
     Geometry, MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE, MAX_INSTANCED_TRIANGLES, MAX_INSTANCES, MAX_SCENE_TRIANGLES,
@@ -39,6 +38,7 @@ pub use load_gltf::load_gltf_within;
 pub use mesh_cache::{MESH_CACHE_DIR, MIN_CACHED_BYTES, mesh_cache_path};
 pub use obj::parse_obj;
 pub use path::{CameraPath, Interpolation, Keyframes, LightPath, frame_times, union_span};
+pub use point_map::{CubeSettings, MAX_GUARD_TEXELS, PointMap};
 pub use shapes::{IndexedMesh, Shape};
 pub use transform::Transform;
 pub use triangles::TriangleSource;

@@ -103,7 +103,11 @@ impl Epsilon {
     pub fn new(view: &LightView, tolerance: f32) -> Self {
         let (n, f) = (view.near, view.far);
         match view.projection {
-            Projection::Orthographic { .. } => Epsilon { c: tolerance / (f - n), perspective: None },
+            // A paraboloid's depth is linear in the distance (its techniques are refused at plan
+            // time: `Technique::needs_projective_map`).
+            Projection::Orthographic { .. } | Projection::Paraboloid => {
+                Epsilon { c: tolerance / (f - n), perspective: None }
+            }
             Projection::Perspective { .. } => {
                 Epsilon { c: tolerance / (f * n * (f - n)), perspective: Some((f, f - n)) }
             }
@@ -141,6 +145,11 @@ fn to_light(view: &LightView, p: Vec3) -> Option<Vec3> {
 impl Technique for AdaptiveBias {
     fn layer_needs(&self) -> LayerNeeds {
         LayerNeeds::default()
+    }
+
+    /// The potential occluder lies on the light ray through a texel centre.
+    fn needs_projective_map(&self) -> bool {
+        true
     }
 
     fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {

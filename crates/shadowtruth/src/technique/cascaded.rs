@@ -2,11 +2,12 @@
 //! the technique through the cascade its view depth falls in, with that cascade's light view and
 //! layers (so biases in texels are that cascade's texels); in a blend band, through two cascades,
 //! mixed linearly; beyond the last cascade, lit. A point light's cube map is shaded the same
-//! way, its six faces cascades that never blend (`CascadeOrders::of_faces`).
+//! way, its faces (or paraboloids) cascades that never blend (`CascadeOrders::of_faces`).
 
 use super::shade::shade_into;
 use super::{ShadeContext, ShadeOrder, Technique};
-use crate::raster::{CascadeChoice, Cascades, CubeMap, LightView};
+use crate::raster::{CascadeChoice, Cascades, LightView};
+use glam::Vec3;
 use crate::trace::GBuffer;
 use rayon::prelude::*;
 
@@ -28,14 +29,15 @@ impl CascadeOrders {
         Self::from_choices(gbuffer, &cascades.views, choices)
     }
 
-    /// Each evaluated pixel shaded through the face of `cube` its point's direction selects.
-    pub fn of_faces(gbuffer: &GBuffer, cube: &CubeMap) -> Self {
+    /// Each evaluated pixel shaded through the face of a point light's map (a cube's face, a
+    /// paraboloid's hemisphere) that `face_of` its point selects, among `faces`.
+    pub fn of_faces(gbuffer: &GBuffer, faces: &[LightView], face_of: impl Fn(Vec3) -> usize + Sync) -> Self {
         let choices: Vec<CascadeChoice> = gbuffer
             .evaluated
             .par_iter()
-            .map(|&i| CascadeChoice::One(cube.face_of(gbuffer.position[i as usize])))
+            .map(|&i| CascadeChoice::One(face_of(gbuffer.position[i as usize])))
             .collect();
-        Self::from_choices(gbuffer, &cube.faces, choices)
+        Self::from_choices(gbuffer, faces, choices)
     }
 
     /// The shading orders of `views` for the pixels `choices` sends to each.

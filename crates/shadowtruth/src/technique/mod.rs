@@ -158,6 +158,11 @@ pub trait Technique: Sync {
     fn layer_needs(&self) -> LayerNeeds;
     /// Visibility of `sample` in [0, 1] (1 = lit).
     fn visibility(&self, sample: &Sample, ctx: &ShadeContext) -> f32;
+    /// Whether the technique reads the light's projection as a matrix (rays through texel
+    /// centres, a frustum's size): it cannot run on a dual-paraboloid map, whose map is not one.
+    fn needs_projective_map(&self) -> bool {
+        false
+    }
 }
 
 /// The texel (x, row) holding map coordinates (u, v); a receiver outside the map is clamped to

@@ -246,6 +246,10 @@ impl Technique for Pcf {
         self.needs
     }
 
+    fn needs_projective_map(&self) -> bool {
+        self.bias.needs_projective_map()
+    }
+
     fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
         let Some(uvd) = ctx.view.project(s.position) else { return 1.0 };
         let (x0, row0) = receiver_texel(ctx.layers.resolution(), uvd);

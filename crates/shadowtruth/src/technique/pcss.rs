@@ -74,7 +74,7 @@ impl Pcss {
 fn view_distance(ctx: &ShadeContext, d: f32) -> f32 {
     let (n, f) = (ctx.view.near, ctx.view.far);
     match ctx.view.projection {
-        Projection::Orthographic { .. } => n + d * (f - n),
+        Projection::Orthographic { .. } | Projection::Paraboloid => n + d * (f - n),
         Projection::Perspective { .. } => f * n / (f - d * (f - n)),
     }
 }
@@ -82,6 +82,11 @@ fn view_distance(ctx: &ShadeContext, d: f32) -> f32 {
 impl Technique for Pcss {
     fn layer_needs(&self) -> LayerNeeds {
         LayerNeeds::default()
+    }
+
+    /// The search and filter radii come from the frustum's size.
+    fn needs_projective_map(&self) -> bool {
+        true
     }
 
     fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {

@@ -12,7 +12,7 @@ use super::params::non_negative;
 use super::{
     LayerNeeds, Sample, ShadeContext, Technique, TechniqueParams, TechniqueSpecError, texel_at, texel_centre,
 };
-use crate::raster::LightView;
+use crate::raster::{LightView, Projection};
 use glam::{DVec2, DVec3, Vec3};
 use serde::{Deserialize, Serialize};
 
@@ -43,12 +43,16 @@ pub fn receiver_plane_slope_at(view: &LightView, tri: &[Vec3; 3], point: Vec3) -
     let tangent = (v1 - v0).normalize();
     let bitangent = normal.cross(tangent);
     let clip_from_world = view.clip_from_world.as_dmat4();
-    let project = |p: DVec3| {
-        let c = clip_from_world * p.extend(1.0);
-        (c.w > 0.0).then(|| DVec3::new(0.5 * c.x / c.w + 0.5, 0.5 * c.y / c.w + 0.5, c.z / c.w))
+    let project = |p: DVec3| match view.projection {
+        // Not a matrix: the paraboloid's own map, in f32.
+        Projection::Paraboloid => view.project(p.as_vec3()).map(Vec3::as_dvec3),
+        _ => {
+            let c = clip_from_world * p.extend(1.0);
+            (c.w > 0.0).then(|| DVec3::new(0.5 * c.x / c.w + 0.5, 0.5 * c.y / c.w + 0.5, c.z / c.w))
+        }
     };
     let p = point.as_dvec3();
-    let step = 0.01 * (clip_from_world * p.extend(1.0)).w;
+    let step = 0.01 * view.view_depth(point) as f64;
     slope_through(project(p)?, project(p + step * tangent)?, project(p + step * bitangent)?)
 }
 

@@ -16,3 +16,10 @@ pub enum TapBias {
     Adaptive(AdaptiveBias),
     AdaptiveDelta(AdaptiveBias),
 }
+
+impl TapBias {
+    /// Whether the bias reads light rays through texel centres (the adaptive ones do).
+    pub fn needs_projective_map(&self) -> bool {
+        matches!(self, TapBias::Adaptive(_) | TapBias::AdaptiveDelta(_))
+    }
+}

@@ -8,7 +8,8 @@ use super::nodes::NodeItem;
 use super::problem::GltfProblem;
 use crate::json_input::{as_positive, count, open_range};
 use crate::scene::format::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE};
-use crate::scene::{Camera, CubeSettings, Light, LightKind, MAX_GUARD_TEXELS, box_corners};
+use crate::scene::{Camera, CubeSettings, Light, LightKind, MAX_GUARD_TEXELS, PointMap, box_corners};
+use crate::scene::point_map::as_layout;
 use glam::{DAffine3, DVec3};
 use gltf::khr_lights_punctual::Kind;
 
@@ -182,7 +183,7 @@ fn light_kind(
 }
 
 /// A point light: its node's position, its range as far (as for a spot light), and from the
-/// extras its near plane, sphere `radius` and cube map's `guard_texels`.
+/// extras its near plane, sphere `radius`, `shadow_map` and cube map's `guard_texels`.
 fn point_light(
     light: &gltf::khr_lights_punctual::Light,
     item: &NodeItem,
@@ -196,13 +197,16 @@ fn point_light(
     let (near, far) = spot_range(position, range, extras, at, bounds, problems)?;
     let radius = light_radius(extras, problems)?;
     let guard = extras.get("guard_texels", count(0, MAX_GUARD_TEXELS as u64), problems);
-    let cube = CubeSettings { guard_texels: guard.unwrap_or(CubeSettings::default().guard_texels) };
+    let map = match extras.get("shadow_map", as_layout, problems) {
+        Some("dual_paraboloid") => PointMap::DualParaboloid,
+        _ => PointMap::Cube(CubeSettings { guard_texels: guard.unwrap_or(CubeSettings::default().guard_texels) }),
+    };
     let position = position.as_vec3();
     if !position.is_finite() {
         problems.push(outside_f32(item));
         return None;
     }
-    Some(LightKind::Point { position, near, far, radius, cube })
+    Some(LightKind::Point { position, near, far, radius, map })
 }
 
 /// The extras' area-light `radius` (`Some(None)` when absent); None when it is not usable
