@@ -74,6 +74,12 @@ pub fn cube_map(light: &Light, resolution: u32) -> Result<CubeMap> {
     if !light.is_point() {
         return Err(Error::Invalid(format!("light '{}' is not a point light: it has one view", light.name)));
     }
+    if let crate::scene::LightKind::Point { map: crate::scene::PointMap::DualParaboloid, .. } = light.kind {
+        return Err(Error::Invalid(format!(
+            "light '{}' casts through dual paraboloids (`raster::DualParaboloid`), not a cube",
+            light.name
+        )));
+    }
     if !(1..=MAX_SHADOW_MAP_RESOLUTION).contains(&resolution) {
         return Err(Error::Invalid(format!(
             "shadow-map resolution {resolution}: must be between 1 and {MAX_SHADOW_MAP_RESOLUTION}"
