@@ -57,7 +57,7 @@ pub fn score<'py>(
     let counts = py.detach(|| -> shadowtruth::Result<Counts> {
         let (gbuffer, reference) = trace_scored_view(&scene.scene, scene.bvh(), camera, light);
         let evaluated = evaluated_visibility(&gbuffer, camera, &visibility, depth.as_ref(), depth_tolerance)?;
-        let attribution = attribute(&gbuffer, &reference, &evaluated, &LightUv::new(&gbuffer, &view));
+        let attribution = attribute(&gbuffer, &reference, &evaluated, &LightUv::new(&gbuffer, &view), None);
         Ok(score_hard(&gbuffer, &reference, &evaluated).with_attribution(attribution))
     });
     score_dict(py, &counts.map_err(library_error)?)

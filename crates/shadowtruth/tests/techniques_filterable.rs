@@ -147,3 +147,69 @@ fn two_stacked_occluders_bleed_next_to_the_upper_edge_by_chebyshevs_bound() {
         }
     }
 }
+
+/// A receiver just under one occluder and far under a second one: the mixture of the two
+/// occluders' depths in VSM's filter then lets through more than half the light (Chebyshev's
+/// bound a(1 − a)Δ²/(a(1 − a)Δ² + (Δ_r + aΔ)²) reaches 0.65 with Δ = 5.6, Δ_r = 0.4), so the
+/// ground next to the upper slab's edge is false lit. Where the slabs overlap in the sun's view
+/// (x < 0) every shadowed ground pixel is marked overlapped, where only the lower one shades
+/// (x > 0) none is; the attribution calls the false lit pixels light bleeding, and without the
+/// overlap map calls them leaks.
+#[test]
+fn false_lit_next_to_overlapping_occluders_is_light_bleeding() {
+    use shadowtruth::metrics::{LightUv, attribute};
+    use shadowtruth::trace::trace_shadow_overlap;
+    let scene = scene_from_json(&serde_json::json!({
+        "format": "shadowtruth/scene/v1", "name": "far_slabs",
+        "objects": [
+            { "name": "ground", "shape": { "type": "plane", "size": [4, 4] } },
+            { "name": "lower", "shape": { "type": "box", "size": [2, 0.02, 2] }, "closed": true,
+              "transform": { "translate": [0, 0.4, 0] } },
+            { "name": "upper", "shape": { "type": "box", "size": [1, 0.02, 2] }, "closed": true,
+              "transform": { "translate": [-0.5, 6, 0] } }
+        ],
+        "cameras": [{ "name": "under", "position": [0.2, 0.3, 4], "look_at": [0, 0.05, 0],
+                      "fov_y_deg": 50, "width": 384, "height": 256 }],
+        "lights": [{ "name": "sun", "type": "directional", "direction": [0, -1, 0] }]
+    }));
+    let (g, r) = trace_first(&scene);
+    let bvh = shadowtruth::SceneBvh::build(&scene);
+    let overlap = trace_shadow_overlap(&scene, &bvh, &g, &scene.lights[0], |i| r.lit[i] == 0);
+    let texel = texel_world(&scene);
+    let (mut both, mut one) = (0, 0);
+    for &i in &g.evaluated {
+        let (i, p) = (i as usize, g.position[i as usize]);
+        if p.y > 0.1 || r.lit[i] != 0 || p.z.abs() > 1.0 - texel {
+            continue;
+        }
+        if p.x < -texel && p.x > -1.0 + texel {
+            assert!(overlap.at(i), "({}, {}) lies under both slabs", p.x, p.z);
+            both += 1;
+        } else if p.x > texel && p.x < 1.0 - texel {
+            assert!(!overlap.at(i), "({}, {}) lies under the lower slab alone", p.x, p.z);
+            one += 1;
+        }
+    }
+    assert!(both > 100 && one > 100, "{both} under both, {one} under one");
+
+    let vsm = spec(serde_json::json!({ "technique": "vsm", "min_variance": 0 }));
+    let v = shade_technique(&scene, &g, &vsm, RESOLUTION, DepthFormat::F32);
+    let view = LightView::new(&scene.lights[0], scene.bounds(), RESOLUTION);
+    let uv = LightUv::new(&g, &view);
+    let with = attribute(&g, &r, &v, &uv, Some(&overlap));
+    let without = attribute(&g, &r, &v, &uv, None);
+    println!("with the overlap map: {with:?}; without: {without:?}");
+    assert!(with.light_bleeding > 10 && with.light_bleeding > 4 * with.leak, "{with:?}");
+    assert_eq!(without.light_bleeding, 0);
+    assert_eq!(with.leak + with.light_bleeding, without.leak);
+    assert_eq!((with.aliasing, with.acne), (without.aliasing, without.acne));
+    // Every false lit ground pixel under the lower slab alone (away from its own outline) lies
+    // next to the upper's edge.
+    for (&i, &vi) in g.evaluated.iter().zip(&v) {
+        let p = g.position[i as usize];
+        let inside = p.x > 0.0 && p.x < 1.0 - 2.0 * texel && p.z.abs() < 1.0 - 2.0 * texel;
+        if p.y < 0.1 && r.lit[i as usize] == 0 && vi >= 0.5 && inside {
+            assert!(p.x < 4.0 * texel, "false lit at ({}, {}), {} texels from the edge", p.x, p.z, p.x / texel);
+        }
+    }
+}

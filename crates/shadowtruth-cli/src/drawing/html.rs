@@ -195,6 +195,7 @@ fn runs_table(h: &mut String, report: &Report, assets: &PageAssets) {
         ("aliasing", false),
         ("acne", false),
         ("leak", false),
+        ("bleeding", false),
         ("error %", false),
         ("prepare ms", false),
         ("shade ms", false),
@@ -211,7 +212,7 @@ fn runs_table(h: &mut String, report: &Report, assets: &PageAssets) {
             h,
             "<tr data-scene=\"{}\" data-camera=\"{}\" data-light=\"{}\" data-technique=\"{}\" data-resolution=\"{}\">\
              <td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td>\
-             <td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>\
+             <td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>\
              <td data-v=\"{}\">{:.3}</td><td>{:.2}</td><td>{:.2}</td><td>{:.1}</td><td class=\"l\">{figs}</td></tr>",
             escape(&r.scene),
             escape(&r.camera),
@@ -231,6 +232,7 @@ fn runs_table(h: &mut String, report: &Report, assets: &PageAssets) {
             c.aliasing,
             c.acne,
             c.leak,
+            c.light_bleeding,
             r.rates.error,
             100.0 * r.rates.error,
             r.timings.prepare,

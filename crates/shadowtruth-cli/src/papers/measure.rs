@@ -128,7 +128,8 @@ pub(super) fn shade(
     ctx.scene_scale = scene_scale.unwrap_or(ctx.scene_scale);
     let (visibility, shade_ms) =
         timed_median(repeats, || shade_evaluated(technique.as_ref(), &map.order, &ctx));
-    let counts = crate::plan::score_against(&v.gbuffer, &v.reference, &visibility, &map.uv);
+    // The papers' leaks are every false lit away from a boundary: no light-bleeding class.
+    let counts = crate::plan::score_against(&v.gbuffer, &v.reference, &visibility, &map.uv, None);
     let ns_per_pixel = shade_ms * 1e6 / visibility.len().max(1) as f64;
     Shaded { visibility, counts, ns_per_pixel }
 }
@@ -157,7 +158,7 @@ pub(super) fn artefacts_in(v: &View, map: &LightMap, visibility: &[f32], region:
         .zip(visibility.iter().zip(region))
         .map(|(&i, (&value, &inside))| if inside { value } else { v.reference.lit[i as usize] as f32 })
         .collect();
-    let a = attribute(&v.gbuffer, &v.reference, &masked, &map.uv);
+    let a = attribute(&v.gbuffer, &v.reference, &masked, &map.uv, None);
     let evaluated = region.iter().filter(|&&r| r).count() as u64;
     Artefacts { evaluated, acne: a.acne, leak: a.leak, aliasing: a.aliasing }
 }

@@ -8,8 +8,8 @@ use shadowtruth::record::ReferenceUsed;
 use shadowtruth::scene::{Camera, Light, Scene};
 use shadowtruth::technique::ReferenceKind;
 use shadowtruth::trace::{
-    GBuffer, HardReference, ReferenceCache, SceneBvh, SoftReference, trace_area_light_reference,
-    trace_coverage_reference, trace_hard_reference,
+    GBuffer, HardReference, ReferenceCache, SceneBvh, ShadowOverlap, SoftReference, trace_area_light_reference,
+    trace_coverage_reference, trace_hard_reference, trace_shadow_overlap,
 };
 
 /// A fractional reference and its ½ threshold (for the hard counts and attribution).
@@ -20,6 +20,9 @@ pub struct Fractional {
 
 pub struct ViewReferences {
     pub hard: HardReference,
+    /// Where occluders of two objects overlap in the light's view, over the pixels any of the
+    /// references shadows: the attribution's light bleeding.
+    pub overlap: ShadowOverlap,
     pub coverage: Option<Fractional>,
     pub area_light: Option<Fractional>,
     coverage_grid: u32,
@@ -75,8 +78,14 @@ impl ViewReferences {
         } else {
             None
         };
+        let shadowed = |i: usize| {
+            let fractional_shadow = |f: &Option<Fractional>| f.as_ref().is_some_and(|f| f.hard.lit[i] == 0);
+            hard.lit[i] == 0 || fractional_shadow(&coverage) || fractional_shadow(&area_light)
+        };
+        let overlap = trace_shadow_overlap(scene, bvh, gbuffer, light, shadowed);
         Ok(ViewReferences {
             hard,
+            overlap,
             coverage,
             area_light,
             coverage_grid: plan.coverage_grid,

@@ -9,7 +9,7 @@ use super::{Plan, PlanError};
 use shadowtruth::metrics::{Counts, LightUv, attribute, score_hard};
 use shadowtruth::scene::{Camera, Light, Scene};
 use shadowtruth::technique::{BuiltLayers, Technique};
-use shadowtruth::trace::{GBuffer, HardReference, ReferenceCache, SceneBvh};
+use shadowtruth::trace::{GBuffer, HardReference, ReferenceCache, SceneBvh, ShadowOverlap};
 
 /// The G-buffer of the (camera, light) view and the references `plan`'s techniques are scored
 /// against (read from `cache` when given), the pixels the hard reference cannot decide left out
@@ -41,13 +41,15 @@ pub fn shade_through(
 }
 
 /// The counts of `visibility` against `reference`, with the attribution of every false pixel
-/// (acne, leak, aliasing) through the light-map positions `light_uv`.
+/// (acne, leak, light bleeding where `overlap` says occluders overlap, aliasing) through the
+/// light-map positions `light_uv`.
 pub fn score_against(
     gbuffer: &GBuffer,
     reference: &HardReference,
     visibility: &[f32],
     light_uv: &LightUv,
+    overlap: Option<&ShadowOverlap>,
 ) -> Counts {
     score_hard(gbuffer, reference, visibility)
-        .with_attribution(attribute(gbuffer, reference, visibility, light_uv))
+        .with_attribution(attribute(gbuffer, reference, visibility, light_uv, overlap))
 }

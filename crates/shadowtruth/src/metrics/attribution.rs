@@ -4,6 +4,10 @@
 //! - **aliasing**: the pixel lies within one shadow-map texel footprint of a reference shadow
 //!   boundary, so no shadow map of this resolution can be expected to get it right;
 //! - **acne**: any other false shadow (reference lit, technique shadowed);
+//! - **light bleeding**: any other false lit where occluders of two objects overlap in the light's
+//!   view at the pixel or within `BLEEDING_TEXELS` of it in the map (`trace::ShadowOverlap`, when
+//!   the caller gives it): the error filterable maps make where a filter mixes two occluders'
+//!   depths;
 //! - **leak**: any other false lit (reference shadowed, technique lit).
 //!
 //! Definitions, exactly as computed:
@@ -12,7 +16,7 @@
 //!   `GBuffer::evaluated`; `visibility[k]` belongs to pixel `gbuffer.evaluated[k]`) the technique
 //!   says lit when `v ≥ ½`, the reference says lit when `HardReference::lit[i] == 1`; the pixel
 //!   is false when the two differ; a NaN (a surface mismatch of an imported buffer) is never
-//!   false. Hence `aliasing + acne + leak == false_shadow + false_lit`.
+//!   false. Hence `aliasing + acne + light_bleeding + leak == false_shadow + false_lit`.
 //! - Every evaluated pixel i has a light-map position `(u, v)` from
 //!   `LightView::project(gbuffer.position[i])`, kept in texel units `(u·N, v·N)`,
 //!   N = `view.resolution` (`LightUv`, computed once per G-buffer and view).
@@ -31,21 +35,32 @@
 //!   found, and such a pixel counts as acne or leak. The estimate is local (p's own
 //!   neighbours), so on a strongly sheared or curved projection a boundary sample one texel
 //!   away in uv may lie just outside the window; the `+ 1` absorbs most of that.
+//! - A false-lit pixel p that is not aliasing is *light bleeding* when occluders overlap at p, or
+//!   at some evaluated pixel q within `BLEEDING_TEXELS` = 4 texels of p's light-map position on
+//!   both axes, found in the window of reach 4 texels (`R = ceil(4 / s_min) + 1`, the same cap).
+//!   *Occluders overlap* at a pixel when the line from the light to its point crosses surfaces
+//!   of two different objects (`trace::ShadowOverlap`); a filter of the map that reaches such a
+//!   place mixes the two occluders' depths. Without an overlap map every such pixel is a leak.
 //!
 //! Cost: only false pixels are searched, in parallel; a window is scanned only when a
-//! summed-area table says it holds a pixel with the opposite reference value, and the scan stops
-//! at the first boundary sample. The search allocates nothing. The counts are sums of
+//! summed-area table says it holds a pixel with the opposite reference value (or where
+//! occluders overlap), and the scan stops at the first such sample. The search allocates nothing. The counts are sums of
 //! independent per-pixel decisions, so they are identical for any thread count.
 
 use super::classify::Counts;
 use crate::raster::LightView;
-use crate::trace::{GBuffer, HardReference, PixelClass};
+use crate::trace::{GBuffer, HardReference, PixelClass, ShadowOverlap};
 use glam::Vec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// The largest search radius in pixels (see the module documentation).
 pub const MAX_RADIUS: usize = 64;
+
+/// How far in the light map, in texels, a false lit pixel may lie from a point where occluders
+/// overlap and still be light bleeding: a filter's reach (a 3×3 blur and a bilinear read, with a
+/// texel to spare).
+pub const BLEEDING_TEXELS: f32 = 4.0;
 
 /// The shadow-map resolution whose texel footprint attributes a renderer's buffer when its own
 /// resolution is not told (`score --resolution`, the Python package's `score`): 2048, the most
@@ -59,21 +74,24 @@ pub struct Attribution {
     pub aliasing: u64,
     /// Other false shadows (reference lit, technique shadowed).
     pub acne: u64,
-    /// Other false lits (reference shadowed, technique lit).
+    /// Other false lits (reference shadowed, technique lit) under one occluder.
     pub leak: u64,
+    /// Other false lits where occluders of two objects overlap in the light's view.
+    #[serde(default)]
+    pub light_bleeding: u64,
 }
 
 impl Attribution {
     /// All false pixels.
     pub fn total(&self) -> u64 {
-        self.aliasing + self.acne + self.leak
+        self.aliasing + self.acne + self.leak + self.light_bleeding
     }
 }
 
 impl Counts {
     /// These counts with the attribution filled in.
     pub fn with_attribution(self, a: Attribution) -> Counts {
-        Counts { aliasing: a.aliasing, acne: a.acne, leak: a.leak, ..self }
+        Counts { aliasing: a.aliasing, acne: a.acne, leak: a.leak, light_bleeding: a.light_bleeding, ..self }
     }
 }
 
@@ -147,12 +165,14 @@ impl LightUv {
 }
 
 /// Classes every false pixel of `visibility` (one value per evaluated pixel, in
-/// `gbuffer.evaluated` order) as aliasing, acne or leak; see the module documentation.
+/// `gbuffer.evaluated` order) as aliasing, acne, light bleeding (where `overlap` says occluders
+/// overlap; never without it) or leak; see the module documentation.
 pub fn attribute(
     gbuffer: &GBuffer,
     reference: &HardReference,
     visibility: &[f32],
     light_uv: &LightUv,
+    overlap: Option<&ShadowOverlap>,
 ) -> Attribution {
     assert_eq!(visibility.len(), gbuffer.evaluated.len(), "one visibility per evaluated pixel");
     assert_eq!(
@@ -171,7 +191,9 @@ pub fn attribute(
         return Attribution::default();
     }
     let table = OppositeTable::new(light_uv, reference);
-    let search = Search { gbuffer, lit: &reference.lit, uv: light_uv, table: &table };
+    let (w, h) = (light_uv.width as usize, light_uv.height as usize);
+    let overlap = overlap.map(|o| (o, CountTable::new(w, h, |i| o.at(i) && light_uv.texel(i).is_some())));
+    let search = Search { gbuffer, lit: &reference.lit, uv: light_uv, table: &table, overlap };
 
     gbuffer
         .evaluated
@@ -189,6 +211,8 @@ pub fn attribute(
                 Attribution { aliasing: 1, ..Attribution::default() }
             } else if r_lit {
                 Attribution { acne: 1, ..Attribution::default() }
+            } else if search.near_overlap(i) {
+                Attribution { light_bleeding: 1, ..Attribution::default() }
             } else {
                 Attribution { leak: 1, ..Attribution::default() }
             }
@@ -197,52 +221,60 @@ pub fn attribute(
             aliasing: a.aliasing + b.aliasing,
             acne: a.acne + b.acne,
             leak: a.leak + b.leak,
+            light_bleeding: a.light_bleeding + b.light_bleeding,
         })
 }
 
-/// Summed-area tables of the pixels that can be a boundary sample q (evaluated, projecting),
-/// split by their reference value: whether a window holds any pixel of the opposite value is
-/// then O(1).
-struct OppositeTable {
+/// A summed-area table of the pixels where a predicate holds: whether a window holds any of
+/// them is then O(1).
+struct CountTable {
     /// Row stride: width + 1.
     stride: usize,
-    /// `lit[(y)·stride + x]`: count of lit candidates in [0, x) × [0, y).
-    lit: Vec<u32>,
-    /// The same for shadowed candidates.
-    shadowed: Vec<u32>,
+    /// `sums[y·stride + x]`: the pixels in [0, x) × [0, y) where the predicate holds.
+    sums: Vec<u32>,
+}
+
+impl CountTable {
+    fn new(width: usize, height: usize, holds: impl Fn(usize) -> bool) -> Self {
+        let stride = width + 1;
+        let mut sums = vec![0u32; stride * (height + 1)];
+        for y in 0..height {
+            let mut row = 0u32;
+            for x in 0..width {
+                row += holds(y * width + x) as u32;
+                sums[(y + 1) * stride + x + 1] = sums[y * stride + x + 1] + row;
+            }
+        }
+        CountTable { stride, sums }
+    }
+
+    /// The pixels in the inclusive window [x0, x1] × [y0, y1] where the predicate holds.
+    fn count(&self, x0: usize, y0: usize, x1: usize, y1: usize) -> u32 {
+        let (t, s) = (&self.sums, self.stride);
+        t[(y1 + 1) * s + x1 + 1] + t[y0 * s + x0] - t[y0 * s + x1 + 1] - t[(y1 + 1) * s + x0]
+    }
+}
+
+/// The pixels that can be a boundary sample q (evaluated, projecting), split by their reference
+/// value.
+struct OppositeTable {
+    lit: CountTable,
+    shadowed: CountTable,
 }
 
 impl OppositeTable {
     fn new(uv: &LightUv, reference: &HardReference) -> Self {
         let (w, h) = (uv.width as usize, uv.height as usize);
-        let stride = w + 1;
-        let mut lit = vec![0u32; stride * (h + 1)];
-        let mut shadowed = vec![0u32; stride * (h + 1)];
-        for y in 0..h {
-            let (mut row_lit, mut row_shadowed) = (0u32, 0u32);
-            for x in 0..w {
-                let i = y * w + x;
-                if uv.texel(i).is_some() {
-                    if reference.lit[i] != 0 {
-                        row_lit += 1;
-                    } else {
-                        row_shadowed += 1;
-                    }
-                }
-                let above = y * stride + x + 1;
-                let here = (y + 1) * stride + x + 1;
-                lit[here] = lit[above] + row_lit;
-                shadowed[here] = shadowed[above] + row_shadowed;
-            }
+        let candidate = |i: usize, lit: bool| uv.texel(i).is_some() && (reference.lit[i] != 0) == lit;
+        OppositeTable {
+            lit: CountTable::new(w, h, |i| candidate(i, true)),
+            shadowed: CountTable::new(w, h, |i| candidate(i, false)),
         }
-        OppositeTable { stride, lit, shadowed }
     }
 
     /// Candidates with reference value `lit` in the inclusive window [x0, x1] × [y0, y1].
     fn count(&self, lit: bool, x0: usize, y0: usize, x1: usize, y1: usize) -> u32 {
-        let t = if lit { &self.lit } else { &self.shadowed };
-        let s = self.stride;
-        t[(y1 + 1) * s + x1 + 1] + t[y0 * s + x0] - t[y0 * s + x1 + 1] - t[(y1 + 1) * s + x0]
+        if lit { &self.lit } else { &self.shadowed }.count(x0, y0, x1, y1)
     }
 }
 
@@ -251,45 +283,80 @@ struct Search<'a> {
     lit: &'a [u8],
     uv: &'a LightUv,
     table: &'a OppositeTable,
+    /// Where occluders overlap, and its table (over pixels that project).
+    overlap: Option<(&'a ShadowOverlap, CountTable)>,
 }
 
 impl Search<'_> {
-    /// Whether pixel `i` has a boundary sample q in its window (see the module documentation).
-    fn near_boundary(&self, i: usize) -> bool {
+    /// The window of pixel `i` for a reach of `texels` in the map: its clipped bounds.
+    fn window(&self, i: usize, texels: f32) -> (usize, usize, usize, usize) {
+        let (w, h) = (self.uv.width as usize, self.uv.height as usize);
+        let (x, y) = (i % w, i / w);
+        let r = window_radius(self.gbuffer, self.uv, x, y, texels);
+        (x.saturating_sub(r), y.saturating_sub(r), (x + r).min(w - 1), (y + r).min(h - 1))
+    }
+
+    /// Whether some pixel q of `i`'s window for `texels`, where `wanted(q)`, lies within
+    /// `texels` of `i` in the light map on both axes.
+    fn any_within(&self, i: usize, window: (usize, usize, usize, usize), texels: f32, wanted: impl Fn(usize) -> bool) -> bool {
         let Some(tp) = self.uv.texel(i) else {
             return false;
         };
-        let (w, h) = (self.uv.width as usize, self.uv.height as usize);
-        let (x, y) = (i % w, i / w);
-        let r = window_radius(self.gbuffer, self.uv, x, y);
-        let (x0, x1) = (x.saturating_sub(r), (x + r).min(w - 1));
-        let (y0, y1) = (y.saturating_sub(r), (y + r).min(h - 1));
-        let p_lit = self.lit[i] != 0;
-        if self.table.count(!p_lit, x0, y0, x1, y1) == 0 {
-            return false;
-        }
-        let p_code = self.lit[i];
+        let w = self.uv.width as usize;
+        let (x0, y0, x1, y1) = window;
         for qy in y0..=y1 {
             let row = qy * w;
             for q in row + x0..=row + x1 {
-                if self.lit[q] == p_code {
+                if !wanted(q) {
                     continue;
                 }
                 let tq = self.uv.texel[q];
                 // NaN (no position) fails both comparisons.
-                if (tq[0] - tp[0]).abs() <= 1.0 && (tq[1] - tp[1]).abs() <= 1.0 {
+                if (tq[0] - tp[0]).abs() <= texels && (tq[1] - tp[1]).abs() <= texels {
                     return true;
                 }
             }
         }
         false
     }
+
+    /// Whether pixel `i` has a boundary sample q in its window (see the module documentation).
+    fn near_boundary(&self, i: usize) -> bool {
+        if self.uv.texel(i).is_none() {
+            return false;
+        }
+        let window = self.window(i, 1.0);
+        let (x0, y0, x1, y1) = window;
+        let p_lit = self.lit[i] != 0;
+        if self.table.count(!p_lit, x0, y0, x1, y1) == 0 {
+            return false;
+        }
+        let p_code = self.lit[i];
+        self.any_within(i, window, 1.0, |q| self.lit[q] != p_code)
+    }
+
+    /// Whether occluders overlap at pixel `i`, or at a pixel within `BLEEDING_TEXELS` of it in
+    /// the map (see the module documentation).
+    fn near_overlap(&self, i: usize) -> bool {
+        let Some((overlap, table)) = &self.overlap else {
+            return false;
+        };
+        if overlap.at(i) {
+            return true;
+        }
+        if self.uv.texel(i).is_none() {
+            return false;
+        }
+        let window = self.window(i, BLEEDING_TEXELS);
+        let (x0, y0, x1, y1) = window;
+        table.count(x0, y0, x1, y1) > 0 && self.any_within(i, window, BLEEDING_TEXELS, |q| overlap.at(q))
+    }
 }
 
-/// The search radius R of pixel (x, y): `ceil(1 / s_min) + 1` clamped to [1, 64], `s_min` the
-/// smallest uv step per pixel (in texels, max over u and v) to a 4-neighbour that is evaluated,
-/// projects and shows the same object; 64 when there is none.
-fn window_radius(gbuffer: &GBuffer, uv: &LightUv, x: usize, y: usize) -> usize {
+/// The search radius R of pixel (x, y) for a reach of `texels` in the map: `ceil(texels / s_min)
+/// + 1` clamped to [1, 64], `s_min` the smallest uv step per pixel (in texels, max over u and v)
+/// to a 4-neighbour that is evaluated, projects and shows the same object; 64 when there is none.
+fn window_radius(gbuffer: &GBuffer, uv: &LightUv, x: usize, y: usize, texels: f32) -> usize {
     let (w, h) = (uv.width as usize, uv.height as usize);
     let i = y * w + x;
     let Some(tp) = uv.texel(i) else {
@@ -316,7 +383,7 @@ fn window_radius(gbuffer: &GBuffer, uv: &LightUv, x: usize, y: usize) -> usize {
         return MAX_RADIUS; // no neighbour helps
     }
     // A zero step (a texel wider than the screen can tell) gives 1/0 = ∞: the cap.
-    let r = (1.0 / smallest).ceil() + 1.0;
+    let r = (texels / smallest).ceil() + 1.0;
     if r.is_finite() && r < MAX_RADIUS as f32 { (r as usize).max(1) } else { MAX_RADIUS }
 }
 
@@ -402,7 +469,7 @@ mod tests {
     fn run(g: &GBuffer, lit: &[u8], visibility_of: impl Fn(usize) -> f32) -> Attribution {
         let r = reference(lit, g);
         let v: Vec<f32> = g.evaluated.iter().map(|&i| visibility_of(i as usize)).collect();
-        attribute(g, &r, &v, &LightUv::new(g, &view()))
+        attribute(g, &r, &v, &LightUv::new(g, &view()), None)
     }
 
     #[test]
@@ -419,19 +486,19 @@ mod tests {
     fn radius_follows_the_smallest_uv_step_and_the_cap() {
         let g = scene((1.0, 1.0));
         let uv = LightUv::new(&g, &view());
-        assert_eq!(window_radius(&g, &uv, 2, 0), 3, "half a texel per pixel");
+        assert_eq!(window_radius(&g, &uv, 2, 0, 1.0), 3, "half a texel per pixel");
         // Object 1 stands alone (its neighbours are background or another object).
-        assert_eq!(window_radius(&g, &uv, 3, 1), MAX_RADIUS);
+        assert_eq!(window_radius(&g, &uv, 3, 1, 1.0), MAX_RADIUS);
         // Four texels per pixel: ceil(1/4) + 1 = 2.
         let px: Vec<Px> = (0..3).map(|k| Px::At(0, 4.0 * k as f32, 0.0)).collect();
         let g = gbuffer(3, 1, &px);
         let uv = LightUv::new(&g, &view());
-        assert_eq!(window_radius(&g, &uv, 1, 0), 2);
+        assert_eq!(window_radius(&g, &uv, 1, 0, 1.0), 2);
         // A tiny step (a texel covers many pixels) is clamped to the cap.
         let px: Vec<Px> = (0..3).map(|k| Px::At(0, 1e-3 * k as f32, 0.0)).collect();
         let g = gbuffer(3, 1, &px);
         let uv = LightUv::new(&g, &view());
-        assert_eq!(window_radius(&g, &uv, 1, 0), MAX_RADIUS);
+        assert_eq!(window_radius(&g, &uv, 1, 0, 1.0), MAX_RADIUS);
     }
 
     /// The first row is lit in truth except as noted; pixel 11 (object 1) carries the other

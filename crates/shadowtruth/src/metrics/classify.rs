@@ -26,9 +26,14 @@ pub struct Counts {
     /// Other false shadows.
     #[serde(default)]
     pub acne: u64,
-    /// Other false lits.
+    /// Other false lits, where one occluder shadows the pixel.
     #[serde(default)]
     pub leak: u64,
+    /// Other false lits, where occluders of two objects overlap in the light's view
+    /// (`trace::ShadowOverlap`): a filterable map's light bleeding. 0 when the run's attribution
+    /// was not told where occluders overlap (they are then leaks).
+    #[serde(default)]
+    pub light_bleeding: u64,
     /// Evaluated pixels where an imported buffer shows another surface than the reference (its
     /// background, or a depth beyond the tolerance): left out of every other score. Always 0
     /// for the built-in techniques, and then not written.
@@ -76,6 +81,7 @@ impl Counts {
             aliasing,
             acne,
             leak,
+            light_bleeding,
             surface_mismatch,
         } = *other;
         self.pixels += pixels;
@@ -89,6 +95,7 @@ impl Counts {
         self.aliasing += aliasing;
         self.acne += acne;
         self.leak += leak;
+        self.light_bleeding += light_bleeding;
         self.surface_mismatch += surface_mismatch;
     }
 

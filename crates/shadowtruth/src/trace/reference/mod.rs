@@ -8,6 +8,7 @@ pub(in crate::trace) mod coverage;
 pub(in crate::trace) mod facing;
 pub(in crate::trace) mod gbuffer;
 pub(in crate::trace) mod hard;
+pub(in crate::trace) mod overlap;
 pub(in crate::trace) mod sampling;
 pub(in crate::trace) mod soft_reference;
 
@@ -16,6 +17,7 @@ pub use cache::{CachedReference, ReferenceCache, reference_digest, soft_referenc
 pub use coverage::trace_coverage_reference;
 pub use gbuffer::{GBuffer, PixelClass, PrimaryHit, primary_directions, primary_hits};
 pub use hard::{HardReference, MaskCode, hard_shadow_ray, trace_hard_reference, trace_scored_view};
+pub use overlap::{ShadowOverlap, trace_shadow_overlap};
 pub use soft_reference::EXR_ENCODING;
 pub use soft_reference::{
     DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, MAX_REFERENCE_GRID, SoftKind, SoftReference,
