@@ -320,7 +320,7 @@ fn sized(name: &str) -> (Scene, Camera, Light) {
     let mut light = scene.lights[0].clone();
     match &mut light.kind {
         LightKind::Directional { angular_diameter_deg, .. } => *angular_diameter_deg = Some(6.0),
-        LightKind::Spot { radius, .. } => *radius = Some(0.4),
+        LightKind::Spot { radius, .. } | LightKind::Point { radius, .. } => *radius = Some(0.4),
     }
     (scene, camera, light)
 }
@@ -380,7 +380,7 @@ fn cached_soft_references_are_bit_identical_to_fresh_ones() {
         // The light's size is part of the digest.
         match &mut light.kind {
             LightKind::Directional { angular_diameter_deg, .. } => *angular_diameter_deg = Some(1.0),
-            LightKind::Spot { radius, .. } => *radius = Some(0.1),
+            LightKind::Spot { radius, .. } | LightKind::Point { radius, .. } => *radius = Some(0.1),
         }
         let (resized, cached) = cache.area_light_reference(&scene, &bvh, &g, &camera, &light, 4).unwrap();
         assert!(!cached && bits(&resized) != bits(&fresh_area), "{name}: a new size is traced again");
@@ -414,7 +414,8 @@ fn a_sizeless_light_is_an_error_naming_the_light_and_the_field() {
         // The bundled lights have sizes; take them away.
         match &mut scene.lights[0].kind {
             LightKind::Directional { angular_diameter_deg: size, .. }
-            | LightKind::Spot { radius: size, .. } => *size = None,
+            | LightKind::Spot { radius: size, .. }
+            | LightKind::Point { radius: size, .. } => *size = None,
         }
         let light = &scene.lights[0];
         let mut camera = scene.cameras[0].clone();

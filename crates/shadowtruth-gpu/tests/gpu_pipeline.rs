@@ -298,7 +298,10 @@ fn cube_faces_match_the_cpu() {
     let cube = shadowtruth::cube_map(light, 512).unwrap();
     assert_eq!(cube.guard_texels, 8);
     let g = GBuffer::trace(&scene, &shadowtruth::SceneBvh::build(&scene), &scene.cameras[0], light);
-    println!("{:4} {:>8} {:>9} {:>9} {:72} {:>8} {:>8}", "face", "pixels", "coverage", "outside", "technique", "counted", "full");
+    println!(
+        "{:4} {:>8} {:>9} {:>9} {:72} {:>8} {:>8}",
+        "face", "pixels", "coverage", "outside", "technique", "counted", "full"
+    );
     for (f, view) in cube.faces.iter().enumerate() {
         let settings = RasterSettings::default();
         let cpu = rasterize_nearest(&scene, view, &settings);
@@ -323,12 +326,16 @@ fn cube_faces_match_the_cpu() {
             let spec: TechniqueSpec = serde_json::from_str(json).unwrap();
             let technique = GpuTechnique::from_spec(&spec).unwrap();
             let layers = shadowtruth::rasterize_layers(&scene, view, DepthFormat::F32, &spec).unwrap();
-            let cpu_visibility = shadowtruth::shade_technique(&spec, &scene, &on_face, view, &layers).unwrap();
+            let cpu_visibility =
+                shadowtruth::shade_technique(&spec, &scene, &on_face, view, &layers).unwrap();
             let own = GpuDepthMap::render(&gpu, &scene, view, &GpuTechnique::raster_settings(&spec)).unwrap();
             let full = shade_visibility(&gpu, &on_face, view, &own, technique).unwrap();
             let (full_agree, counted) = agreement(&spec, view, &on_face, &cpu_visibility, &full);
             let pixels = on_face.evaluated.len();
-            println!("{f:4} {pixels:>8} {coverage:>9} {outside:>9} {:72} {counted:>8.4} {full_agree:>8.5}", spec.label());
+            println!(
+                "{f:4} {pixels:>8} {coverage:>9} {outside:>9} {:72} {counted:>8.4} {full_agree:>8.5}",
+                spec.label()
+            );
             let slope = GpuTechnique::raster_settings(&spec).slope_factor != 0.0;
             assert!(slope || full_agree >= 0.99, "face {f} {}: {full_agree}", spec.label());
         }

@@ -51,7 +51,9 @@ pub mod technique;
 pub mod trace;
 pub mod verify;
 
-pub use api::{cube_map, light_view, load_scene, rasterize_layers, score_imported, score_visibility, shade_technique};
+pub use api::{
+    cube_map, light_view, load_scene, rasterize_layers, score_imported, score_visibility, shade_technique,
+};
 pub use error::{Error, Result};
 pub use import::{ImportedImage, ReadOptions, read_depth, read_visibility};
 pub use metrics::Counts;

@@ -356,7 +356,8 @@ fn closed_meshes_with_shared_edges_have_no_cracks() {
                 shadowtruth::scene::LightKind::Directional { direction, .. } => {
                     (-direction.as_dvec3().normalize(), f64::INFINITY)
                 }
-                shadowtruth::scene::LightKind::Spot { position, .. } => {
+                shadowtruth::scene::LightKind::Spot { position, .. }
+                | shadowtruth::scene::LightKind::Point { position, .. } => {
                     let d = position.as_dvec3() - p;
                     (d.normalize(), d.length())
                 }

@@ -209,7 +209,13 @@ fn false_lit_next_to_overlapping_occluders_is_light_bleeding() {
         let p = g.position[i as usize];
         let inside = p.x > 0.0 && p.x < 1.0 - 2.0 * texel && p.z.abs() < 1.0 - 2.0 * texel;
         if p.y < 0.1 && r.lit[i as usize] == 0 && vi >= 0.5 && inside {
-            assert!(p.x < 4.0 * texel, "false lit at ({}, {}), {} texels from the edge", p.x, p.z, p.x / texel);
+            assert!(
+                p.x < 4.0 * texel,
+                "false lit at ({}, {}), {} texels from the edge",
+                p.x,
+                p.z,
+                p.x / texel
+            );
         }
     }
 }

@@ -71,7 +71,10 @@ fn an_uncertain_pixel_is_counted_and_scored_neither_way_in_every_report_form() {
     // Left out of the evaluated pixels, and of the false lits it would have been one of.
     assert_eq!(flagged.evaluated, plain.evaluated - 1);
     assert_eq!((flagged.false_shadow, flagged.false_lit), (plain.false_shadow, plain.false_lit - 1));
-    assert_eq!(flagged.aliasing + flagged.acne + flagged.leak + flagged.light_bleeding, flagged.false_shadow + flagged.false_lit);
+    assert_eq!(
+        flagged.aliasing + flagged.acne + flagged.leak + flagged.light_bleeding,
+        flagged.false_shadow + flagged.false_lit
+    );
     // The pixels the reference was asked about are the same, and the classes add up.
     assert_eq!(flagged.evaluated + flagged.uncertain, plain.evaluated);
     let classes = |c: &Counts| c.background + c.facing_away + c.outside_light + c.evaluated + c.uncertain;

@@ -3,8 +3,8 @@
 //! pixel (for the attribution) and the shading order. Shared by every depth format and technique.
 
 use super::cascaded_map::CascadedMap;
-use super::point_faces::PointFaces;
 use super::map_setting::MapSetting;
+use super::point_faces::PointFaces;
 use super::{Plan, PlanError};
 use glam::Vec3;
 use shadowtruth::metrics::LightUv;

@@ -5,7 +5,6 @@
 mod area_light;
 mod backend;
 mod cascaded_map;
-mod point_faces;
 mod default_plan;
 mod error;
 mod events;
@@ -17,6 +16,7 @@ mod layer_groups;
 mod layers;
 mod map_setting;
 mod map_setup;
+mod point_faces;
 mod portion;
 mod references;
 mod run_record;

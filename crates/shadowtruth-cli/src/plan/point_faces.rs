@@ -4,7 +4,9 @@
 
 use glam::Vec3;
 use shadowtruth::metrics::{LightUv, falseness};
-use shadowtruth::raster::{CUBE_FACE_NAMES, CubeMap, DualParaboloid, LightView, PARABOLOID_NAMES, SEAM_TEXELS};
+use shadowtruth::raster::{
+    CUBE_FACE_NAMES, CubeMap, DualParaboloid, LightView, PARABOLOID_NAMES, SEAM_TEXELS,
+};
 use shadowtruth::record::{CascadeCounts, PointFaceRecord, PointMapRecord};
 use shadowtruth::scene::{Light, LightKind, PointMap};
 use shadowtruth::technique::CascadeOrders;

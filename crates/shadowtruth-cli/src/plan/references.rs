@@ -8,8 +8,8 @@ use shadowtruth::record::ReferenceUsed;
 use shadowtruth::scene::{Camera, Light, Scene};
 use shadowtruth::technique::ReferenceKind;
 use shadowtruth::trace::{
-    GBuffer, HardReference, ReferenceCache, SceneBvh, ShadowOverlap, SoftReference, trace_area_light_reference,
-    trace_coverage_reference, trace_hard_reference, trace_shadow_overlap,
+    GBuffer, HardReference, ReferenceCache, SceneBvh, ShadowOverlap, SoftReference,
+    trace_area_light_reference, trace_coverage_reference, trace_hard_reference, trace_shadow_overlap,
 };
 
 /// A fractional reference and its ½ threshold (for the hard counts and attribution).

@@ -208,17 +208,21 @@ pub(crate) fn check_area_light_sizes(plan: &Plan, selected: &[Selected]) -> Resu
 /// paraboloids by name.
 pub(crate) fn check_multi_map_lights(plan: &Plan, selected: &[Selected]) -> Result<(), PlanError> {
     check_paraboloid_lights(plan, selected)?;
-    let gpu = (plan.pipeline == super::Pipeline::Gpu).then_some("the GPU pipeline draws a cube's faces but no cascades");
+    let gpu = (plan.pipeline == super::Pipeline::Gpu)
+        .then_some("the GPU pipeline draws a cube's faces but no cascades");
     let imported = plan.shadow_map.is_some().then_some("an imported shadow map is one map");
     let commands = plan.techniques.iter().any(|t| matches!(t, TechniqueSpec::Command(_)));
-    let exported = commands.then_some("`command` techniques read a view export, which holds one map per light");
+    let exported =
+        commands.then_some("`command` techniques read a view export, which holds one map per light");
     for sel in selected {
         for &(_, li) in &sel.pairs {
             let light = &sel.scene.lights[li];
             let (path, message) = match (imported.or(exported), gpu.or(imported)) {
                 (Some(why), _) if light.is_point() => (
                     format!("lights[{li}].type"),
-                    format!("is a point light, whose six-face cube map only the CPU and GPU pipelines draw: {why}"),
+                    format!(
+                        "is a point light, whose six-face cube map only the CPU and GPU pipelines draw: {why}"
+                    ),
                 ),
                 (_, Some(why)) if light.cascades.is_some() => (
                     format!("lights[{li}].cascades"),

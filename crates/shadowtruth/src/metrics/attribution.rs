@@ -298,7 +298,13 @@ impl Search<'_> {
 
     /// Whether some pixel q of `i`'s window for `texels`, where `wanted(q)`, lies within
     /// `texels` of `i` in the light map on both axes.
-    fn any_within(&self, i: usize, window: (usize, usize, usize, usize), texels: f32, wanted: impl Fn(usize) -> bool) -> bool {
+    fn any_within(
+        &self,
+        i: usize,
+        window: (usize, usize, usize, usize),
+        texels: f32,
+        wanted: impl Fn(usize) -> bool,
+    ) -> bool {
         let Some(tp) = self.uv.texel(i) else {
             return false;
         };
@@ -353,9 +359,10 @@ impl Search<'_> {
     }
 }
 
-/// The search radius R of pixel (x, y) for a reach of `texels` in the map: `ceil(texels / s_min)
-/// + 1` clamped to [1, 64], `s_min` the smallest uv step per pixel (in texels, max over u and v)
-/// to a 4-neighbour that is evaluated, projects and shows the same object; 64 when there is none.
+/// The search radius R of pixel (x, y) for a reach of `texels` in the map:
+/// `ceil(texels / s_min) + 1` clamped to [1, 64], `s_min` the smallest uv step per pixel (in
+/// texels, max over u and v) to a 4-neighbour that is evaluated, projects and shows the same
+/// object; 64 when there is none.
 fn window_radius(gbuffer: &GBuffer, uv: &LightUv, x: usize, y: usize, texels: f32) -> usize {
     let (w, h) = (uv.width as usize, uv.height as usize);
     let i = y * w + x;
@@ -514,23 +521,23 @@ mod tests {
     fn a_false_shadow_one_texel_from_a_boundary_is_aliasing() {
         // q at exactly one texel in v (and 0 in u), one row down.
         let a = false_shadow_at_2((1.0, 1.0));
-        assert_eq!(a, Attribution { aliasing: 1, acne: 0, leak: 0 });
+        assert_eq!(a, Attribution { aliasing: 1, acne: 0, leak: 0, light_bleeding: 0 });
         // Exactly one texel on both axes.
         let a = false_shadow_at_2((2.0, -1.0));
-        assert_eq!(a, Attribution { aliasing: 1, acne: 0, leak: 0 });
+        assert_eq!(a, Attribution { aliasing: 1, acne: 0, leak: 0, light_bleeding: 0 });
     }
 
     #[test]
     fn a_false_shadow_two_texels_from_a_boundary_is_acne() {
         // Same pixel on screen, two texels away in v: no boundary within one texel.
         let a = false_shadow_at_2((1.0, 2.0));
-        assert_eq!(a, Attribution { aliasing: 0, acne: 1, leak: 0 });
+        assert_eq!(a, Attribution { aliasing: 0, acne: 1, leak: 0, light_bleeding: 0 });
         // Two texels in u, zero in v.
         let a = false_shadow_at_2((3.0, 0.0));
-        assert_eq!(a, Attribution { aliasing: 0, acne: 1, leak: 0 });
+        assert_eq!(a, Attribution { aliasing: 0, acne: 1, leak: 0, light_bleeding: 0 });
         // Just over one texel.
         let a = false_shadow_at_2((1.0, 1.0 + 1.0 / 64.0));
-        assert_eq!(a, Attribution { aliasing: 0, acne: 1, leak: 0 });
+        assert_eq!(a, Attribution { aliasing: 0, acne: 1, leak: 0, light_bleeding: 0 });
     }
 
     #[test]
@@ -541,8 +548,8 @@ mod tests {
             lit[8 + 3] = 1;
             run(&g, &lit, |i| if i == 2 { 1.0 } else { lit[i] as f32 })
         };
-        assert_eq!(leak_at_2((0.0, 1.0)), Attribution { aliasing: 1, acne: 0, leak: 0 });
-        assert_eq!(leak_at_2((-1.0, 1.0)), Attribution { aliasing: 0, acne: 0, leak: 1 });
+        assert_eq!(leak_at_2((0.0, 1.0)), Attribution { aliasing: 1, acne: 0, leak: 0, light_bleeding: 0 });
+        assert_eq!(leak_at_2((-1.0, 1.0)), Attribution { aliasing: 0, acne: 0, leak: 1, light_bleeding: 0 });
     }
 
     #[test]
@@ -555,12 +562,12 @@ mod tests {
         let g = gbuffer(12, 1, &px);
         let lit: Vec<u8> = (0..12).map(|k| (k < 7) as u8).collect();
         let at = |p: usize| run(&g, &lit, |i| if i == p { 0.0 } else { lit[i] as f32 });
-        assert_eq!(at(3), Attribution { aliasing: 0, acne: 1, leak: 0 });
-        assert_eq!(at(4), Attribution { aliasing: 0, acne: 1, leak: 0 });
-        assert_eq!(at(5), Attribution { aliasing: 1, acne: 0, leak: 0 });
+        assert_eq!(at(3), Attribution { aliasing: 0, acne: 1, leak: 0, light_bleeding: 0 });
+        assert_eq!(at(4), Attribution { aliasing: 0, acne: 1, leak: 0, light_bleeding: 0 });
+        assert_eq!(at(5), Attribution { aliasing: 1, acne: 0, leak: 0, light_bleeding: 0 });
         // The pixel on the shadowed side of the boundary, falsely lit: aliasing.
         let a = run(&g, &lit, |i| if i == 8 { 1.0 } else { lit[i] as f32 });
-        assert_eq!(a, Attribution { aliasing: 1, acne: 0, leak: 0 });
+        assert_eq!(a, Attribution { aliasing: 1, acne: 0, leak: 0, light_bleeding: 0 });
     }
 
     #[test]
@@ -574,7 +581,7 @@ mod tests {
         let mut lit = vec![0u8; 16];
         lit[..8].fill(1);
         let a = run(&g, &lit, |i| if i == 3 { 0.0 } else { 1.0 });
-        assert_eq!(a, Attribution { aliasing: 0, acne: 1, leak: 0 });
+        assert_eq!(a, Attribution { aliasing: 0, acne: 1, leak: 0, light_bleeding: 0 });
     }
 
     #[test]
@@ -583,7 +590,8 @@ mod tests {
             aliasing: 1,
             acne: 2,
             leak: 0,
+            light_bleeding: 4,
         });
-        assert_eq!((c.false_shadow, c.aliasing, c.acne, c.leak), (3, 1, 2, 0));
+        assert_eq!((c.false_shadow, c.aliasing, c.acne, c.leak, c.light_bleeding), (3, 1, 2, 0, 4));
     }
 }

@@ -140,7 +140,9 @@ impl Cascades {
             Projection::Orthographic { left, right, bottom, top } => {
                 (right - left).max(top - bottom) as f64 / self.views[i].resolution as f64
             }
-            Projection::Perspective { .. } | Projection::Paraboloid => unreachable!("cascades are orthographic"),
+            Projection::Perspective { .. } | Projection::Paraboloid => {
+                unreachable!("cascades are orthographic")
+            }
         }
     }
 }

@@ -140,7 +140,8 @@ mod tests {
     fn a_triangle_across_the_horizon_is_cut_at_it() {
         let dp = DualParaboloid::new(&lamp(), 64);
         let o = Vec3::new(1.0, 2.0, -3.0);
-        let tri = [o + Vec3::new(-1.0, -1.0, 0.0), o + Vec3::new(1.0, -1.0, 0.0), o + Vec3::new(0.0, 1.0, 1.0)];
+        let tri =
+            [o + Vec3::new(-1.0, -1.0, 0.0), o + Vec3::new(1.0, -1.0, 0.0), o + Vec3::new(0.0, 1.0, 1.0)];
         let (front, len) = front_part(&dp.hemispheres[0], &tri);
         assert_eq!(len, 4);
         for p in &front[..len] {

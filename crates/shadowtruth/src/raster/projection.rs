@@ -61,7 +61,9 @@ impl LightView {
                 return super::cube_map::CubeMap::new(light, resolution).faces.swap_remove(0);
             }
             LightKind::Point { map: PointMap::DualParaboloid, .. } => {
-                return super::dual_paraboloid::DualParaboloid::new(light, resolution).hemispheres.swap_remove(0);
+                return super::dual_paraboloid::DualParaboloid::new(light, resolution)
+                    .hemispheres
+                    .swap_remove(0);
             }
         };
         LightView { light_size: light.size().ok(), ..view }
@@ -137,7 +139,7 @@ pub(crate) fn paraboloid_clip(view: &LightView, p: Vec3) -> Vec4 {
     let q = view.light_from_world.transform_point3(p);
     let distance = q.length();
     let h = distance - q.z;
-    if !(h > 0.0) {
+    if h.is_nan() || h <= 0.0 {
         return Vec4::ZERO;
     }
     let depth = (distance - view.near) / (view.far - view.near);

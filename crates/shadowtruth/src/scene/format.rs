@@ -5,11 +5,11 @@
 //! each with its JSON path.
 
 use super::cascade_settings::read_cascades;
-use super::point_map::{as_layout, read_cube_settings};
 use super::path::{CameraPath, Keyframes};
 use super::path_format::{read_camera_path, read_light_path};
+use super::point_map::{as_layout, read_cube_settings};
 use super::shapes::Shape;
-use super::{Camera, CubeSettings, Light, PointMap, LightKind, LightSize, SCENE_FORMAT, Transform};
+use super::{Camera, CubeSettings, Light, LightKind, LightSize, PointMap, SCENE_FORMAT, Transform};
 use crate::json_input::{
     Problems, Reader, as_array_of, as_bool, as_name, as_positive, as_positive_array, as_string, count,
     open_range, show,

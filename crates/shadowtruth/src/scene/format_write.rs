@@ -456,7 +456,8 @@ mod tests {
             Some(guard_texels) => crate::scene::PointMap::Cube(crate::scene::CubeSettings { guard_texels }),
             None => crate::scene::PointMap::DualParaboloid,
         };
-        let kind = LightKind::Point { position: Vec3::new(2.5, 3.75, -1.0), near: 0.05, far: 40.0, radius, map };
+        let kind =
+            LightKind::Point { position: Vec3::new(2.5, 3.75, -1.0), near: 0.05, far: 40.0, radius, map };
         Light { name: "lamp_point".into(), kind, path: None, cascades: None }
     }
 

@@ -2,8 +2,8 @@
 //! (used by the soft references and PCSS).
 
 use super::cascade_settings::CascadeSettings;
-use super::point_map::PointMap;
 use super::path::LightPath;
+use super::point_map::PointMap;
 use glam::Vec3;
 
 #[derive(Clone, Debug, PartialEq)]

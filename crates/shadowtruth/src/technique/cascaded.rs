@@ -7,8 +7,8 @@
 use super::shade::shade_into;
 use super::{ShadeContext, ShadeOrder, Technique};
 use crate::raster::{CascadeChoice, Cascades, LightView};
-use glam::Vec3;
 use crate::trace::GBuffer;
+use glam::Vec3;
 use rayon::prelude::*;
 
 /// Which cascades shade each evaluated pixel, and each cascade's shading orders: built once per

@@ -159,7 +159,8 @@ fn receiver_plane_taps(
     (x0, row0): (i64, i64),
     bias_depth: f32,
 ) -> TapDepth {
-    let Some((z_u, z_v)) = receiver_plane_slope_at(ctx.view, &ctx.scene.triangle(s.triangle), s.position) else {
+    let Some((z_u, z_v)) = receiver_plane_slope_at(ctx.view, &ctx.scene.triangle(s.triangle), s.position)
+    else {
         return TapDepth::Flat(uvd.z - bias_depth);
     };
     let res = ctx.layers.resolution();

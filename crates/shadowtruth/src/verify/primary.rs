@@ -59,7 +59,9 @@ pub fn faces_light(ray: &PrimaryRay, t: &[Vec3; 3], light: &Light) -> bool {
     let (e1, e2) = (Diff::vec(t[1], t[0]), Diff::vec(t[2], t[0]));
     let camera = det3_sign([e1, e2, Diff::plain(ray.direction)]).reverse();
     let light = match &light.kind {
-        LightKind::Spot { position, .. } | LightKind::Point { position, .. } => det3_sign([e1, e2, Diff::vec(*position, t[0])]),
+        LightKind::Spot { position, .. } | LightKind::Point { position, .. } => {
+            det3_sign([e1, e2, Diff::vec(*position, t[0])])
+        }
         LightKind::Directional { direction, .. } => det3_sign([e1, e2, Diff::plain(-*direction)]),
     };
     light != Ordering::Equal && light == camera

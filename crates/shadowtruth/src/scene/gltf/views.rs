@@ -8,8 +8,8 @@ use super::nodes::NodeItem;
 use super::problem::GltfProblem;
 use crate::json_input::{as_positive, count, open_range};
 use crate::scene::format::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE};
-use crate::scene::{Camera, CubeSettings, Light, LightKind, MAX_GUARD_TEXELS, PointMap, box_corners};
 use crate::scene::point_map::as_layout;
+use crate::scene::{Camera, CubeSettings, Light, LightKind, MAX_GUARD_TEXELS, PointMap, box_corners};
 use glam::{DAffine3, DVec3};
 use gltf::khr_lights_punctual::Kind;
 
@@ -199,7 +199,9 @@ fn point_light(
     let guard = extras.get("guard_texels", count(0, MAX_GUARD_TEXELS as u64), problems);
     let map = match extras.get("shadow_map", as_layout, problems) {
         Some("dual_paraboloid") => PointMap::DualParaboloid,
-        _ => PointMap::Cube(CubeSettings { guard_texels: guard.unwrap_or(CubeSettings::default().guard_texels) }),
+        _ => PointMap::Cube(CubeSettings {
+            guard_texels: guard.unwrap_or(CubeSettings::default().guard_texels),
+        }),
     };
     let position = position.as_vec3();
     if !position.is_finite() {

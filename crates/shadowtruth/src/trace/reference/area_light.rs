@@ -135,7 +135,12 @@ pub fn trace_area_light_reference(
 /// The direction of concentric-disk point (dx, dy) on the cap of `one_minus_cos` = 1 − cos θmax
 /// around the unit `axis`, uniform in solid angle: the disk's r² is the cap's area fraction,
 /// 1 − cos θ = r²(1 − cos θmax); sin θ / r = √(k(2 − r²k)).
-fn cap_direction((dx, dy): (f64, f64), axis: DVec3, (tangent, bitangent): (DVec3, DVec3), one_minus_cos: f64) -> DVec3 {
+fn cap_direction(
+    (dx, dy): (f64, f64),
+    axis: DVec3,
+    (tangent, bitangent): (DVec3, DVec3),
+    one_minus_cos: f64,
+) -> DVec3 {
     let r2k = (dx * dx + dy * dy) * one_minus_cos;
     let sin_over_r = (one_minus_cos * (2.0 - r2k)).sqrt();
     ((1.0 - r2k) * axis + sin_over_r * (dx * tangent + dy * bitangent)).normalize()
@@ -147,7 +152,7 @@ fn sphere_point(p: DVec3, disk: (f64, f64), centre: DVec3, radius: f64) -> DVec3
     let to_centre = centre - p;
     let d2 = to_centre.length_squared();
     let s2 = radius * radius / d2; // sin² θmax
-    if !(s2 < 1.0) {
+    if s2.is_nan() || s2 >= 1.0 {
         return centre;
     }
     // 1 − cos θmax = sin²/(1 + cos): no cancellation for small or distant spheres.

@@ -68,7 +68,7 @@ pub fn trace_shadow_overlap(
                 };
                 let offset = p - start;
                 let length = offset.length();
-                if !(length > 0.0) {
+                if length.is_nan() || length <= 0.0 {
                     continue;
                 }
                 let direction = (offset / length).as_vec3();
