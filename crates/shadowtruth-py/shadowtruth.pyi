@@ -131,6 +131,7 @@ class Score(TypedDict):
     aliasing: int
     acne: int
     leak: int
+    light_bleeding: int
     surface_mismatch: int
     rates: Rates
 
@@ -145,6 +146,6 @@ def score(
 ) -> Score:
     """Scores a renderer's visibility buffer (float32 (height, width), 1 lit, 0 shadowed, NaN or negative
     for background) against the exact hard reference, as `shadowtruth score --visibility`: the counts of
-    its report.json run (with the attribution aliasing / acne / leak at `resolution`) and their rates.
+    its report.json run (with the attribution aliasing / acne / leak / light bleeding at `resolution`) and their rates.
     depth: optional camera depth (float32, same shape) for surface mismatches. Raises ValueError for a
     wrong type, dtype, shape or value."""

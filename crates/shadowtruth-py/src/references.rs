@@ -66,7 +66,8 @@ pub fn coverage_reference<'py>(
 
 /// The area-light reference of `camera` under `light`: the fraction of grid×grid light samples
 /// (default 8, at most 64) each point sees, as `shadowtruth reference --kind area`. The light
-/// needs a size (`angular_diameter_deg` for a directional light, `radius` for a spot light).
+/// needs a size (`angular_diameter_deg` for a directional light, `radius` for a spot or point
+/// light).
 ///
 /// Returns (visibility, std_error): two float32 arrays of shape (height, width), row 0 at the
 /// top; visibility in [0, 1] (1 lit), both 0 on pixels that are not evaluated. Raises

@@ -13,6 +13,7 @@ use pyo3::types::PyDict;
 use shadowtruth::import::{BufferKind, DEFAULT_DEPTH_TOLERANCE, evaluated_visibility};
 use shadowtruth::metrics::{DEFAULT_ATTRIBUTION_RESOLUTION, LightUv, attribute, score_hard};
 use shadowtruth::raster::MAX_SHADOW_MAP_RESOLUTION;
+use shadowtruth::trace::trace_shadow_overlap;
 use shadowtruth::{Counts, Light, LightView, trace_scored_view};
 
 /// Scores a renderer's shadows of `camera` under `light` (default: the scene's first of each)
@@ -57,18 +58,30 @@ pub fn score<'py>(
     let counts = py.detach(|| -> shadowtruth::Result<Counts> {
         let (gbuffer, reference) = trace_scored_view(&scene.scene, scene.bvh(), camera, light);
         let evaluated = evaluated_visibility(&gbuffer, camera, &visibility, depth.as_ref(), depth_tolerance)?;
-        let attribution = attribute(&gbuffer, &reference, &evaluated, &LightUv::new(&gbuffer, &view), None);
+        // Where occluders overlap, as the command traces it for the same view.
+        let overlap =
+            trace_shadow_overlap(&scene.scene, scene.bvh(), &gbuffer, light, |i| reference.lit[i] == 0);
+        let uv = LightUv::new(&gbuffer, &view);
+        let attribution = attribute(&gbuffer, &reference, &evaluated, &uv, Some(&overlap));
         Ok(score_hard(&gbuffer, &reference, &evaluated).with_attribution(attribution))
     });
     score_dict(py, &counts.map_err(library_error)?)
 }
 
 /// The shadow map of `light` whose texel footprint the attribution uses. A light with cascades
-/// is refused: its footprint is the cascades', which the command builds per camera.
+/// or a point light is refused: its footprint is its cascades' or faces', which the command
+/// builds per camera.
 fn attribution_view(scene: &shadowtruth::Scene, light: &Light, resolution: i64) -> PyResult<LightView> {
-    if light.cascades.is_some() {
+    let several = if light.cascades.is_some() {
+        Some("has cascades")
+    } else if light.is_point() {
+        Some("is a point light, with a map of several faces")
+    } else {
+        None
+    };
+    if let Some(what) = several {
         return Err(PyValueError::new_err(format!(
-            "{}: light {} has cascades, whose attribution only `shadowtruth score` computes",
+            "{}: light {} {what}, whose attribution only `shadowtruth score` computes",
             scene.source.display(),
             light.name
         )));

@@ -165,14 +165,16 @@ mod tests {
         assert_eq!(guarded.faces[0].resolution, 72);
         let p = Vec3::new(1.0, 2.0, -3.0) + Vec3::new(3.0, 1.0, 0.5);
         assert!((plain.texel_world_size(p) - guarded.texel_world_size(p)).abs() < 1e-6);
-        // The face's edge (45°) sits g texels inside the guarded map: u·(N + 2g) = g.
+        // The face's edge towards +z (45°; the +x face's u runs along +z) sits g texels inside
+        // the guarded map: u·(N + 2g) = N + g.
         let edge = Vec3::new(1.0, 2.0, -3.0) + Vec3::new(2.0, 0.0, 2.0);
         let u = guarded.faces[0].project(edge).unwrap().x * 72.0;
-        assert!((u - 4.0).abs() < 1e-4, "{u}");
-        // A direction 2 texels past the edge is still inside the guarded map.
+        assert!((u - 68.0).abs() < 1e-4, "{u}");
+        assert!(guarded.texels_from_edge(0, edge).unwrap().abs() < 1e-4);
+        // A direction 2 texels past the edge (a texel is 2/N in tan) is still inside the map.
         let past = Vec3::new(1.0, 2.0, -3.0) + Vec3::new(2.0, 0.0, 2.0 * (1.0 + 4.0 / 64.0));
         let u = guarded.faces[0].project(past).unwrap().x * 72.0;
-        assert!((u - 2.0).abs() < 1e-4, "{u}");
+        assert!((u - 70.0).abs() < 1e-4, "{u}");
     }
 
     #[test]

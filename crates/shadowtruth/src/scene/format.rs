@@ -390,8 +390,9 @@ fn read_near_far(r: &mut Reader) -> Option<(f32, f32)> {
     let near = r.required("near", as_positive);
     let far = r.required("far", as_positive);
     let (near, far) = (near?, far?);
-    if far <= near {
-        r.problem("far", format!("must be greater than `near` ({})", show(near)));
+    // Compared as the f32 the light keeps, so that rounding cannot make them equal.
+    if far as f32 <= near as f32 {
+        r.problem("far", format!("must be greater than `near` ({}) as f32 numbers", show(near)));
         return None;
     }
     Some((near as f32, far as f32))
