@@ -62,8 +62,8 @@ fn run_cascades(h: &mut String, run: &RunRecord, c: &CascadesRecord) {
     );
 }
 
-/// The evaluated pixels and their error in %, as two cells.
-fn counts_cells(c: &CascadeCounts) -> String {
+/// The evaluated pixels and their error in %, as two cells (the point-light section's too).
+pub(super) fn counts_cells(c: &CascadeCounts) -> String {
     let wrong = c.false_shadow + c.false_lit;
     let error = if c.evaluated == 0 { 0.0 } else { 100.0 * wrong as f64 / c.evaluated as f64 };
     format!("<td>{}</td><td>{error:.3}</td>", c.evaluated)

@@ -1,11 +1,13 @@
 //! `index.html`: one offline page per report folder — the runs table (sortable), runs over a path
-//! (`path_section.rs`) and on cascaded shadow maps (`cascades_section.rs`), the plots, the
+//! (`path_section.rs`), on cascaded shadow maps (`cascades_section.rs`) and under point lights
+//! (`point_map_section.rs`), the plots, the
 //! figures, the settings and the tool version. Only relative links; no network.
 
 use super::cascades_section::cascades_section;
 use super::figures::{run_stem, view_stem};
 use super::path_section::{PathAssets, path_assets, path_section};
 use super::plots::charts;
+use super::point_map_section::point_map_section;
 use super::summary::{GroupSummary, per_scene, summaries};
 use crate::escape::escape_html as escape;
 use shadowtruth::record::Report;
@@ -56,6 +58,7 @@ pub fn index_html(report: &Report, assets: &PageAssets) -> String {
     runs_table(&mut h, report, assets);
     path_section(&mut h, report, &assets.path);
     cascades_section(&mut h, report);
+    point_map_section(&mut h, report);
     figures_section(&mut h, assets);
     plots_section(&mut h, assets);
     let _ = writeln!(h, "<script>{SCRIPT}</script></body></html>");

@@ -13,6 +13,7 @@ pub mod indexed_image;
 pub mod palette;
 mod path_section;
 pub mod plots;
+mod point_map_section;
 pub mod summary;
 pub mod text;
 mod tune_plot;
