@@ -10,6 +10,10 @@ use wgpu::util::DeviceExt;
 
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
+/// Why a dual-paraboloid map is not drawn or shaded here: the shaders apply one matrix.
+pub(crate) const PARABOLOID: &str =
+    "a dual-paraboloid map is not a projective map: the GPU pipeline draws and shades projective maps only";
+
 /// A shadow map on the device: an N×N Depth32Float texture, row 0 at the top of the map (largest
 /// v), as `DepthLayer`.
 pub struct GpuDepthMap {
@@ -26,7 +30,7 @@ impl GpuDepthMap {
         settings: &RasterSettings,
     ) -> Result<Self, GpuError> {
         if view.projection == shadowtruth::raster::Projection::Paraboloid {
-            return Err(GpuError(crate::visibility::PARABOLOID.into()));
+            return Err(GpuError(PARABOLOID.into()));
         }
         let bias = depth_bias(settings)?;
         let map = GpuDepthMap::empty(gpu, view.resolution)?;

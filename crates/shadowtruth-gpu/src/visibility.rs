@@ -71,10 +71,6 @@ impl Params {
     }
 }
 
-/// Why a dual-paraboloid map is not drawn or shaded here: its shaders apply one matrix.
-pub(crate) const PARABOLOID: &str =
-    "a dual-paraboloid map is not a projective map: the GPU pipeline draws and shades projective maps only";
-
 /// Visibility of every camera pixel, row by row from the top (1 lit, 0 shadowed; pixels the
 /// G-buffer does not evaluate are 1), as `shadowtruth::shade_technique` returns it.
 pub fn shade_visibility(
@@ -94,7 +90,7 @@ pub fn shade_visibility(
         return Err(GpuError(format!("a {width}×{height} view does not fit the GPU's storage buffers")));
     }
     if view.projection == Projection::Paraboloid {
-        return Err(GpuError(PARABOLOID.into()));
+        return Err(GpuError(crate::depth_map::PARABOLOID.into()));
     }
     if map.resolution != view.resolution {
         return Err(GpuError("the depth map is not of the light view's resolution".into()));

@@ -64,7 +64,7 @@ pub fn light_view(scene: &Scene, light: &Light, resolution: u32) -> Result<Light
 /// band (docs/point-lights.md).
 ///
 /// ```
-/// # let scene = shadowtruth::load_scene(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/room.json"))?;
+/// # let scene = shadowtruth::load_scene(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/point/room.json"))?;
 /// let cube = shadowtruth::cube_map(&scene.lights[0], 512)?;
 /// assert_eq!(cube.faces.len(), 6);
 /// assert_eq!(cube.faces[0].resolution, 512 + 2 * cube.guard_texels);

@@ -284,7 +284,7 @@ fn wrong_types_and_values_are_explained() {
     assert_problem(&p, "objects[0].shape.segments", "whole number");
     assert_problem(&p, "lights[1].far", "greater than `near`");
     assert_problem(&p, "lights[1].cone_deg", "between 0 and 180");
-    assert_problem(&p, "lights[0].type", "directional or spot");
+    assert_problem(&p, "lights[0].type", "directional, spot or point");
     assert_eq!(p.len(), 7, "{p:#?}");
 }
 

@@ -2,7 +2,7 @@
 //! perspective for a spot light and for each face of a point light's cube (`cube_map.rs`). Depth
 //! d ∈ [0, 1], smaller is closer.
 
-use crate::scene::{Light, LightKind, LightSize, PointMap};
+use crate::scene::{Light, LightKind, LightSize};
 use glam::{DMat4, DVec3, DVec4, Mat4, Vec3, Vec4};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -48,8 +48,8 @@ impl LightView {
     /// radii behind the bounds' centre, so near > 0. Empty or non-finite bounds fall back to the
     /// unit cube [−1, 1]³. Spot: perspective from `position` along `direction`, full fov =
     /// `cone_deg` (clamped to [0.01°, 179°]), the light's near/far (fixed up to 0 < near < far).
-    /// Point: the +x face of its cube (`CubeMap` builds all six) or its first paraboloid
-    /// (`DualParaboloid`). Matrices are built in f64 and
+    /// Point: a 90° view along +x from its position, the +x face of a cube without a guard band
+    /// (its maps have several views: `CubeMap`, `DualParaboloid`). Matrices are built in f64 and
     /// rounded once to f32. Never panics.
     pub fn new(light: &Light, scene_bounds: (Vec3, Vec3), resolution: u32) -> Self {
         let view = match light.kind {
@@ -57,13 +57,10 @@ impl LightView {
             LightKind::Spot { position, direction, cone_deg, near, far, .. } => {
                 spot(position, direction, cone_deg, near, far, resolution)
             }
-            LightKind::Point { map: PointMap::Cube(_), .. } => {
-                return super::cube_map::CubeMap::new(light, resolution).faces.swap_remove(0);
-            }
-            LightKind::Point { map: PointMap::DualParaboloid, .. } => {
-                return super::dual_paraboloid::DualParaboloid::new(light, resolution)
-                    .hemispheres
-                    .swap_remove(0);
+            LightKind::Point { position, near, far, .. } => {
+                let eye = finite_or_origin(position);
+                let light_from_world = view_from_basis(eye, DVec3::Z, DVec3::Y, DVec3::X);
+                perspective(light_from_world, eye, 1.0, (near, far), resolution)
             }
         };
         LightView { light_size: light.size().ok(), ..view }
