@@ -194,7 +194,7 @@ fn shade_cube(scene: &Scene, g: &GBuffer, spec: &TechniqueSpec, resolution: u32)
         .map(|(face, l)| ShadeContext::new(scene, face, l.as_layers()))
         .collect();
     let visibility =
-        CascadeOrders::of_faces(g, &cube.faces, |p| cube.face_of(p)).shade(technique.as_ref(), &contexts);
+        CascadeOrders::of_faces(g, &cube.faces, &faces_of(g, &cube)).shade(technique.as_ref(), &contexts);
     (cube, visibility)
 }
 
@@ -325,7 +325,7 @@ fn every_pixel_is_shaded_through_the_face_of_its_directions_major_axis() {
     let (mut per_face, mut ties) = ([0usize; 6], 0);
     for camera in &scene.cameras {
         let g = GBuffer::trace(&scene, &bvh, camera, light);
-        let orders = CascadeOrders::of_faces(&g, &cube.faces, |p| cube.face_of(p));
+        let orders = CascadeOrders::of_faces(&g, &cube.faces, &faces_of(&g, &cube));
         for (k, &i) in g.evaluated.iter().enumerate() {
             let p = g.position[i as usize];
             // Exact: the difference of two f32 numbers this close is exact in f64.
@@ -353,4 +353,9 @@ fn every_pixel_is_shaded_through_the_face_of_its_directions_major_axis() {
     }
     println!("pixels per face {per_face:?}, {ties} ties");
     assert!(per_face.iter().all(|&count| count > 300), "every face shades part of the room: {per_face:?}");
+}
+
+/// The face of every evaluated pixel of `g`, as the command's point-light maps choose it.
+fn faces_of(g: &GBuffer, cube: &CubeMap) -> Vec<u8> {
+    g.evaluated.iter().map(|&i| cube.face_of(g.position[i as usize]) as u8).collect()
 }

@@ -3,6 +3,7 @@
 //! run's counts per face and near its seams.
 
 use glam::Vec3;
+use rayon::prelude::*;
 use shadowtruth::metrics::{LightUv, falseness};
 use shadowtruth::raster::{
     CUBE_FACE_NAMES, CubeMap, DualParaboloid, LightView, PARABOLOID_NAMES, SEAM_TEXELS,
@@ -57,10 +58,9 @@ impl PointFaces {
             }
             _ => Layout::Cube(CubeMap::new(light, resolution)),
         };
-        let orders = CascadeOrders::of_faces(gbuffer, layout.views(), |p| layout.face_of(p));
-        let face_of = gbuffer
+        let face_of: Vec<(u8, bool)> = gbuffer
             .evaluated
-            .iter()
+            .par_iter()
             .map(|&i| {
                 let p = gbuffer.position[i as usize];
                 let face = layout.face_of(p);
@@ -68,6 +68,8 @@ impl PointFaces {
                 (face as u8, near_seam)
             })
             .collect();
+        let faces: Vec<u8> = face_of.iter().map(|&(face, _)| face).collect();
+        let orders = CascadeOrders::of_faces(gbuffer, layout.views(), &faces);
         PointFaces { layout, orders, face_of }
     }
 

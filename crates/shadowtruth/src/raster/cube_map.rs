@@ -79,11 +79,6 @@ impl CubeMap {
         2 * axis + usize::from(sign < 0.0)
     }
 
-    /// World size of one texel of a face at `p`, seen from its own face.
-    pub fn texel_world_size(&self, p: Vec3) -> f32 {
-        self.faces[self.face_of(p)].texel_world_size(p)
-    }
-
     /// How many texels of `face` lie between `p`'s projection and the nearest edge of the face
     /// proper (its N² texels, inside the guard band); None when `p` does not project.
     pub fn texels_from_edge(&self, face: usize, p: Vec3) -> Option<f32> {
@@ -164,7 +159,8 @@ mod tests {
         assert_eq!(plain.faces[0].resolution, 64);
         assert_eq!(guarded.faces[0].resolution, 72);
         let p = Vec3::new(1.0, 2.0, -3.0) + Vec3::new(3.0, 1.0, 0.5);
-        assert!((plain.texel_world_size(p) - guarded.texel_world_size(p)).abs() < 1e-6);
+        let texel = |cube: &CubeMap| cube.faces[cube.face_of(p)].texel_world_size(p);
+        assert!((texel(&plain) - texel(&guarded)).abs() < 1e-6);
         // The face's edge towards +z (45°; the +x face's u runs along +z) sits g texels inside
         // the guarded map: u·(N + 2g) = N + g.
         let edge = Vec3::new(1.0, 2.0, -3.0) + Vec3::new(2.0, 0.0, 2.0);

@@ -11,7 +11,7 @@
 //! behind the paraboloid; a point is shaded through the hemisphere its direction from the light
 //! lies in (the first for y ≤ 0).
 
-use super::projection::{LightView, Projection, finite_or_origin, view_from_basis};
+use super::projection::{LightView, Projection, finite_or_origin, usable_near_far, view_from_basis};
 use crate::scene::{Light, LightKind};
 use glam::{DVec3, Vec3};
 
@@ -33,8 +33,7 @@ impl DualParaboloid {
             unreachable!("dual-paraboloid maps are built for point lights only")
         };
         let eye = finite_or_origin(position);
-        let n = if near.is_finite() && near > 0.0 { near } else { 1e-3 };
-        let f = if far.is_finite() && far > n * (1.0 + 1e-6) { far } else { 2.0 * n };
+        let (n, f) = usable_near_far(near, far);
         let hemispheres = [(DVec3::NEG_Y, DVec3::NEG_X), (DVec3::Y, DVec3::X)]
             .into_iter()
             .map(|(forward, right)| {
@@ -44,8 +43,8 @@ impl DualParaboloid {
                     projection: Projection::Paraboloid,
                     light_from_world,
                     clip_from_world: light_from_world,
-                    near: n,
-                    far: f,
+                    near: n as f32,
+                    far: f as f32,
                     to_light: None,
                     position: Some(eye.as_vec3()),
                     light_size: light.size().ok(),

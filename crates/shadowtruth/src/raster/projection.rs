@@ -286,6 +286,13 @@ pub(crate) fn finite_or_origin(position: Vec3) -> DVec3 {
     if eye.is_finite() { eye } else { DVec3::ZERO }
 }
 
+/// A light's near and far in f64, fixed up to 0 < near < far.
+pub(crate) fn usable_near_far(near: f32, far: f32) -> (f64, f64) {
+    let n = if near.is_finite() && near > 0.0 { near as f64 } else { 1e-3 };
+    let f = if far.is_finite() && far as f64 > n * (1.0 + 1e-6) { far as f64 } else { 2.0 * n };
+    (n, f)
+}
+
 /// The square perspective map of an eye at `eye` with view `light_from_world`, half-angle
 /// atan(`tan_half_fov`) and the light's near/far (fixed up to 0 < near < far).
 pub(crate) fn perspective(
@@ -295,8 +302,7 @@ pub(crate) fn perspective(
     (near, far): (f32, f32),
     resolution: u32,
 ) -> LightView {
-    let n = if near.is_finite() && near > 0.0 { near as f64 } else { 1e-3 };
-    let f = if far.is_finite() && far as f64 > n * (1.0 + 1e-6) { far as f64 } else { 2.0 * n };
+    let (n, f) = usable_near_far(near, far);
 
     // w = D = −z_view, z = f(D − n)/(f − n), so z/w = f(D − n)/(D(f − n)) (D3D [0, 1] depth).
     let s = 1.0 / tan_half_fov;

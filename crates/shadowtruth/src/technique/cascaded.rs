@@ -8,7 +8,6 @@ use super::shade::shade_into;
 use super::{ShadeContext, ShadeOrder, Technique};
 use crate::raster::{CascadeChoice, Cascades, LightView};
 use crate::trace::GBuffer;
-use glam::Vec3;
 use rayon::prelude::*;
 
 /// Which cascades shade each evaluated pixel, and each cascade's shading orders: built once per
@@ -29,14 +28,10 @@ impl CascadeOrders {
         Self::from_choices(gbuffer, &cascades.views, choices)
     }
 
-    /// Each evaluated pixel shaded through the face of a point light's map (a cube's face, a
-    /// paraboloid's hemisphere) that `face_of` its point selects, among `faces`.
-    pub fn of_faces(gbuffer: &GBuffer, faces: &[LightView], face_of: impl Fn(Vec3) -> usize + Sync) -> Self {
-        let choices: Vec<CascadeChoice> = gbuffer
-            .evaluated
-            .par_iter()
-            .map(|&i| CascadeChoice::One(face_of(gbuffer.position[i as usize])))
-            .collect();
+    /// Each evaluated pixel shaded through its face of a point light's map (a cube's face, a
+    /// paraboloid's hemisphere): `face[k]` indexes `faces` for evaluated pixel k.
+    pub fn of_faces(gbuffer: &GBuffer, faces: &[LightView], face: &[u8]) -> Self {
+        let choices = face.iter().map(|&f| CascadeChoice::One(f as usize)).collect();
         Self::from_choices(gbuffer, faces, choices)
     }
 

@@ -4,8 +4,8 @@
 //! (u_c, v_c) of the texel that holds the receiver. A GPU takes (z_u, z_v) from screen-space
 //! derivatives; we take them exactly from the hit triangle's plane in (u, v, d) space (planes stay
 //! planes under the light's projection), through its projected vertices or, where one lies
-//! behind the light, through points of the plane around the receiver. No clamp; `bias_depth` adds a constant bias only when
-//! asked.
+//! behind the light, through points of the plane around the receiver. No clamp; `bias_depth`
+//! adds a constant bias only when asked.
 
 use super::canonical::CanonicalFields;
 use super::params::non_negative;
