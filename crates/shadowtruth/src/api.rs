@@ -139,7 +139,7 @@ pub fn shade_technique(
 ) -> Result<Vec<f32>> {
     let built = built(technique)?;
     let order = ShadeOrder::new(gbuffer, view);
-    let ctx = ShadeContext::new(scene, view, layers.as_layers());
+    let ctx = ShadeContext::new(scene, gbuffer.footprint, view, layers.as_layers());
     let evaluated = shade_evaluated(built.as_ref(), &order, &ctx);
     let mut image = vec![1.0; gbuffer.pixel_count()];
     for (&pixel, v) in gbuffer.evaluated.iter().zip(evaluated) {

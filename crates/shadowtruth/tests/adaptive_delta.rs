@@ -10,7 +10,7 @@ use common::{scene_from_json, trace_first};
 use glam::Vec3;
 use serde_json::json;
 use shadowtruth::raster::{DepthFormat, DepthLayer, LightView};
-use shadowtruth::scene::Scene;
+use shadowtruth::scene::{PixelFootprint, Scene};
 use shadowtruth::technique::{
     AdaptiveBias, EpsilonScale, Layers, Sample, ShadeContext, TangentPlane, TapBias, TapDepth, TechniqueSpec,
 };
@@ -59,7 +59,7 @@ fn shade(scene: &Scene, g: &GBuffer, spec: &TechniqueSpec, resolution: u32) -> V
 fn receivers_with_taps_before_the_near_plane(scene: &Scene, g: &GBuffer, resolution: u32) -> usize {
     let view = LightView::new(&scene.lights[0], scene.bounds(), resolution);
     let map = DepthLayer::new_empty(resolution);
-    let ctx = ShadeContext::new(scene, &view, Layers::Nearest(&map));
+    let ctx = ShadeContext::new(scene, PixelFootprint::of(&scene.cameras[0]), &view, Layers::Nearest(&map));
     let r = resolution as f32;
     g.evaluated
         .iter()
@@ -177,7 +177,7 @@ fn algorithm_1_worked_by_hand_for_one_receiver_and_six_taps() {
     let scene = overhead_lamp(4.0);
     let view = LightView::new(&scene.lights[0], scene.bounds(), R);
     let map = DepthLayer::new_empty(R);
-    let ctx = ShadeContext::new(&scene, &view, Layers::Nearest(&map));
+    let ctx = ShadeContext::new(&scene, PixelFootprint::of(&scene.cameras[0]), &view, Layers::Nearest(&map));
     // The receiver (0.3, 0.2, 0.2) on the plane: D = 9.8, NDC (0.2/9.8, 0.3/9.8), so
     // u = 0.5102 and v = 0.5153: texel (32, 31).
     let s = Sample {
@@ -240,7 +240,7 @@ fn a_tap_whose_line_misses_the_tangent_plane_gets_the_same_depth_from_both() {
     let scene = overhead_lamp(4.0);
     let view = LightView::new(&scene.lights[0], scene.bounds(), R);
     let map = DepthLayer::new_empty(R);
-    let ctx = ShadeContext::new(&scene, &view, Layers::Nearest(&map));
+    let ctx = ShadeContext::new(&scene, PixelFootprint::of(&scene.cameras[0]), &view, Layers::Nearest(&map));
     // The receiver (0.025, 8.1, 0): D = 1.9, NDC (0, 0.0132), texel (4, 3), whose centre has
     // y_n = 0.125; the kernel's rows run from y_n = 1.375 down to −1.125.
     let s = Sample {

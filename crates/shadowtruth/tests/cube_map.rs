@@ -191,7 +191,7 @@ fn shade_cube(scene: &Scene, g: &GBuffer, spec: &TechniqueSpec, resolution: u32)
         .faces
         .iter()
         .zip(&layers)
-        .map(|(face, l)| ShadeContext::new(scene, face, l.as_layers()))
+        .map(|(face, l)| ShadeContext::new(scene, g.footprint, face, l.as_layers()))
         .collect();
     let visibility =
         CascadeOrders::of_faces(g, &cube.faces, &faces_of(g, &cube)).shade(technique.as_ref(), &contexts);

@@ -2,6 +2,8 @@
 //! is its own footprint: one occluder, where VSM is the exact depth test wherever its filter
 //! region sees one depth; two stacked occluders, where VSM bleeds light through the lower one
 //! next to the upper one's edge, by Chebyshev's bound, and its bleeding reduction removes it.
+//! And the mipmapped maps' level of detail, worked by hand where camera and light look straight
+//! down on a floor.
 
 mod common;
 
@@ -217,5 +219,34 @@ fn false_lit_next_to_overlapping_occluders_is_light_bleeding() {
                 p.x / texel
             );
         }
+    }
+}
+
+#[test]
+fn the_level_of_detail_is_the_camera_pixel_over_the_map_texel() {
+    // The floor y = 0 seen from 20 up through 90° over 128 rows: a pixel is 2·20/128 = 0.3125
+    // wide everywhere on it. A spot 10 up with a 90° cone over 256 texels: a texel is
+    // 2·10/256 = 0.078125 wide on it. Both project the floor linearly, so every pixel's
+    // footprint is 4 texels: λ = 2.
+    use shadowtruth::raster::DepthLayer;
+    use shadowtruth::technique::{Layers, Sample, ShadeContext, footprint_lod};
+    let scene = scene_from_json(&serde_json::json!({
+        "format": "shadowtruth/scene/v1", "name": "floor",
+        "objects": [{ "name": "floor", "shape": { "type": "plane", "size": [8, 8] } }],
+        "cameras": [{ "name": "down", "position": [0.3, 20, 0.1], "look_at": [0.3, 0, 0.1], "up": [0, 0, -1],
+                      "fov_y_deg": 90, "width": 128, "height": 128 }],
+        "lights": [{ "name": "lamp", "type": "spot", "position": [0, 10, 0], "direction": [0, -1, 0],
+                     "cone_deg": 90, "near": 1, "far": 20 }]
+    }));
+    let (g, _) = trace_first(&scene);
+    let view = LightView::new(&scene.lights[0], scene.bounds(), 256);
+    let map = DepthLayer::new_empty(256);
+    let ctx = ShadeContext::new(&scene, g.footprint, &view, Layers::Nearest(&map));
+    assert!(g.evaluated.len() > 500, "{}", g.evaluated.len());
+    for &i in &g.evaluated {
+        let i = i as usize;
+        let s = Sample { position: g.position[i], normal: g.normal[i], triangle: g.triangle[i] };
+        let lod = footprint_lod(&s, &ctx, view.project(s.position).unwrap(), 256);
+        assert!((lod - 2.0).abs() < 1e-4, "pixel {i}: λ = {lod}");
     }
 }

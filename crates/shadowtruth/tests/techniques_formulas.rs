@@ -6,7 +6,7 @@ use common::scene_from_json;
 use glam::{Vec3, Vec4};
 use serde_json::json;
 use shadowtruth::raster::{DepthFormat, LightView};
-use shadowtruth::scene::Scene;
+use shadowtruth::scene::{PixelFootprint, Scene};
 use shadowtruth::technique::{
     AdaptiveBias, EpsilonScale, LayerNeeds, Sample, ShadeContext, receiver_plane_slope,
 };
@@ -43,7 +43,7 @@ fn adaptive_bias_of_a_tilted_plane_under_an_orthographic_light() {
     let view = LightView::new(&scene.lights[0], scene.bounds(), 64);
     let layers =
         shadowtruth::technique::BuiltLayers::build(&scene, &view, DepthFormat::F32, &LayerNeeds::default());
-    let ctx = ShadeContext::new(&scene, &view, layers.as_layers());
+    let ctx = ShadeContext::new(&scene, PixelFootprint::of(&scene.cameras[0]), &view, layers.as_layers());
     let (n, f) = (view.near as f64, view.far as f64);
     let scene_scale = (Vec3::new(10.0, 2.0, 10.0)).length() as f64;
     for theta_deg in [30.0f64, 60.0] {

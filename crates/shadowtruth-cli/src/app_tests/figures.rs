@@ -360,7 +360,7 @@ fn figures_cost_per_run_at_1024x768() {
     let view = shadowtruth::raster::LightView::new(&scene.lights[0], scene.bounds(), 2048);
     let layers =
         shadowtruth::technique::BuiltLayers::build(&scene, &view, DepthFormat::F32, &technique.layer_needs());
-    let ctx = ShadeContext::new(&scene, &view, layers.as_layers());
+    let ctx = ShadeContext::new(&scene, g.footprint, &view, layers.as_layers());
     let order = ShadeOrder::new(&g, &view);
     let shade_ms =
         median_ms(|| drop(std::hint::black_box(shade_evaluated(technique.as_ref(), &order, &ctx))));

@@ -230,7 +230,7 @@ mod tests {
     use super::*;
     use crate::drawing::figures::is_grey;
     use glam::Vec3;
-    use shadowtruth::scene::{Light, LightKind};
+    use shadowtruth::scene::{Camera, Light, LightKind, PixelFootprint};
     use shadowtruth::trace::PixelClass;
 
     /// A `width`×`height` G-buffer whose every pixel is evaluated, facing up at a light straight
@@ -247,6 +247,16 @@ mod tests {
             triangle: vec![0; n],
             object: vec![0; n],
             evaluated: (0..n as u32).collect(),
+            footprint: PixelFootprint::of(&Camera {
+                name: "c".into(),
+                position: Vec3::Z,
+                look_at: Vec3::ZERO,
+                up: Vec3::Y,
+                fov_y_deg: 60.0,
+                width,
+                height,
+                path: None,
+            }),
         };
         let lit = (0..n).map(|i| ((i as u32 % width) < width / 2) as u8).collect();
         let reference = HardReference { width, height, lit, uncertain: Vec::new() };

@@ -124,7 +124,7 @@ pub(super) fn shade(
         DepthFormat::F32,
         &technique.layer_needs(),
     );
-    let mut ctx = ShadeContext::new(v.scene, &map.view, layers.as_layers());
+    let mut ctx = ShadeContext::new(v.scene, v.gbuffer.footprint, &map.view, layers.as_layers());
     ctx.scene_scale = scene_scale.unwrap_or(ctx.scene_scale);
     let (visibility, shade_ms) =
         timed_median(repeats, || shade_evaluated(technique.as_ref(), &map.order, &ctx));

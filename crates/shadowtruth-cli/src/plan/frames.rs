@@ -76,7 +76,7 @@ enum Points {
     /// The camera moved under a still light: this frame's G-buffer, shaded again.
     Here,
     /// Both moved: this frame's pixels traced again under the earlier light.
-    Traced(GBuffer),
+    Traced(Box<GBuffer>),
 }
 
 /// The span of a view's paths (the start of time when neither moves).
@@ -184,7 +184,7 @@ fn before_frame<'f>(
     // The points the earlier light's reference cannot decide are left out, as in any frame.
     let (earlier, earlier_reference) = trace_scored_view(scene, bvh, camera, &previous.light);
     let reference = reference_decisions(&earlier, &earlier_reference);
-    Before { frame: previous, points: Points::Traced(earlier), reference }
+    Before { frame: previous, points: Points::Traced(Box::new(earlier)), reference }
 }
 
 impl Schedule<'_, '_, '_> {

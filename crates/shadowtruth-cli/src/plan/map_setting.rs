@@ -7,7 +7,7 @@ use super::point_faces::PointFaces;
 use glam::Vec3;
 use shadowtruth::metrics::LightUv;
 use shadowtruth::raster::{DepthFormat, LightView};
-use shadowtruth::scene::Scene;
+use shadowtruth::scene::{PixelFootprint, Scene};
 use shadowtruth::technique::{BuiltLayers, ShadeContext, ShadeOrder, Technique, shade_evaluated};
 
 /// One shadow map's set-up within a view: the light view and what is built from it once.
@@ -20,6 +20,8 @@ pub(crate) struct MapSetting<'a> {
     pub cascaded: Option<&'a CascadedMap>,
     pub cube: Option<&'a PointFaces>,
     pub resolution: u32,
+    /// The camera's pixel footprint (the G-buffer's).
+    pub footprint: PixelFootprint,
     pub format: DepthFormat,
     /// The scene's bounds, computed once per view.
     pub scene_bounds: (Vec3, Vec3),
@@ -42,7 +44,9 @@ impl<'a> MapSetting<'a> {
     {
         let views = self.views().into_iter().zip(layers);
         views
-            .map(|(view, l)| ShadeContext::with_bounds(scene, view, l.as_layers(), self.scene_bounds))
+            .map(|(view, l)| {
+                ShadeContext::with_bounds(scene, self.footprint, view, l.as_layers(), self.scene_bounds)
+            })
             .collect()
     }
 

@@ -9,7 +9,7 @@ use super::{Plan, PlanError};
 use glam::Vec3;
 use shadowtruth::metrics::LightUv;
 use shadowtruth::raster::{DepthFormat, LightView};
-use shadowtruth::scene::{Camera, Light};
+use shadowtruth::scene::{Camera, Light, PixelFootprint};
 use shadowtruth::technique::ShadeOrder;
 use shadowtruth::trace::GBuffer;
 
@@ -22,6 +22,7 @@ pub(crate) struct MapSetup {
     cascaded: Option<CascadedMap>,
     cube: Option<PointFaces>,
     resolution: u32,
+    footprint: PixelFootprint,
 }
 
 impl MapSetup {
@@ -54,15 +55,15 @@ impl MapSetup {
         };
         let single = cascaded.is_none() && cube.is_none();
         let order = single.then(|| ShadeOrder::new(gbuffer, &view));
-        Ok(MapSetup { view, light_uv, order, cascaded, cube, resolution })
+        Ok(MapSetup { view, light_uv, order, cascaded, cube, resolution, footprint: gbuffer.footprint })
     }
 
-    /// The setting of one depth format.
     /// The shadow map's resolution.
     pub fn resolution(&self) -> u32 {
         self.resolution
     }
 
+    /// The setting of one depth format.
     pub fn setting(&self, format: DepthFormat, scene_bounds: (Vec3, Vec3)) -> MapSetting<'_> {
         MapSetting {
             view: &self.view,
@@ -71,6 +72,7 @@ impl MapSetup {
             cascaded: self.cascaded.as_ref(),
             cube: self.cube.as_ref(),
             resolution: self.resolution,
+            footprint: self.footprint,
             format,
             scene_bounds,
         }

@@ -61,6 +61,7 @@ pub fn evaluated_visibility(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::PixelFootprint;
     use crate::trace::PixelClass;
     use glam::Vec3;
 
@@ -86,6 +87,7 @@ mod tests {
             triangle: vec![0, 1],
             object: vec![0, 0],
             evaluated: vec![0, 1],
+            footprint: PixelFootprint::of(&camera),
         };
         (g, camera)
     }

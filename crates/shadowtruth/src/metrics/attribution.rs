@@ -398,6 +398,7 @@ fn window_radius(gbuffer: &GBuffer, uv: &LightUv, x: usize, y: usize, texels: f3
 mod tests {
     use super::*;
     use crate::raster::Projection;
+    use crate::scene::{Camera, PixelFootprint};
     use glam::{Mat4, Vec3, Vec4};
 
     const N: u32 = 4;
@@ -444,6 +445,16 @@ mod tests {
             triangle: vec![u32::MAX; pixels.len()],
             object: vec![u32::MAX; pixels.len()],
             evaluated: Vec::new(),
+            footprint: PixelFootprint::of(&Camera {
+                name: "c".into(),
+                position: Vec3::Z,
+                look_at: Vec3::ZERO,
+                up: Vec3::Y,
+                fov_y_deg: 60.0,
+                width,
+                height,
+                path: None,
+            }),
         };
         for (i, px) in pixels.iter().enumerate() {
             if let Px::At(object, tu, tv) = *px {

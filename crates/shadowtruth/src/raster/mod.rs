@@ -8,6 +8,7 @@ mod depth_format;
 mod dual_paraboloid;
 mod imported_view;
 mod layer;
+mod moment_level;
 mod moment_map;
 mod multi_depth;
 mod projection;
@@ -23,8 +24,9 @@ pub const MAX_SHADOW_MAP_RESOLUTION: u32 = 16384;
 /// What `LightView::light_size` holds; PCSS reads it from here.
 pub use crate::scene::LightSize;
 pub use layer::{DepthLayer, DepthPairLayer};
+pub use moment_level::MomentLevel;
 pub use moment_map::{
-    MAX_BLUR_RADIUS_TEXELS, MapBlur, MomentLayer, MomentWarp, evsm_negative, evsm_positive,
+    MAX_BLUR_RADIUS_TEXELS, MapBlur, MomentLayer, MomentWarp, evsm_negative, evsm_positive, level_of_detail,
 };
 pub use multi_depth::{DepthSelection, MAX_DEPTHS_PER_TEXEL, MultiDepthLayer};
 pub use projection::{LightView, Projection};

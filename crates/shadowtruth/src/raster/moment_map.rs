@@ -1,6 +1,6 @@
 //! The filterable shadow maps' texels: up to four moments of a warped depth per texel, computed
-//! from the nearest depth layer, blurred, and read with bilinear filtering (docs/formulas.md,
-//! "Filterable shadow maps"). The tests that read them are in `technique::filterable`.
+//! from the nearest depth layer, blurred, optionally mipmapped, and read with bilinear or trilinear
+//! filtering (docs/formulas.md, "Filterable shadow maps"). The tests that read them are in `technique::filterable`.
 //!
 //! The moments are of the layer's own depth d ∈ [0, 1] (empty texels hold the far plane, 1), as
 //! a renderer that writes them from the depth pass would; everything is f32, the format the
@@ -8,6 +8,7 @@
 //! fixed order, so a map is the same bytes for any thread count.
 
 use super::DepthLayer;
+use super::moment_level::{MomentLevel, lerp};
 use rayon::prelude::*;
 
 /// What a texel stores: the warp of depth z and how many of its powers.
@@ -102,49 +103,80 @@ impl MapBlur {
     }
 }
 
-/// N×N texels of four moments each, in `DepthLayer`'s layout.
+/// The moments of a filterable map: level 0, and with mipmaps the rest of its mip chain down to
+/// 1×1.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MomentLayer {
-    pub resolution: u32,
     pub warp: MomentWarp,
-    pub moments: Vec<[f32; 4]>,
+    /// Level 0 first, each level half the one before.
+    pub levels: Vec<MomentLevel>,
 }
 
 impl MomentLayer {
-    /// The moments of every texel of `base` under `warp`, blurred by `blur`.
-    pub fn from_depth(base: &DepthLayer, warp: MomentWarp, blur: MapBlur) -> Self {
+    /// The moments of every texel of `base` under `warp`, blurred by `blur`, with the mip chain of
+    /// the blurred level when `mipmaps`.
+    pub fn from_depth(base: &DepthLayer, warp: MomentWarp, blur: MapBlur, mipmaps: bool) -> Self {
         let n = base.resolution as usize;
         let raw: Vec<[f32; 4]> = base.depth.par_iter().map(|&z| warp.moments(z)).collect();
         let weights = blur.weights();
         let moments = if weights.len() == 1 { raw } else { blur_rows_then_columns(&raw, n, &weights) };
-        MomentLayer { resolution: base.resolution, warp, moments }
+        let mut levels = vec![MomentLevel { resolution: base.resolution, moments }];
+        while mipmaps && levels[levels.len() - 1].resolution > 1 {
+            let next = levels[levels.len() - 1].halved();
+            levels.push(next);
+        }
+        MomentLayer { warp, levels }
     }
 
-    /// The moments at map coordinates (u, v), bilinearly filtered between the four nearest texel
-    /// centres, clamped to the edge (as a linear sampler with clamp-to-edge reads them).
+    /// Level 0's side, in texels.
+    pub fn resolution(&self) -> u32 {
+        self.levels[0].resolution
+    }
+
+    /// The moments at map coordinates (u, v) of level 0, bilinearly filtered.
     #[inline]
     pub fn sample(&self, u: f32, v: f32) -> [f32; 4] {
-        let n = self.resolution as f32;
-        let last = self.resolution as i64 - 1;
-        // Texel centres sit at (x + ½)/N; rows run from the top down.
-        let (fx, fy) = (u * n - 0.5, (1.0 - v) * n - 0.5);
-        let (fx, fy) = (if fx.is_finite() { fx } else { 0.0 }, if fy.is_finite() { fy } else { 0.0 });
-        let (x0, y0) = (fx.floor(), fy.floor());
-        let (tx, ty) = (fx - x0, fy - y0);
-        let clamp = |i: f32| (i as i64).clamp(0, last) as usize;
-        let (xa, xb, ya, yb) = (clamp(x0), clamp(x0 + 1.0), clamp(y0), clamp(y0 + 1.0));
-        let stride = self.resolution as usize;
-        let at = |x: usize, y: usize| self.moments[y * stride + x];
-        let lerp = |a: [f32; 4], b: [f32; 4], t: f32| std::array::from_fn(|c| a[c] + t * (b[c] - a[c]));
-        let top = lerp(at(xa, ya), at(xb, ya), tx);
-        let bottom = lerp(at(xa, yb), at(xb, yb), tx);
-        lerp(top, bottom, ty)
+        self.levels[0].sample(u, v)
     }
 
-    /// Bytes of moment data (the channels the warp uses, as a renderer would store them).
-    pub fn memory_bytes(&self) -> usize {
-        self.moments.len() * self.warp.channels() * std::mem::size_of::<f32>()
+    /// The moments at (u, v) and level of detail `lod`, as a sampler with `LINEAR_MIPMAP_LINEAR`
+    /// minification and `LINEAR` magnification filters reads them (OpenGL 4.6 §8.14.2–8.14.3):
+    /// level 0 bilinearly at λ ≤ 0, else the two levels around λ, each bilinearly, blended by
+    /// λ's fraction; the last level alone from it on. NaN reads the last level.
+    #[inline]
+    pub fn sample_at_lod(&self, u: f32, v: f32, lod: f32) -> [f32; 4] {
+        let last = (self.levels.len() - 1) as f32;
+        if lod <= 0.0 {
+            return self.levels[0].sample(u, v);
+        }
+        if lod >= last || lod.is_nan() {
+            return self.levels[last as usize].sample(u, v);
+        }
+        let below = lod.floor();
+        let fine = self.levels[below as usize].sample(u, v);
+        let coarse = self.levels[below as usize + 1].sample(u, v);
+        lerp(fine, coarse, lod - below)
     }
+
+    /// Bytes of moment data over every level (the channels the warp uses, as a renderer would
+    /// store them).
+    pub fn memory_bytes(&self) -> usize {
+        let texels: usize = self.levels.iter().map(|l| l.moments.len()).sum();
+        texels * self.warp.channels() * std::mem::size_of::<f32>()
+    }
+}
+
+/// The level of detail λ = log₂ ρ of a pixel whose neighbours' map coordinates differ from its
+/// own by `duv_dx` and `duv_dy`, on a map of `resolution` texels a side: ρ is the longer of the
+/// two differences in texels (OpenGL 4.6 eq. 8.7 without anisotropy). +∞ for an unbounded
+/// footprint.
+pub fn level_of_detail(resolution: u32, duv_dx: [f32; 2], duv_dy: [f32; 2]) -> f32 {
+    // ρ² from squared lengths (log₂ ρ = ½·log₂ ρ²): no square root per pixel.
+    let n = resolution as f32;
+    let texels_squared = |d: [f32; 2]| (n * d[0]) * (n * d[0]) + (n * d[1]) * (n * d[1]);
+    let (x, y) = (texels_squared(duv_dx), texels_squared(duv_dy));
+    // `max` would drop a NaN; a difference that is not a number is a footprint without bound.
+    if x.is_nan() || y.is_nan() { f32::INFINITY } else { 0.5 * x.max(y).log2() }
 }
 
 /// The separable blur of an n×n image: each row, then each column, with `weights` over
@@ -192,8 +224,8 @@ mod tests {
     fn a_box_blur_averages_its_window_and_repeats_the_edge() {
         // One texel at depth 0.5 in a map at 1: a 3×3 box spreads 1/9 of the difference.
         let base = layer(5, |x, r| if (x, r) == (2, 2) { 0.5 } else { 1.0 });
-        let m = MomentLayer::from_depth(&base, MomentWarp::Depth2, MapBlur::Box { radius_texels: 1 });
-        let at = |x: usize, r: usize| m.moments[r * 5 + x];
+        let m = MomentLayer::from_depth(&base, MomentWarp::Depth2, MapBlur::Box { radius_texels: 1 }, false);
+        let at = |x: usize, r: usize| m.levels[0].moments[r * 5 + x];
         let mean = (8.0 + 0.5) / 9.0;
         let second = (8.0 + 0.25) / 9.0;
         for (x, r) in [(1, 1), (2, 2), (3, 1), (3, 3)] {
@@ -203,8 +235,8 @@ mod tests {
         // Clamped at the edge: the corner texel of a map with a dark left column sees it 3 times
         // of 9 along each row (twice through the repeat).
         let base = layer(4, |x, _| if x == 0 { 0.0 } else { 1.0 });
-        let m = MomentLayer::from_depth(&base, MomentWarp::Depth2, MapBlur::Box { radius_texels: 1 });
-        assert!((m.moments[0][0] - 1.0 / 3.0).abs() < 1e-6, "{:?}", m.moments[0]);
+        let m = MomentLayer::from_depth(&base, MomentWarp::Depth2, MapBlur::Box { radius_texels: 1 }, false);
+        assert!((m.levels[0].moments[0][0] - 1.0 / 3.0).abs() < 1e-6, "{:?}", m.levels[0].moments[0]);
     }
 
     #[test]
@@ -218,17 +250,35 @@ mod tests {
     }
 
     #[test]
-    fn bilinear_sampling_interpolates_between_texel_centres() {
-        let base = layer(2, |x, _| if x == 0 { 0.2 } else { 0.6 });
-        let m = MomentLayer::from_depth(&base, MomentWarp::Depth2, MapBlur::None);
-        // At a texel centre the texel itself; halfway between the two centres their mean; past
-        // the last centre the edge texel.
-        assert_eq!(m.sample(0.25, 0.75)[0], 0.2);
-        assert!((m.sample(0.5, 0.5)[0] - 0.4).abs() < 1e-6);
-        assert!((m.sample(0.5, 0.5)[1] - 0.5 * (0.04 + 0.36)).abs() < 1e-6);
-        assert_eq!(m.sample(0.99, 0.1)[0], 0.6);
-        assert_eq!(m.sample(-3.0, 7.0)[0], 0.2);
-        assert_eq!(m.sample(f32::NAN, 0.5)[0], 0.2);
+    fn trilinear_reads_blend_the_two_levels_around_the_level_of_detail() {
+        // Texel (x, r) of a 4² map holds 4r + x: level 1 holds the 2×2 means, level 2 their mean.
+        let base = layer(4, |x, r| (4 * r + x) as f32 / 16.0);
+        let m = MomentLayer::from_depth(&base, MomentWarp::Depth2, MapBlur::None, true);
+        assert_eq!(m.levels.iter().map(|l| l.resolution).collect::<Vec<_>>(), [4, 2, 1]);
+        // The centre of level 1's top-left texel, (¼, ¾): level 0 there is the mean of texels
+        // 0, 1, 4, 5 by bilinear weights ¼ each, as level 1 is.
+        let (u, v) = (0.25, 0.75);
+        let at = |lod| m.sample_at_lod(u, v, lod)[0];
+        assert_eq!(at(-3.0), m.levels[0].sample(u, v)[0]);
+        assert_eq!(at(1.0), 2.5 / 16.0);
+        assert_eq!(at(2.0), 7.5 / 16.0);
+        assert_eq!(at(9.0), 7.5 / 16.0);
+        assert_eq!(at(f32::NAN), 7.5 / 16.0);
+        assert!((at(1.25) - (0.75 * 2.5 + 0.25 * 7.5) / 16.0).abs() < 1e-7);
+        // Memory counts every level: (16 + 4 + 1) texels of two f32s.
+        assert_eq!(m.memory_bytes(), 21 * 8);
+        let flat = MomentLayer::from_depth(&base, MomentWarp::Depth2, MapBlur::None, false);
+        assert_eq!((flat.levels.len(), flat.memory_bytes()), (1, 16 * 8));
+    }
+
+    #[test]
+    fn the_level_of_detail_is_the_longer_footprint_in_texels() {
+        let texels = |n: f32| n / 256.0;
+        assert_eq!(level_of_detail(256, [texels(1.0), 0.0], [0.0, texels(0.5)]), 0.0);
+        assert_eq!(level_of_detail(256, [texels(3.0), texels(4.0)], [0.0, texels(2.0)]), 5f32.log2());
+        assert_eq!(level_of_detail(256, [0.0; 2], [0.0; 2]), f32::NEG_INFINITY);
+        assert_eq!(level_of_detail(256, [f32::NAN, 0.0], [0.0; 2]), f32::INFINITY);
+        assert_eq!(level_of_detail(256, [f32::INFINITY, 0.0], [0.0; 2]), f32::INFINITY);
     }
 
     #[test]

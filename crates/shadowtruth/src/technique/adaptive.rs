@@ -280,7 +280,7 @@ pub fn potential_occluder_depth(s: &Sample, ctx: &ShadeContext, (u_c, v_c): (f32
 mod tests {
     use super::*;
     use crate::raster::DepthLayer;
-    use crate::scene::{Scene, load_scene_str};
+    use crate::scene::{PixelFootprint, Scene, load_scene_str};
     use crate::technique::Layers;
     use std::path::Path;
 
@@ -304,7 +304,7 @@ mod tests {
         let scene = scene(light);
         let view = LightView::new(&scene.lights[0], scene.bounds(), 16);
         let map = DepthLayer::new_empty(16);
-        f(&ShadeContext::new(&scene, &view, Layers::Nearest(&map)));
+        f(&ShadeContext::new(&scene, PixelFootprint::of(&scene.cameras[0]), &view, Layers::Nearest(&map)));
     }
 
     fn steep_receiver() -> Sample {

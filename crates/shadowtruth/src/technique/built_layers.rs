@@ -41,6 +41,7 @@ impl BuiltLayers {
                 &rasterizer.nearest(&settings),
                 m.warp,
                 m.blur,
+                m.mipmaps,
             ));
         }
         match (needs.second_layer, needs.multi_depth) {

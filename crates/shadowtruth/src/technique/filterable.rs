@@ -19,7 +19,10 @@ use super::params::{err, non_negative};
 use super::{
     LayerNeeds, ReferenceKind, Sample, ShadeContext, Technique, TechniqueParams, TechniqueSpecError,
 };
-use crate::raster::{MAX_BLUR_RADIUS_TEXELS, MapBlur, MomentWarp, evsm_negative, evsm_positive};
+use crate::raster::{
+    MAX_BLUR_RADIUS_TEXELS, MapBlur, MomentWarp, evsm_negative, evsm_positive, level_of_detail,
+};
+use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 /// The moments a filterable technique reads and how they are filtered.
@@ -27,6 +30,8 @@ use serde::{Deserialize, Serialize};
 pub struct MomentNeeds {
     pub warp: MomentWarp,
     pub blur: MapBlur,
+    /// Whether the blurred map has a mip chain, read trilinearly at the pixel's footprint.
+    pub mipmaps: bool,
 }
 
 /// How a filterable technique turns filtered moments into visibility.
@@ -50,8 +55,30 @@ impl Technique for Filterable {
 
     fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
         let Some(uvd) = ctx.view.project(s.position) else { return 1.0 };
-        let m = ctx.layers.moments().sample(uvd.x, uvd.y);
+        let layer = ctx.layers.moments();
+        let m = if self.needs.mipmaps {
+            layer.sample_at_lod(uvd.x, uvd.y, footprint_lod(s, ctx, uvd, layer.resolution()))
+        } else {
+            layer.sample(uvd.x, uvd.y)
+        };
         visibility_from_moments(self.reconstruction, m, uvd.z)
+    }
+}
+
+/// The level of detail at which a GPU reads a map of `resolution` texels a side for the pixel of
+/// `s` (at map position `uvd`): from the differences between its map coordinates and those of its
+/// neighbours to the right and below on the same plane (`PixelFootprint`), each projected as the
+/// pixel is. +∞ (the last level) where a neighbour has no footprint or no projection.
+#[inline]
+pub fn footprint_lod(s: &Sample, ctx: &ShadeContext, uvd: Vec3, resolution: u32) -> f32 {
+    let difference = |neighbour: Option<glam::DVec3>| {
+        let uv = ctx.view.project(neighbour?.as_vec3())?;
+        Some([uv.x - uvd.x, uv.y - uvd.y])
+    };
+    let [right, down] = ctx.footprint.neighbours(s.position, s.normal);
+    match (difference(right), difference(down)) {
+        (Some(dx), Some(dy)) => level_of_detail(resolution, dx, dy),
+        _ => f32::INFINITY,
     }
 }
 
@@ -82,7 +109,8 @@ fn visibility_from_moments(r: Reconstruction, m: [f32; 4], d: f32) -> f32 {
 }
 
 /// The map filtering every filterable technique takes: `blur` (`box` by default, `gaussian` or
-/// `none`) over `blur_radius_texels` (default 1: a 3×3 box).
+/// `none`) over `blur_radius_texels` (default 1: a 3×3 box), and `mipmaps` (default false:
+/// level 0 read bilinearly; true: the blurred map's mip chain read trilinearly).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum BlurSpec {
@@ -94,13 +122,14 @@ pub enum BlurSpec {
 
 const DEFAULT_BLUR_RADIUS_TEXELS: u32 = 1;
 
-/// The technique that reads `warp`'s moments under the blur a spec names.
+/// The technique that reads `warp`'s moments under the blur and mipmaps a spec names.
 fn filterable(
     warp: MomentWarp,
-    (blur, radius): (BlurSpec, Option<u32>),
+    (blur, radius, mipmaps): (BlurSpec, Option<u32>, bool),
     reconstruction: Reconstruction,
 ) -> Option<Box<dyn Technique>> {
-    Some(Box::new(Filterable { needs: MomentNeeds { warp, blur: map_blur(blur, radius) }, reconstruction }))
+    let needs = MomentNeeds { warp, blur: map_blur(blur, radius), mipmaps };
+    Some(Box::new(Filterable { needs, reconstruction }))
 }
 
 fn map_blur(blur: BlurSpec, radius: Option<u32>) -> MapBlur {
@@ -124,10 +153,15 @@ fn check_blur(blur: BlurSpec, radius: Option<u32>) -> Result<(), TechniqueSpecEr
     }
 }
 
-fn blur_fields(f: &mut CanonicalFields, blur: BlurSpec, radius: Option<u32>) {
+/// The map's filtering fields; `mipmaps` only when on, so that the names of maps without them
+/// are what they were before mipmaps existed.
+fn filtering_fields(f: &mut CanonicalFields, blur: BlurSpec, radius: Option<u32>, mipmaps: bool) {
     f.named("blur", blur);
     if blur != BlurSpec::None {
         f.count("blur_radius_texels", radius.unwrap_or(DEFAULT_BLUR_RADIUS_TEXELS));
+    }
+    if mipmaps {
+        f.flag("mipmaps", true);
     }
 }
 
@@ -155,7 +189,7 @@ const MAX_ESM_EXPONENT: f64 = 88.0;
 const MAX_EVSM_EXPONENT: f64 = 44.0;
 
 /// `vsm`: `min_variance` (light-depth units², default 1e-5), `bleeding_reduction` (default 0),
-/// and the map's blur.
+/// and the map's filtering.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct VsmParams {
@@ -167,6 +201,8 @@ pub struct VsmParams {
     pub blur: BlurSpec,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub blur_radius_texels: Option<u32>,
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub mipmaps: bool,
 }
 
 fn default_vsm_min_variance() -> f64 {
@@ -185,7 +221,7 @@ impl TechniqueParams for VsmParams {
             min_variance: self.min_variance as f32,
             bleeding_reduction: self.bleeding_reduction as f32,
         };
-        filterable(MomentWarp::Depth2, (self.blur, self.blur_radius_texels), reconstruction)
+        filterable(MomentWarp::Depth2, (self.blur, self.blur_radius_texels, self.mipmaps), reconstruction)
     }
 
     fn reference_kind(&self) -> ReferenceKind {
@@ -195,11 +231,11 @@ impl TechniqueParams for VsmParams {
     fn canonical_fields(&self, f: &mut CanonicalFields) {
         f.number("min_variance", self.min_variance);
         f.number("bleeding_reduction", self.bleeding_reduction);
-        blur_fields(f, self.blur, self.blur_radius_texels);
+        filtering_fields(f, self.blur, self.blur_radius_texels, self.mipmaps);
     }
 }
 
-/// `esm`: the `exponent` c (default 80, at most 88) and the map's blur.
+/// `esm`: the `exponent` c (default 80, at most 88) and the map's filtering.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct EsmParams {
@@ -209,6 +245,8 @@ pub struct EsmParams {
     pub blur: BlurSpec,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub blur_radius_texels: Option<u32>,
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub mipmaps: bool,
 }
 
 fn default_esm_exponent() -> f64 {
@@ -224,7 +262,7 @@ impl TechniqueParams for EsmParams {
     fn build(&self) -> Option<Box<dyn Technique>> {
         let exponent = self.exponent as f32;
         let warp = MomentWarp::Exponential { exponent };
-        filterable(warp, (self.blur, self.blur_radius_texels), Reconstruction::Esm { exponent })
+        filterable(warp, (self.blur, self.blur_radius_texels, self.mipmaps), Reconstruction::Esm { exponent })
     }
 
     fn reference_kind(&self) -> ReferenceKind {
@@ -233,14 +271,14 @@ impl TechniqueParams for EsmParams {
 
     fn canonical_fields(&self, f: &mut CanonicalFields) {
         f.number("exponent", self.exponent);
-        blur_fields(f, self.blur, self.blur_radius_texels);
+        filtering_fields(f, self.blur, self.blur_radius_texels, self.mipmaps);
     }
 }
 
 /// `evsm2` and `evsm4`: the warps' exponents (`positive_exponent` default 40,
 /// `negative_exponent` default 5, evsm4 only; each at most 44), `variance_bias` (default 0.01:
 /// the minimum variance is (variance_bias · c · warped depth)²), `bleeding_reduction` (default
-/// 0) and the map's blur.
+/// 0) and the map's filtering.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct EvsmParams {
@@ -256,6 +294,8 @@ pub struct EvsmParams {
     pub blur: BlurSpec,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub blur_radius_texels: Option<u32>,
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub mipmaps: bool,
 }
 
 fn default_positive_exponent() -> f64 {
@@ -303,7 +343,7 @@ impl EvsmParams {
             variance_bias: self.variance_bias as f32,
             bleeding_reduction: self.bleeding_reduction as f32,
         };
-        filterable(warp, (self.blur, self.blur_radius_texels), reconstruction)
+        filterable(warp, (self.blur, self.blur_radius_texels, self.mipmaps), reconstruction)
     }
 
     fn canonical_fields(&self, f: &mut CanonicalFields, four: bool) {
@@ -313,7 +353,7 @@ impl EvsmParams {
         }
         f.number("variance_bias", self.variance_bias);
         f.number("bleeding_reduction", self.bleeding_reduction);
-        blur_fields(f, self.blur, self.blur_radius_texels);
+        filtering_fields(f, self.blur, self.blur_radius_texels, self.mipmaps);
     }
 }
 
@@ -354,7 +394,7 @@ impl TechniqueParams for Evsm4Params {
 }
 
 /// `msm`: `moment_bias` α (default 3·10⁻⁵), `depth_bias` (light-depth units, default 0),
-/// `bleeding_reduction` (default 0) and the map's blur.
+/// `bleeding_reduction` (default 0) and the map's filtering.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MsmParams {
@@ -368,6 +408,8 @@ pub struct MsmParams {
     pub blur: BlurSpec,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub blur_radius_texels: Option<u32>,
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub mipmaps: bool,
 }
 
 fn default_moment_bias() -> f64 {
@@ -393,7 +435,7 @@ impl TechniqueParams for MsmParams {
             depth_bias: self.depth_bias as f32,
             bleeding_reduction: self.bleeding_reduction as f32,
         };
-        filterable(MomentWarp::Power4, (self.blur, self.blur_radius_texels), reconstruction)
+        filterable(MomentWarp::Power4, (self.blur, self.blur_radius_texels, self.mipmaps), reconstruction)
     }
 
     fn reference_kind(&self) -> ReferenceKind {
@@ -404,7 +446,7 @@ impl TechniqueParams for MsmParams {
         f.number("moment_bias", self.moment_bias);
         f.number("depth_bias", self.depth_bias);
         f.number("bleeding_reduction", self.bleeding_reduction);
-        blur_fields(f, self.blur, self.blur_radius_texels);
+        filtering_fields(f, self.blur, self.blur_radius_texels, self.mipmaps);
     }
 }
 
@@ -469,6 +511,37 @@ mod tests {
         assert_eq!(visibility_from_moments(r, m, d), p.min(n));
         // The positive warp all but removes VSM's bleeding here: e^{40·0.6} dwarfs the mean.
         assert!(p < 1e-6, "{p}");
+    }
+
+    #[test]
+    fn a_mip_level_of_a_grating_reads_its_coverage() {
+        // Columns alternate between an occluder at 0.3 and the receiver's own depth 0.8. Level 1
+        // averages one of each: μ = 0.55, σ² = 0.0625, d − μ = 0.25, so VSM's bound is ½, the lit
+        // fraction of the footprint (worked by hand); level 0 at an occluder's texel centre is 0.
+        let depth = (0..8).flat_map(|_| (0..8).map(|x| if x % 2 == 0 { 0.3 } else { 0.8 })).collect();
+        let base = crate::raster::DepthLayer { resolution: 8, depth };
+        let layer = crate::raster::MomentLayer::from_depth(&base, MomentWarp::Depth2, MapBlur::None, true);
+        assert_eq!(layer.levels.len(), 4);
+        let (u, v) = (1.0 / 16.0, 0.5 + 1.0 / 16.0);
+        assert_eq!(visibility_from_moments(VSM, layer.sample_at_lod(u, v, 0.0), 0.8), 0.0);
+        for lod in [1.0, 1.5, 2.0, 3.0, f32::INFINITY, f32::NAN] {
+            let v = visibility_from_moments(VSM, layer.sample_at_lod(u, v, lod), 0.8);
+            assert!((v - 0.5).abs() < 1e-6, "λ = {lod}: {v}");
+        }
+        // Halfway to level 1: the moments are the mean of level 0's and level 1's.
+        let half = layer.sample_at_lod(u, v, 0.5);
+        assert!((half[0] - 0.5 * (0.3 + 0.55)).abs() < 1e-6, "{half:?}");
+    }
+
+    #[test]
+    fn mipmaps_are_named_only_when_on() {
+        let name = |json: &str| {
+            let spec: crate::technique::TechniqueSpec = serde_json::from_str(json).unwrap();
+            spec.canonical()
+        };
+        assert!(!name(r#"{"technique": "vsm"}"#).contains("mipmaps"));
+        assert_eq!(name(r#"{"technique": "vsm", "mipmaps": false}"#), name(r#"{"technique": "vsm"}"#));
+        assert!(name(r#"{"technique": "esm", "mipmaps": true}"#).contains(",mipmaps=true"));
     }
 
     #[test]

@@ -45,6 +45,7 @@ pub use external::ExternalParams;
 pub use filter_params::{KernelSpec, TapBiasSpec};
 pub use filterable::{
     BlurSpec, EsmParams, Evsm2Params, Evsm4Params, EvsmParams, MomentNeeds, MsmParams, VsmParams,
+    footprint_lod,
 };
 pub use kernel::{Kernel, POISSON_SIZES, poisson_set};
 pub use mdsm::{MdsmParams, SelectSpec};
@@ -144,7 +145,7 @@ impl<'a> Layers<'a> {
 
     pub fn resolution(&self) -> u32 {
         match self {
-            Layers::Moments(l) => l.resolution,
+            Layers::Moments(l) => l.resolution(),
             Layers::Nearest(l) => l.resolution,
             Layers::TwoNearest(l) => l.resolution,
             Layers::MultiDepth(l) => l.resolution,

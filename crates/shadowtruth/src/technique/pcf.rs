@@ -430,7 +430,7 @@ impl TechniqueParams for PcfParams {
 mod tests {
     use super::*;
     use crate::raster::{DepthLayer, LightView};
-    use crate::scene::load_scene_str;
+    use crate::scene::{PixelFootprint, load_scene_str};
     use crate::technique::EpsilonScale;
     use glam::Vec3;
     use std::path::Path;
@@ -446,7 +446,8 @@ mod tests {
         let scene = load_scene_str(text, Path::new("t.json"), Path::new(".")).unwrap();
         let view = LightView::new(&scene.lights[0], scene.bounds(), 32);
         let map = DepthLayer::new_empty(32);
-        let ctx = ShadeContext::new(&scene, &view, Layers::Nearest(&map));
+        let ctx =
+            ShadeContext::new(&scene, PixelFootprint::of(&scene.cameras[0]), &view, Layers::Nearest(&map));
         let s = Sample {
             position: Vec3::new(-1.0, 0.0, -1.0),
             normal: Vec3::new(-3.0, 1.0, -2.0).normalize(),

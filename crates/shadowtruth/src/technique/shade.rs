@@ -2,7 +2,7 @@
 
 use super::{Layers, Sample, Technique};
 use crate::raster::LightView;
-use crate::scene::Scene;
+use crate::scene::{PixelFootprint, Scene};
 use crate::trace::GBuffer;
 use glam::{DMat4, Mat4, Vec3};
 use rayon::prelude::*;
@@ -18,17 +18,21 @@ pub struct ShadeContext<'a> {
     pub world_from_clip_f64: DMat4,
     /// The length of the scene's bounding-box diagonal (Dou et al.'s sceneScale).
     pub scene_scale: f32,
+    /// The camera's pixel footprint (the G-buffer's), for the techniques that filter over it.
+    pub footprint: PixelFootprint,
 }
 
 impl<'a> ShadeContext<'a> {
-    pub fn new(scene: &'a Scene, view: &'a LightView, layers: Layers<'a>) -> Self {
-        Self::with_bounds(scene, view, layers, scene.bounds())
+    /// The context of shading pixels seen with `footprint` (their G-buffer's) through `view`.
+    pub fn new(scene: &'a Scene, footprint: PixelFootprint, view: &'a LightView, layers: Layers<'a>) -> Self {
+        Self::with_bounds(scene, footprint, view, layers, scene.bounds())
     }
 
     /// As [`ShadeContext::new`], with the scene's bounds computed once by the caller (they walk
     /// every triangle, every placement of an instanced mesh included).
     pub fn with_bounds(
         scene: &'a Scene,
+        footprint: PixelFootprint,
         view: &'a LightView,
         layers: Layers<'a>,
         bounds: (Vec3, Vec3),
@@ -40,6 +44,7 @@ impl<'a> ShadeContext<'a> {
             world_from_clip: view.clip_from_world.inverse(),
             world_from_clip_f64: view.clip_from_world.as_dmat4().inverse(),
             scene_scale: (bounds.1 - bounds.0).length(),
+            footprint,
         }
     }
 }

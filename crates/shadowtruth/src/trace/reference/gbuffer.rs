@@ -1,7 +1,7 @@
 //! The G-buffer of one (camera, light): per pixel the primary hit of the pixel-centre ray and its
 //! class. The reference and every technique evaluate exactly these surface points.
 
-use crate::scene::{Camera, Film, Light, LightKind, Scene};
+use crate::scene::{Camera, Film, Light, LightKind, PixelFootprint, Scene};
 use crate::trace::bvh::hit::Hit;
 use crate::trace::bvh::primary_certificate::PrimaryCertainty;
 use crate::trace::bvh::scene_bvh::SceneBvh;
@@ -54,6 +54,8 @@ pub struct GBuffer {
     pub object: Vec<u32>,
     /// Indices of the evaluated pixels, ascending: the loop every technique runs over.
     pub evaluated: Vec<u32>,
+    /// The camera's pixel footprint, for the techniques that filter over it.
+    pub footprint: PixelFootprint,
 }
 
 impl GBuffer {
@@ -238,7 +240,19 @@ impl GBuffer {
                 },
             );
         let evaluated = (0..n as u32).filter(|&i| class[i as usize] == PixelClass::Evaluated).collect();
-        GBuffer { width: w, height: h, class, position, barycentric, normal, triangle, object, evaluated }
+        let footprint = PixelFootprint::of(camera);
+        GBuffer {
+            width: w,
+            height: h,
+            class,
+            position,
+            barycentric,
+            normal,
+            triangle,
+            object,
+            evaluated,
+            footprint,
+        }
     }
 }
 
