@@ -45,7 +45,28 @@ function vec3(a) {
   return new THREE.Vector3(a[0], a[1], a[2]);
 }
 
+// A point light: three draws its own cube (six 90° faces of mapSize², hardware face selection,
+// no guard band) from the light's position with the exported near and far.
+function makePointLight(light) {
+  const map = light.shadow_map;
+  const l = new THREE.PointLight(0xffffff, 1, map.far, 0);
+  l.shadow.camera = new THREE.PerspectiveCamera(90, 1, map.near, map.far);
+  l.position.copy(vec3(light.position));
+  return l;
+}
+
 function makeLight(light, settings) {
+  const l = light.type === 'point' ? makePointLight(light) : makeDirectedLight(light);
+  l.castShadow = true;
+  l.shadow.mapSize.set(settings.mapSize, settings.mapSize);
+  l.shadow.bias = settings.bias;
+  l.shadow.normalBias = settings.normalBias;
+  l.shadow.radius = settings.radius;
+  l.shadow.blurSamples = settings.blurSamples;
+  return l;
+}
+
+function makeDirectedLight(light) {
   const map = light.shadow_map;
   const eye = map.eye;
   let l;
@@ -65,12 +86,6 @@ function makeLight(light, settings) {
   l.target.position.copy(vec3(eye.target));
   // three's shadow camera does lookAt(target) with its own up: the map's basis needs the exported up.
   l.shadow.camera.up.copy(vec3(eye.up));
-  l.castShadow = true;
-  l.shadow.mapSize.set(settings.mapSize, settings.mapSize);
-  l.shadow.bias = settings.bias;
-  l.shadow.normalBias = settings.normalBias;
-  l.shadow.radius = settings.radius;
-  l.shadow.blurSamples = settings.blurSamples;
   return l;
 }
 
@@ -116,7 +131,7 @@ async function renderView(view, settings) {
   }
   const light = makeLight(view.light, settings);
   scene.add(light);
-  scene.add(light.target);
+  if (light.target) scene.add(light.target);
 
   const c = view.camera;
   const camera = new THREE.PerspectiveCamera(c.fov_y_deg, width / height, c.near, c.far);

@@ -1,12 +1,14 @@
-//! three.js scored end to end: `view-export` of plane_box (its sun) and of spot (its lamp),
-//! `engines/three/render.mjs` renders each
+//! three.js scored end to end: `view-export` of plane_box (its sun), of spot (its lamp) and of
+//! the point-light room (its lamp's cube), `engines/three/render.mjs` renders each
 //! with three's own shadow maps in headless Chromium, `score` counts its errors against the exact
 //! reference, and the counts agree with the CPU emulation of the same setting; the same inputs
 //! give the same bytes. Needs node with `npm ci --prefix engines/three` run, and Chromium.
 
 mod engine_harness;
 
-use engine_harness::{Buffers, PLANE_BOX, RESOLUTION, SPOT, View, emulate, export, render, score, view_json};
+use engine_harness::{
+    Buffers, PLANE_BOX, RESOLUTION, ROOM_POINT, SPOT, View, emulate, export, render, score, view_json,
+};
 use serde_json::Value;
 use std::path::Path;
 
@@ -96,6 +98,23 @@ fn three_js_spot_shadows_score_like_the_emulation() {
         render_three(&exported, dir.path(), "basic", &["--shadow-type", "basic", "--bias", "-0.0005"]);
     let emulation = emulate_three(view, dir.path(), &[three_bias(BIAS_DEPTH)]);
     assert_agrees("spot, basic, bias -0.0005", &score(view, dir.path(), "basic", &biased), &emulation[0]);
+}
+
+/// The point light's cube: three draws six faces into a cube texture and its BasicShadowMap reads
+/// it through a `samplerCube` (the hardware picks the face; no guard band), which is the
+/// emulation's cube with its seams clamped and the single-tap test.
+#[test]
+fn three_js_point_light_shadows_score_like_the_emulations_clamped_cube() {
+    require_tools();
+    let view = ROOM_POINT;
+    let dir = tempfile::tempdir().unwrap();
+    let exported = export(view, dir.path());
+    let map = &view_json(&exported)["light"]["shadow_map"];
+    assert_eq!((map["projection"].as_str(), map["guard_texels"].as_u64()), (Some("cube"), Some(0)));
+    let biased =
+        render_three(&exported, dir.path(), "basic", &["--shadow-type", "basic", "--bias", "-0.0005"]);
+    let emulation = emulate_three(view, dir.path(), &[three_bias(BIAS_DEPTH)]);
+    assert_agrees("point, basic, bias -0.0005", &score(view, dir.path(), "basic", &biased), &emulation[0]);
 }
 
 /// Every shadow type reaches three.js: BasicShadowMap, PCFShadowMap and VSMShadowMap each draw

@@ -229,8 +229,14 @@ fn mask(scene: &Scene, camera: &shadowtruth::Camera, light: &str) -> Vec<u8> {
 #[test]
 fn a_view_export_glb_reloads_as_the_same_triangles_and_hard_reference() {
     let dir = tempfile::tempdir().unwrap();
-    for (camera, light) in [("wide", "sun"), ("tilted", "lamp")] {
+    for (camera, light) in
+        [("wide", "sun"), ("tilted", "lamp"), ("wide", "bulb"), ("tilted", "bulb_paraboloid")]
+    {
         let (original, reloaded) = export_and_reload(dir.path(), camera, light);
+        if original.light(light).unwrap().is_point() {
+            // A point light comes back whole: position, near, far, radius and map.
+            assert_eq!(reloaded.light(light).unwrap().kind, original.light(light).unwrap().kind);
+        }
         assert_eq!(reloaded.name, "scene");
         assert_eq!(reloaded.objects, original.objects, "names, closedness and triangle ranges");
         assert_eq!(bits(&all_triangles(&reloaded)), bits(&all_triangles(&original)));

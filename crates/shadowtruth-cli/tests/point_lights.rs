@@ -1,7 +1,7 @@
 //! Point lights through the command: a plan over the bundled point-light techniques records each
-//! run's cube, whose per-face counts add up to the run's; what holds one map per light (a
-//! renderer's `command` technique, `depth-map`, an imported shadow map) refuses a point light,
-//! naming it.
+//! run's cube, whose per-face counts add up to the run's; a renderer's `command` technique is
+//! scored per face; what holds one map per light (`depth-map`, an imported shadow map) refuses a
+//! point light, naming it.
 
 #[path = "../../shadowtruth/tests/common/mod.rs"]
 mod common;
@@ -105,32 +105,41 @@ fn each_run_under_a_point_light_records_its_six_faces_whose_counts_add_up() {
 }
 
 #[test]
-fn a_renderers_command_depth_map_and_an_imported_map_refuse_a_point_light() {
+fn an_exact_renderer_under_a_point_light_is_scored_per_face_without_error() {
+    // The `command` protocol exports each view (the cube's faces in view.json) and scores what
+    // the command writes: here the hard reference itself, which must score no error on any face.
     let dir = tempfile::tempdir().unwrap();
     let scene = small_room(dir.path());
+    let run = [BIN, "reference", scene.to_str().unwrap(), "--camera", "{camera}", "--light", "{light}"];
+    let run: Vec<&str> = run.into_iter().chain(["-o", "{visibility}"]).collect();
     let plan = json!({
         "format": "shadowtruth/plan/v1", "scenes": [scene],
-        "techniques": [{ "technique": "command", "name": "renderer", "run": ["sh", "-c", "exit 3", "{visibility}"] }],
+        "techniques": [{ "technique": "command", "name": "renderer", "visibility_format": "png", "run": run }],
         "resolutions": [64], "repeats": 1
     });
     let plan_path = dir.path().join("plan.json");
     std::fs::write(&plan_path, plan.to_string()).unwrap();
     let out = dir.path().join("out");
-    let output = shadowtruth(&[
-        "run",
-        "--plan",
-        plan_path.to_str().unwrap(),
-        "--no-cache",
-        "--no-figures",
-        "--quiet",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    let message = stderr(&output);
-    assert_eq!(output.status.code(), Some(2), "{message}");
-    assert!(message.contains("room.json") && message.contains("lights[0].type"), "{message}");
-    assert!(message.contains("point light"), "{message}");
+    let args = ["run", "--plan", plan_path.to_str().unwrap(), "--no-cache", "--no-figures", "--quiet", "-o"];
+    let output = shadowtruth(&[&args[..], &[out.to_str().unwrap()]].concat());
+    assert!(output.status.success(), "{}", stderr(&output));
+    let report: Value = serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
+    let runs = report["runs"].as_array().unwrap();
+    assert_eq!(runs.len(), 2, "one run per lamp");
+    for run in runs {
+        let counts = &run["counts"];
+        assert!(count(counts, "evaluated") > 1000, "{run}");
+        assert_eq!((count(counts, "false_shadow"), count(counts, "false_lit")), (0, 0), "{run}");
+        let faces = run["point_map"]["faces"].as_array().unwrap();
+        let evaluated: u64 = faces.iter().map(|f| count(&f["counts"], "evaluated")).sum();
+        assert_eq!(evaluated, count(counts, "evaluated"), "{run}");
+    }
+}
 
+#[test]
+fn depth_map_and_an_imported_map_refuse_a_point_light() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = small_room(dir.path());
     let bundled = common::repo().join("scenes/point/room.json");
     let map = dir.path().join("x.exr");
     let output = shadowtruth(&[

@@ -172,6 +172,102 @@ fn the_matrices_put_every_evaluated_point_at_its_pixel_centre_and_light_coordina
     }
 }
 
+/// The cube face OpenGL's table 8.19 picks for direction d: the major axis, ties to x then y;
+/// +x, −x, +y, −y, +z, −z.
+fn major_axis_face(d: Vec3) -> usize {
+    let a = d.abs();
+    let (axis, component) = if a.x >= a.y && a.x >= a.z {
+        (0, d.x)
+    } else if a.y >= a.z {
+        (1, d.y)
+    } else {
+        (2, d.z)
+    };
+    2 * axis + (component < 0.0) as usize
+}
+
+/// (u, v, d) of `p` under the paraboloid mapping view.json states in words, in f64.
+fn paraboloid_uvd(view_from_world: DMat4, near: f64, far: f64, p: Vec3) -> DVec3 {
+    let q = view_from_world.transform_point3(p.as_dvec3());
+    let (length, h) = (q.length(), q.length() - q.z);
+    DVec3::new(0.5 * q.x / h + 0.5, 0.5 * q.y / h + 0.5, (length - near) / (far - near))
+}
+
+#[test]
+fn a_point_lights_faces_and_hemispheres_are_the_rasterizers_views() {
+    use shadowtruth::raster::{CubeMap, DualParaboloid};
+    let bits = |m: DMat4| m.as_mat4().to_cols_array().map(f32::to_bits);
+    let e = export("wide", "bulb");
+    let json = view_json(&e.out);
+    let (light, map) = (e.scene.light("bulb").unwrap(), &json["light"]["shadow_map"]);
+    assert_eq!((json["light"]["type"].as_str(), map["projection"].as_str()), (Some("point"), Some("cube")));
+    assert_eq!((map["guard_texels"].as_u64(), map["face_resolution"].as_u64()), (Some(4), Some(1032)));
+    let cube = CubeMap::new(light, RESOLUTION);
+    let faces = map["faces"].as_array().unwrap();
+    assert_eq!(faces.len(), 6);
+    for (face, view) in faces.iter().zip(&cube.faces) {
+        assert_eq!(
+            bits(matrix(&face["d3d"], "clip_from_world")),
+            view.clip_from_world.to_cols_array().map(f32::to_bits)
+        );
+        assert_eq!(face["resolution"].as_u64(), Some(1032));
+    }
+    // Every evaluated point, through the face the stated rule picks, lands inside that face at
+    // the rasterizer's own (u, v, d).
+    let g = gbuffer(&e, "wide", "bulb");
+    let position = match light.kind {
+        LightKind::Point { position, .. } => position,
+        _ => unreachable!(),
+    };
+    for &i in &g.evaluated {
+        let p = g.position[i as usize];
+        let k = major_axis_face(p - position);
+        let expected = cube.faces[k].project(p).unwrap().as_dvec3();
+        let t = matrix(&faces[k]["d3d"], "texture_from_world") * p.as_dvec3().extend(1.0);
+        let (u, v, d) = (t.x / t.w, 1.0 - t.y / t.w, t.z / t.w);
+        assert!((DVec3::new(u, v, d) - expected).abs().max_element() <= LIGHT_BOUND, "face {k}: {p}");
+        let inner = 4.0 / 1032.0;
+        assert!(u >= inner - 1e-6 && u <= 1.0 - inner + 1e-6 && v >= inner - 1e-6 && v <= 1.0 - inner + 1e-6);
+    }
+
+    let e = export("tilted", "bulb_paraboloid");
+    let json = view_json(&e.out);
+    let map = &json["light"]["shadow_map"];
+    assert_eq!(map["projection"].as_str(), Some("dual_paraboloid"));
+    let light = e.scene.light("bulb_paraboloid").unwrap();
+    let paraboloids = DualParaboloid::new(light, RESOLUTION);
+    let hemispheres = map["hemispheres"].as_array().unwrap();
+    assert_eq!(hemispheres.len(), 2);
+    let g = gbuffer(&e, "tilted", "bulb_paraboloid");
+    let mut shaded = [0; 2];
+    for (k, (h, view)) in hemispheres.iter().zip(&paraboloids.hemispheres).enumerate() {
+        let view_from_world = matrix(h, "view_from_world");
+        assert_eq!(bits(view_from_world), view.light_from_world.to_cols_array().map(f32::to_bits));
+        let (near, far) = (h["near"].as_f64().unwrap(), h["far"].as_f64().unwrap());
+        // The points the stated rule shades through this hemisphere (p.y ≤ the light's for the
+        // first), each at the rasterizer's (u, v, d).
+        let position = match light.kind {
+            LightKind::Point { position, .. } => position,
+            _ => unreachable!(),
+        };
+        for &i in &g.evaluated {
+            let p = g.position[i as usize];
+            if (p.y > position.y) as usize != k {
+                continue;
+            }
+            assert_eq!(paraboloids.hemisphere_of(p), k);
+            shaded[k] += 1;
+            let expected = view.project(p).expect("a point of the hemisphere");
+            let got = paraboloid_uvd(view_from_world, near, far, p);
+            assert!(
+                (got - expected.as_dvec3()).abs().max_element() <= LIGHT_BOUND,
+                "{p}: {got} vs {expected}"
+            );
+        }
+    }
+    assert!(shaded[0] > 100, "{shaded:?}");
+}
+
 fn read_exr(path: &Path) -> FlatImage {
     read_all_flat_layers_from_file(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
@@ -317,6 +413,11 @@ fn the_glb_reloads_as_the_scene() {
                 assert!((look_direction(node) - *direction).abs().max_element() < 1e-6);
                 assert_eq!(outer_cone_angle, (*cone_deg as f64 / 2.0).to_radians() as f32);
                 assert!(inner_cone_angle < outer_cone_angle && outer_cone_angle - inner_cone_angle < 1e-6);
+                assert_eq!(gltf_light.range(), Some(*far));
+            }
+            (LightKind::Point { position, far, .. }, gltf::khr_lights_punctual::Kind::Point) => {
+                let (translation, _, _) = node.transform().decomposed();
+                assert_eq!(Vec3::from(translation), *position);
                 assert_eq!(gltf_light.range(), Some(*far));
             }
             (kind, _) => panic!("{}: {kind:?} exported as another kind", light.name),

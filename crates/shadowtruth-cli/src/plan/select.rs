@@ -5,7 +5,7 @@
 use super::{Plan, PlanError, PlanInputError};
 use shadowtruth::raster::MAX_SHADOW_MAP_RESOLUTION;
 use shadowtruth::scene::{LightKind, PointMap, Problem, Scene, SceneError, load_scene};
-use shadowtruth::technique::{ReferenceKind, TechniqueSpec};
+use shadowtruth::technique::ReferenceKind;
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
 use std::path::{Path, PathBuf};
@@ -202,22 +202,19 @@ pub(crate) fn check_area_light_sizes(plan: &Plan, selected: &[Selected]) -> Resu
 
 /// Cascades are drawn and shaded on the CPU pipeline only, a point light's cube on either, its
 /// dual paraboloids on the CPU only: a cascaded light or dual paraboloids cannot run on the GPU
-/// pipeline, neither can read an imported shadow map (one map), and a point light cannot be
-/// exported to a renderer's command (a view export holds one map per light). Each is refused at
-/// its path in the scene file; a technique that needs a projective map is refused on dual
-/// paraboloids by name.
+/// pipeline, and neither a cascaded light nor a point light can read an imported shadow map (one
+/// map). Each is refused at its path in the scene file; a technique that needs a projective map
+/// is refused on dual paraboloids by name. (A renderer's `command` reads a view export, which
+/// holds a point light's faces or hemispheres.)
 pub(crate) fn check_multi_map_lights(plan: &Plan, selected: &[Selected]) -> Result<(), PlanError> {
     check_paraboloid_lights(plan, selected)?;
     let gpu = (plan.pipeline == super::Pipeline::Gpu)
         .then_some("the GPU pipeline draws a cube's faces but no cascades");
     let imported = plan.shadow_map.is_some().then_some("an imported shadow map is one map");
-    let commands = plan.techniques.iter().any(|t| matches!(t, TechniqueSpec::Command(_)));
-    let exported =
-        commands.then_some("`command` techniques read a view export, which holds one map per light");
     for sel in selected {
         for &(_, li) in &sel.pairs {
             let light = &sel.scene.lights[li];
-            let (path, message) = match (imported.or(exported), gpu.or(imported)) {
+            let (path, message) = match (imported, gpu.or(imported)) {
                 (Some(why), _) if light.is_point() => (
                     format!("lights[{li}].type"),
                     format!(

@@ -7,7 +7,7 @@ use super::shadow_eye::ShadowEye;
 use glam::{DMat3, DQuat, DVec3, Vec3};
 use serde_json::{Value, json};
 use shadowtruth::raster::LightView;
-use shadowtruth::scene::{Camera, Light, LightKind, LightSize, Scene};
+use shadowtruth::scene::{Camera, Light, LightKind, LightSize, PointMap, Scene};
 
 const GLB_MAGIC: u32 = 0x4654_6C67; // "glTF"
 const CHUNK_JSON: u32 = 0x4E4F_534A; // "JSON"
@@ -202,7 +202,20 @@ fn light_json(l: &GlbLight) -> (Value, Value) {
             });
             (light, position)
         }
-        LightKind::Point { .. } => unreachable!("view export refuses scenes with point lights"),
+        LightKind::Point { position, near, far, map, .. } => {
+            // The light's own near and far (a face's may be adjusted), and its map, as the glTF
+            // reader takes them back.
+            extras["near"] = num(near);
+            extras["far"] = num(far);
+            extras["shadow_map"] = json!(map.name());
+            if let PointMap::Cube(cube) = map {
+                extras["guard_texels"] = json!(cube.guard_texels);
+            }
+            let light = json!({
+                "name": l.light.name, "type": "point", "color": [1.0, 1.0, 1.0], "intensity": 1.0, "range": num(far),
+            });
+            (light, position)
+        }
     };
     let mut node = frame_node(&l.light.name, position, right, up, forward);
     node["extras"] = extras;

@@ -7,19 +7,22 @@ mod gbuffer_exr;
 mod glb;
 pub(crate) use glb::glb_container;
 mod json_number;
+mod map_json;
 mod matrices;
+mod point_map;
 mod shadow_eye;
 
 use anyhow::{Context, Result};
 use gbuffer_exr::{IDS_FILE, NORMAL_FILE, POSITION_FILE};
-use glam::Mat4;
+use glam::Vec3;
 use glb::{GlbCamera, GlbLight};
 use json_number::{num, nums};
-use matrices::{ViewMatrices, camera_depth_range, camera_matrices, light_matrices};
-use serde_json::{Map, Value, json};
-use shadow_eye::ShadowEye;
+use map_json::{map_json, matrices_json};
+use matrices::{ViewMatrices, camera_depth_range, camera_matrices};
+use point_map::{point_map_json, point_views};
+use serde_json::{Value, json};
 use shadowtruth::atomic_file::write_atomic;
-use shadowtruth::raster::{LightView, Projection};
+use shadowtruth::raster::LightView;
 use shadowtruth::scene::{Camera, Light, LightKind, LightSize, Scene};
 use shadowtruth::trace::{GBuffer, SceneBvh};
 use std::path::{Path, PathBuf};
@@ -63,20 +66,13 @@ pub(crate) fn write_view_export(
     dir: &Path,
     mut progress: impl FnMut(&str),
 ) -> Result<Vec<PathBuf>> {
-    if let Some(point) = scene.lights.iter().find(|l| l.is_point()) {
-        anyhow::bail!(
-            "light '{}' is a point light: a view export holds directional and spot lights, each with its one \
-             shadow map",
-            point.name
-        );
-    }
     std::fs::create_dir_all(dir)
         .with_context(|| format!("--out {}: cannot create the output folder", dir.display()))?;
     progress("tracing the G-buffer");
     let bvh = SceneBvh::build(scene);
     let bounds = scene.bounds();
     let gbuffer = GBuffer::trace(scene, &bvh, camera, light);
-    let view = LightView::new(light, bounds, resolution);
+    let views = light_views(light, bounds, resolution);
 
     progress("tracing the other cameras' depth ranges");
     let cameras: Vec<GlbCamera> = scene
@@ -95,7 +91,7 @@ pub(crate) fn write_view_export(
     let lights: Vec<GlbLight> = scene
         .lights
         .iter()
-        .map(|l| GlbLight { light: l, view: LightView::new(l, bounds, resolution) })
+        .map(|l| GlbLight { light: l, view: light_views(l, bounds, resolution).swap_remove(0) })
         .collect();
 
     progress("writing");
@@ -114,7 +110,7 @@ pub(crate) fn write_view_export(
         "scene": scene.name,
         "conventions": { "matrices": MATRICES, "pixel_centres": PIXEL_CENTRES, "shadow_map": SHADOW_MAP },
         "camera": camera_json(camera, &camera_matrices(camera, near, far), glb::camera_node(scene, camera_index)),
-        "light": light_json(light, &view, glb::light_node(scene, light_index)),
+        "light": light_json(light, &views, resolution, glb::light_node(scene, light_index)),
         "gbuffer": gbuffer_json(),
         "scene_glb": GLB_FILE,
     });
@@ -128,28 +124,6 @@ pub(crate) fn write_view_export(
     }
     write(GLB_FILE, &glb::scene_glb(scene, &cameras, &lights))?;
     Ok(files)
-}
-
-/// `{name}_row_major` and `{name}_column_major` of `m`.
-fn insert_matrix(object: &mut Map<String, Value>, name: &str, m: &Mat4) {
-    object.insert(format!("{name}_row_major"), nums(&m.transpose().to_cols_array()));
-    object.insert(format!("{name}_column_major"), nums(&m.to_cols_array()));
-}
-
-/// The view matrix, then one object per API with its projections.
-fn matrices_json(m: &ViewMatrices) -> Map<String, Value> {
-    let mut object = Map::new();
-    insert_matrix(&mut object, "view_from_world", &m.view_from_world);
-    for a in &m.apis {
-        let mut api = Map::new();
-        insert_matrix(&mut api, "clip_from_view", &a.clip_from_view);
-        insert_matrix(&mut api, "clip_from_world", &a.clip_from_world);
-        if let Some(t) = &a.texture_from_world {
-            insert_matrix(&mut api, "texture_from_world", t);
-        }
-        object.insert(a.api.key().to_string(), Value::Object(api));
-    }
-    object
 }
 
 fn camera_json(camera: &Camera, m: &ViewMatrices, node: usize) -> Value {
@@ -177,7 +151,17 @@ fn camera_json(camera: &Camera, m: &ViewMatrices, node: usize) -> Value {
     object
 }
 
-fn light_json(light: &Light, view: &LightView, node: usize) -> Value {
+/// The views `light`'s map is drawn from at `resolution`: one, or a point light's faces or
+/// hemispheres.
+fn light_views(light: &Light, bounds: (Vec3, Vec3), resolution: u32) -> Vec<LightView> {
+    if light.is_point() {
+        point_views(light, resolution)
+    } else {
+        vec![LightView::new(light, bounds, resolution)]
+    }
+}
+
+fn light_json(light: &Light, views: &[LightView], resolution: u32, node: usize) -> Value {
     let mut object = json!({ "name": light.name, "glb_node": node });
     match &light.kind {
         LightKind::Directional { direction, .. } => {
@@ -192,7 +176,12 @@ fn light_json(light: &Light, view: &LightView, node: usize) -> Value {
             object["near"] = num(*near);
             object["far"] = num(*far);
         }
-        LightKind::Point { .. } => unreachable!("view export refuses scenes with point lights"),
+        LightKind::Point { position, near, far, .. } => {
+            object["type"] = json!("point");
+            object["position"] = nums(&position.to_array());
+            object["near"] = num(*near);
+            object["far"] = num(*far);
+        }
     }
     if let Ok(size) = light.size() {
         let field = match size {
@@ -201,34 +190,8 @@ fn light_json(light: &Light, view: &LightView, node: usize) -> Value {
         };
         object[field] = num(size.value());
     }
-    let mut map = json!({ "resolution": view.resolution, "near": num(view.near), "far": num(view.far) });
-    match view.projection {
-        Projection::Orthographic { left, right, bottom, top } => {
-            map["projection"] = json!("orthographic");
-            map["left"] = num(left);
-            map["right"] = num(right);
-            map["bottom"] = num(bottom);
-            map["top"] = num(top);
-        }
-        Projection::Perspective { tan_half_fov } => {
-            map["projection"] = json!("perspective");
-            map["tan_half_fov"] = num(tan_half_fov);
-            // The square map's full field of view, as engines' perspective cameras take it.
-            map["fov_y_deg"] = num((2.0 * (tan_half_fov as f64).atan()).to_degrees() as f32);
-            map["aspect"] = json!(1);
-        }
-        Projection::Paraboloid => unreachable!("view export refuses point lights"),
-    }
-    let eye = ShadowEye::of(light, view);
-    map["eye"] = json!({
-        "position": nums(&eye.position.to_array()),
-        "target": nums(&eye.target(view).to_array()),
-        "up": nums(&eye.up.as_vec3().to_array()),
-        "rule": "lookAt(position, target, up) (f = normalize(target − position), s = normalize(f × up), u = s × f, \
-                 rows s, u, −f) gives view_from_world to f32 rounding; up is the view's unit y axis",
-    });
-    map.as_object_mut().expect("an object").extend(matrices_json(&light_matrices(view)));
-    object["shadow_map"] = map;
+    object["shadow_map"] =
+        if light.is_point() { point_map_json(light, views, resolution) } else { map_json(light, &views[0]) };
     object
 }
 

@@ -121,6 +121,9 @@ pub struct View {
 
 pub const PLANE_BOX: View = View { scene: "scenes/plane_box.json", light: "sun" };
 pub const SPOT: View = View { scene: "scenes/spot.json", light: "lamp" };
+/// The room's point lamp with a cube map clamped at its seams (no guard band): the cube a
+/// hardware `samplerCube` reads.
+pub const ROOM_POINT: View = View { scene: "scenes/point/room.json", light: "lamp_clamped" };
 
 /// `view-export` of the view at `RESOLUTION` into `dir/view`.
 pub fn export(view: View, dir: &Path) -> PathBuf {

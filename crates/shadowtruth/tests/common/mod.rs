@@ -62,7 +62,7 @@ pub fn shade_technique(
     let technique = spec.build().expect("a shaded technique");
     let view = shadowtruth::raster::LightView::new(&scene.lights[0], scene.bounds(), resolution);
     let layers = shadowtruth::technique::BuiltLayers::build(scene, &view, format, &technique.layer_needs());
-    let ctx = ShadeContext::new(scene, &view, layers.as_layers());
+    let ctx = ShadeContext::new(scene, g.footprint, &view, layers.as_layers());
     shade_evaluated(technique.as_ref(), &ShadeOrder::new(g, &view), &ctx)
 }
 
@@ -125,7 +125,11 @@ pub const EXPORT_TEST_SCENE: &str = r#"{
   "lights": [
     { "name": "sun", "type": "directional", "direction": [-0.3, -1, -0.45], "angular_diameter_deg": 0.5 },
     { "name": "lamp", "type": "spot", "position": [2.5, 5, 1.5], "direction": [-0.4, -1, -0.2],
-      "cone_deg": 60, "near": 0.5, "far": 20, "radius": 0.1 }
+      "cone_deg": 60, "near": 0.5, "far": 20, "radius": 0.1 },
+    { "name": "bulb", "type": "point", "position": [-0.5, 3, 1], "near": 0.1, "far": 15, "radius": 0.05,
+      "cube_map": { "guard_texels": 4 } },
+    { "name": "bulb_paraboloid", "type": "point", "position": [1, 2.5, -1.5], "near": 0.2, "far": 12,
+      "shadow_map": "dual_paraboloid" }
   ]
 }"#;
 
