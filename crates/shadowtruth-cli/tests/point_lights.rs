@@ -65,7 +65,7 @@ fn each_run_under_a_point_light_records_its_six_faces_whose_counts_add_up() {
     let runs = report["runs"].as_array().unwrap();
     // Twelve techniques, nineteen settings once swept, under each of the two lamps.
     assert_eq!(runs.len(), 2 * 19, "{} runs", runs.len());
-    let mut near_seam_anywhere = 0;
+    let (mut near_seam_anywhere, mut seam_anywhere) = (0, 0);
     for run in runs {
         let what = format!("{} {}", run["light"], run["label"]);
         assert_eq!(run["resolution"], 64, "{what}");
@@ -85,6 +85,17 @@ fn each_run_under_a_point_light_records_its_six_faces_whose_counts_add_up() {
             let sum: u64 = faces.iter().map(|f| count(&f["counts"], key)).sum();
             assert_eq!(sum, count(&run["counts"], key), "{what}: {key} over the faces");
         }
+        // Every false pixel has one class; a seam one lies near a seam of its face.
+        let counts = &run["counts"];
+        let classes: u64 =
+            ["aliasing", "seam", "acne", "leak", "light_bleeding"].iter().map(|k| count(counts, k)).sum();
+        assert_eq!(classes, count(counts, "false_shadow") + count(counts, "false_lit"), "{what}");
+        let false_near_seams: u64 = faces
+            .iter()
+            .map(|f| count(&f["near_seam"], "false_shadow") + count(&f["near_seam"], "false_lit"))
+            .sum();
+        assert!(count(counts, "seam") <= false_near_seams, "{what}: seam class beyond the near-seam pixels");
+        seam_anywhere += count(counts, "seam");
         for face in faces {
             let (all, seam) = (&face["counts"], &face["near_seam"]);
             for key in ["evaluated", "false_shadow", "false_lit"] {
@@ -102,6 +113,7 @@ fn each_run_under_a_point_light_records_its_six_faces_whose_counts_add_up() {
         assert!(count(&run["counts"], "evaluated") > 1000, "{what}");
     }
     assert!(near_seam_anywhere > 0, "some pixels lie near a seam");
+    assert!(seam_anywhere > 0, "some false pixels near a seam are the seam class");
 }
 
 #[test]

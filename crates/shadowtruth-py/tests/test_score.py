@@ -45,7 +45,7 @@ def test_score_is_the_commands_report(path, command, scenes, tmp_path):
     got = shadowtruth.score(scene, None, None, visibility)
     assert_same_score(got, run)
     assert got["false_shadow"] > 0 and got["false_lit"] > 0
-    attributed = got["aliasing"] + got["acne"] + got["leak"] + got["light_bleeding"]
+    attributed = got["aliasing"] + got["seam"] + got["acne"] + got["leak"] + got["light_bleeding"]
     assert attributed == got["false_shadow"] + got["false_lit"]
 
 

@@ -72,7 +72,7 @@ fn an_uncertain_pixel_is_counted_and_scored_neither_way_in_every_report_form() {
     assert_eq!(flagged.evaluated, plain.evaluated - 1);
     assert_eq!((flagged.false_shadow, flagged.false_lit), (plain.false_shadow, plain.false_lit - 1));
     assert_eq!(
-        flagged.aliasing + flagged.acne + flagged.leak + flagged.light_bleeding,
+        flagged.aliasing + flagged.seam + flagged.acne + flagged.leak + flagged.light_bleeding,
         flagged.false_shadow + flagged.false_lit
     );
     // The pixels the reference was asked about are the same, and the classes add up.

@@ -196,6 +196,7 @@ fn runs_table(h: &mut String, report: &Report, assets: &PageAssets) {
         ("false lit", false),
         ("uncertain", false),
         ("aliasing", false),
+        ("seam", false),
         ("acne", false),
         ("leak", false),
         ("bleeding", false),
@@ -215,7 +216,7 @@ fn runs_table(h: &mut String, report: &Report, assets: &PageAssets) {
             h,
             "<tr data-scene=\"{}\" data-camera=\"{}\" data-light=\"{}\" data-technique=\"{}\" data-resolution=\"{}\">\
              <td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td>\
-             <td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>\
+             <td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>\
              <td data-v=\"{}\">{:.3}</td><td>{:.2}</td><td>{:.2}</td><td>{:.1}</td><td class=\"l\">{figs}</td></tr>",
             escape(&r.scene),
             escape(&r.camera),
@@ -233,6 +234,7 @@ fn runs_table(h: &mut String, report: &Report, assets: &PageAssets) {
             c.false_lit,
             c.uncertain,
             c.aliasing,
+            c.seam,
             c.acne,
             c.leak,
             c.light_bleeding,

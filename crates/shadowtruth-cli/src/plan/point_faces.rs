@@ -90,6 +90,7 @@ impl PointFaces {
             let face = self.layout.face_of(p);
             Some((&views[face], face))
         })
+        .with_seams(gbuffer, |k| self.face_of[k].1)
     }
 
     /// The map and the counts of `visibility` (per evaluated pixel) on each face.

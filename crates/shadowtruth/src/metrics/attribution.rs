@@ -3,6 +3,9 @@
 //!
 //! - **aliasing**: the pixel lies within one shadow-map texel footprint of a reference shadow
 //!   boundary, so no shadow map of this resolution can be expected to get it right;
+//! - **seam**: any other false pixel that a point light's map shades within `SEAM_TEXELS` of its
+//!   face's edge (a paraboloid's rim), where a filter's taps reach past the face
+//!   (`LightUv::with_seams`; no pixel is near a seam otherwise);
 //! - **acne**: any other false shadow (reference lit, technique shadowed);
 //! - **light bleeding**: any other false lit where occluders of two objects overlap in the light's
 //!   view at the pixel or within `BLEEDING_TEXELS` of it in the map (`trace::ShadowOverlap`, when
@@ -16,7 +19,7 @@
 //!   `GBuffer::evaluated`; `visibility[k]` belongs to pixel `gbuffer.evaluated[k]`) the technique
 //!   says lit when `v ≥ ½`, the reference says lit when `HardReference::lit[i] == 1`; the pixel
 //!   is false when the two differ; a NaN (a surface mismatch of an imported buffer) is never
-//!   false. Hence `aliasing + acne + light_bleeding + leak == false_shadow + false_lit`.
+//!   false. Hence `aliasing + seam + acne + light_bleeding + leak == false_shadow + false_lit`.
 //! - Every evaluated pixel i has a light-map position `(u, v)` from
 //!   `LightView::project(gbuffer.position[i])`, kept in texel units `(u·N, v·N)`,
 //!   N = `view.resolution` (`LightUv`, computed once per G-buffer and view).
@@ -72,6 +75,9 @@ pub const DEFAULT_ATTRIBUTION_RESOLUTION: u32 = 2048;
 pub struct Attribution {
     /// False pixels within one texel footprint of a reference shadow boundary.
     pub aliasing: u64,
+    /// Other false pixels near a seam of a point light's map.
+    #[serde(default)]
+    pub seam: u64,
     /// Other false shadows (reference lit, technique shadowed).
     pub acne: u64,
     /// Other false lits (reference shadowed, technique lit) under one occluder.
@@ -84,14 +90,15 @@ pub struct Attribution {
 impl Attribution {
     /// All false pixels.
     pub fn total(&self) -> u64 {
-        self.aliasing + self.acne + self.leak + self.light_bleeding
+        self.aliasing + self.seam + self.acne + self.leak + self.light_bleeding
     }
 }
 
 impl Counts {
     /// These counts with the attribution filled in.
     pub fn with_attribution(self, a: Attribution) -> Counts {
-        Counts { aliasing: a.aliasing, acne: a.acne, leak: a.leak, light_bleeding: a.light_bleeding, ..self }
+        let Attribution { aliasing, seam, acne, leak, light_bleeding } = a;
+        Counts { aliasing, seam, acne, leak, light_bleeding, ..self }
     }
 }
 
@@ -103,6 +110,8 @@ pub struct LightUv {
     /// Per pixel (row-major), the light-map position in texels `(u·N, v·N)`; NaN for pixels
     /// that are not evaluated or do not project.
     texel: Vec<[f32; 2]>,
+    /// Per pixel, whether its map shades it near a seam (empty: none is).
+    near_seam: Vec<bool>,
 }
 
 impl LightUv {
@@ -148,7 +157,24 @@ impl LightUv {
                 }
             });
         }
-        LightUv { width: gbuffer.width, height: gbuffer.height, resolution, texel }
+        LightUv { width: gbuffer.width, height: gbuffer.height, resolution, texel, near_seam: Vec::new() }
+    }
+
+    /// These positions with the pixels that lie near a seam of their map: `near_seam` per
+    /// evaluated pixel, in `gbuffer.evaluated` order (a point light's faces,
+    /// `SEAM_TEXELS` from an edge).
+    pub fn with_seams(mut self, gbuffer: &GBuffer, near_seam: impl Fn(usize) -> bool) -> LightUv {
+        let mut per_pixel = vec![false; self.texel.len()];
+        for (k, &i) in gbuffer.evaluated.iter().enumerate() {
+            per_pixel[i as usize] = near_seam(k);
+        }
+        self.near_seam = per_pixel;
+        self
+    }
+
+    /// Whether pixel `i` lies near a seam of its map.
+    pub fn near_seam(&self, i: usize) -> bool {
+        self.near_seam.get(i).copied().unwrap_or(false)
     }
 
     /// The shadow-map resolution N these positions are measured in.
@@ -165,8 +191,9 @@ impl LightUv {
 }
 
 /// Classes every false pixel of `visibility` (one value per evaluated pixel, in
-/// `gbuffer.evaluated` order) as aliasing, acne, light bleeding (where `overlap` says occluders
-/// overlap; never without it) or leak; see the module documentation.
+/// `gbuffer.evaluated` order) as aliasing, seam (where `light_uv` says so), acne, light bleeding
+/// (where `overlap` says occluders overlap; never without it) or leak; see the module
+/// documentation.
 pub fn attribute(
     gbuffer: &GBuffer,
     reference: &HardReference,
@@ -209,6 +236,8 @@ pub fn attribute(
                 Attribution::default()
             } else if search.near_boundary(i) {
                 Attribution { aliasing: 1, ..Attribution::default() }
+            } else if light_uv.near_seam(i) {
+                Attribution { seam: 1, ..Attribution::default() }
             } else if r_lit {
                 Attribution { acne: 1, ..Attribution::default() }
             } else if search.near_overlap(i) {
@@ -219,6 +248,7 @@ pub fn attribute(
         })
         .reduce(Attribution::default, |a, b| Attribution {
             aliasing: a.aliasing + b.aliasing,
+            seam: a.seam + b.seam,
             acne: a.acne + b.acne,
             leak: a.leak + b.leak,
             light_bleeding: a.light_bleeding + b.light_bleeding,
@@ -532,23 +562,23 @@ mod tests {
     fn a_false_shadow_one_texel_from_a_boundary_is_aliasing() {
         // q at exactly one texel in v (and 0 in u), one row down.
         let a = false_shadow_at_2((1.0, 1.0));
-        assert_eq!(a, Attribution { aliasing: 1, acne: 0, leak: 0, light_bleeding: 0 });
+        assert_eq!(a, Attribution { aliasing: 1, seam: 0, acne: 0, leak: 0, light_bleeding: 0 });
         // Exactly one texel on both axes.
         let a = false_shadow_at_2((2.0, -1.0));
-        assert_eq!(a, Attribution { aliasing: 1, acne: 0, leak: 0, light_bleeding: 0 });
+        assert_eq!(a, Attribution { aliasing: 1, seam: 0, acne: 0, leak: 0, light_bleeding: 0 });
     }
 
     #[test]
     fn a_false_shadow_two_texels_from_a_boundary_is_acne() {
         // Same pixel on screen, two texels away in v: no boundary within one texel.
         let a = false_shadow_at_2((1.0, 2.0));
-        assert_eq!(a, Attribution { aliasing: 0, acne: 1, leak: 0, light_bleeding: 0 });
+        assert_eq!(a, Attribution { aliasing: 0, seam: 0, acne: 1, leak: 0, light_bleeding: 0 });
         // Two texels in u, zero in v.
         let a = false_shadow_at_2((3.0, 0.0));
-        assert_eq!(a, Attribution { aliasing: 0, acne: 1, leak: 0, light_bleeding: 0 });
+        assert_eq!(a, Attribution { aliasing: 0, seam: 0, acne: 1, leak: 0, light_bleeding: 0 });
         // Just over one texel.
         let a = false_shadow_at_2((1.0, 1.0 + 1.0 / 64.0));
-        assert_eq!(a, Attribution { aliasing: 0, acne: 1, leak: 0, light_bleeding: 0 });
+        assert_eq!(a, Attribution { aliasing: 0, seam: 0, acne: 1, leak: 0, light_bleeding: 0 });
     }
 
     #[test]
@@ -559,8 +589,14 @@ mod tests {
             lit[8 + 3] = 1;
             run(&g, &lit, |i| if i == 2 { 1.0 } else { lit[i] as f32 })
         };
-        assert_eq!(leak_at_2((0.0, 1.0)), Attribution { aliasing: 1, acne: 0, leak: 0, light_bleeding: 0 });
-        assert_eq!(leak_at_2((-1.0, 1.0)), Attribution { aliasing: 0, acne: 0, leak: 1, light_bleeding: 0 });
+        assert_eq!(
+            leak_at_2((0.0, 1.0)),
+            Attribution { aliasing: 1, seam: 0, acne: 0, leak: 0, light_bleeding: 0 }
+        );
+        assert_eq!(
+            leak_at_2((-1.0, 1.0)),
+            Attribution { aliasing: 0, seam: 0, acne: 0, leak: 1, light_bleeding: 0 }
+        );
     }
 
     #[test]
@@ -573,12 +609,41 @@ mod tests {
         let g = gbuffer(12, 1, &px);
         let lit: Vec<u8> = (0..12).map(|k| (k < 7) as u8).collect();
         let at = |p: usize| run(&g, &lit, |i| if i == p { 0.0 } else { lit[i] as f32 });
-        assert_eq!(at(3), Attribution { aliasing: 0, acne: 1, leak: 0, light_bleeding: 0 });
-        assert_eq!(at(4), Attribution { aliasing: 0, acne: 1, leak: 0, light_bleeding: 0 });
-        assert_eq!(at(5), Attribution { aliasing: 1, acne: 0, leak: 0, light_bleeding: 0 });
+        assert_eq!(at(3), Attribution { aliasing: 0, seam: 0, acne: 1, leak: 0, light_bleeding: 0 });
+        assert_eq!(at(4), Attribution { aliasing: 0, seam: 0, acne: 1, leak: 0, light_bleeding: 0 });
+        assert_eq!(at(5), Attribution { aliasing: 1, seam: 0, acne: 0, leak: 0, light_bleeding: 0 });
         // The pixel on the shadowed side of the boundary, falsely lit: aliasing.
         let a = run(&g, &lit, |i| if i == 8 { 1.0 } else { lit[i] as f32 });
-        assert_eq!(a, Attribution { aliasing: 1, acne: 0, leak: 0, light_bleeding: 0 });
+        assert_eq!(a, Attribution { aliasing: 1, seam: 0, acne: 0, leak: 0, light_bleeding: 0 });
+    }
+
+    #[test]
+    fn a_false_pixel_near_a_seam_is_seam_unless_it_is_aliasing() {
+        // The row of `the_boundary_is_searched_within_the_window_only`, its pixels 0 to 4 near a
+        // seam of their map: a false pixel there that is not near the boundary is seam, one
+        // within a texel of it stays aliasing, and one away from the seam stays acne.
+        let px: Vec<Px> = (0..12).map(|k| Px::At(0, 0.5 * k as f32, 0.0)).collect();
+        let g = gbuffer(12, 1, &px);
+        let lit: Vec<u8> = (0..12).map(|k| (k < 7) as u8).collect();
+        let uv = LightUv::new(&g, &view()).with_seams(&g, |k| k <= 4 || k == 6);
+        let at = |p: usize| {
+            let v: Vec<f32> = g
+                .evaluated
+                .iter()
+                .map(|&i| if i as usize == p { 0.0 } else { lit[i as usize] as f32 })
+                .collect();
+            attribute(&g, &reference(&lit, &g), &v, &uv, None)
+        };
+        assert_eq!(at(3), Attribution { seam: 1, ..Attribution::default() });
+        assert_eq!(at(6), Attribution { aliasing: 1, ..Attribution::default() });
+        assert_eq!(at(5), Attribution { aliasing: 1, ..Attribution::default() });
+        let far = LightUv::new(&g, &view()).with_seams(&g, |k| k >= 5);
+        let v: Vec<f32> =
+            g.evaluated.iter().map(|&i| if i == 3 { 0.0 } else { lit[i as usize] as f32 }).collect();
+        assert_eq!(
+            attribute(&g, &reference(&lit, &g), &v, &far, None),
+            Attribution { acne: 1, ..Attribution::default() }
+        );
     }
 
     #[test]
@@ -592,17 +657,21 @@ mod tests {
         let mut lit = vec![0u8; 16];
         lit[..8].fill(1);
         let a = run(&g, &lit, |i| if i == 3 { 0.0 } else { 1.0 });
-        assert_eq!(a, Attribution { aliasing: 0, acne: 1, leak: 0, light_bleeding: 0 });
+        assert_eq!(a, Attribution { aliasing: 0, seam: 0, acne: 1, leak: 0, light_bleeding: 0 });
     }
 
     #[test]
     fn counts_take_the_attribution() {
         let c = Counts { false_shadow: 3, ..Counts::default() }.with_attribution(Attribution {
             aliasing: 1,
+            seam: 5,
             acne: 2,
             leak: 0,
             light_bleeding: 4,
         });
-        assert_eq!((c.false_shadow, c.aliasing, c.acne, c.leak, c.light_bleeding), (3, 1, 2, 0, 4));
+        assert_eq!(
+            (c.false_shadow, c.aliasing, c.seam, c.acne, c.leak, c.light_bleeding),
+            (3, 1, 5, 2, 0, 4)
+        );
     }
 }

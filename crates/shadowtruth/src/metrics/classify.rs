@@ -23,6 +23,10 @@ pub struct Counts {
     /// `attribution`); 0 until `Counts::with_attribution` fills them in.
     #[serde(default)]
     pub aliasing: u64,
+    /// Other false pixels that a point light's map shades near a seam of its faces (see
+    /// `attribution`); 0 under other lights.
+    #[serde(default)]
+    pub seam: u64,
     /// Other false shadows.
     #[serde(default)]
     pub acne: u64,
@@ -79,6 +83,7 @@ impl Counts {
             false_shadow,
             false_lit,
             aliasing,
+            seam,
             acne,
             leak,
             light_bleeding,
@@ -93,6 +98,7 @@ impl Counts {
         self.false_shadow += false_shadow;
         self.false_lit += false_lit;
         self.aliasing += aliasing;
+        self.seam += seam;
         self.acne += acne;
         self.leak += leak;
         self.light_bleeding += light_bleeding;
