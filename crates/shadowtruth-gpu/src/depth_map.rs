@@ -2,6 +2,7 @@
 //! `clip_from_world`, closed objects culled as `RasterSettings.culling` says (open ones never),
 //! glPolygonOffset as the hardware depth bias (`DepthBiasState`).
 
+use super::casters::{chunk_triangles, for_each_chunk};
 use super::readback::read_f32_texture;
 use super::{GpuDevice, GpuError};
 use shadowtruth::raster::{Culling, DepthFormat, DepthLayer, LightView, RasterSettings};
@@ -29,13 +30,24 @@ impl GpuDepthMap {
         view: &LightView,
         settings: &RasterSettings,
     ) -> Result<Self, GpuError> {
+        Self::render_in_chunks(gpu, scene, view, settings, chunk_triangles(gpu.limits.max_buffer_size))
+    }
+
+    /// [`GpuDepthMap::render`], handing the device `chunk_triangles` triangles per draw (the
+    /// same map for any chunk size).
+    pub fn render_in_chunks(
+        gpu: &GpuDevice,
+        scene: &Scene,
+        view: &LightView,
+        settings: &RasterSettings,
+        chunk_triangles: usize,
+    ) -> Result<Self, GpuError> {
         if view.projection == shadowtruth::raster::Projection::Paraboloid {
             return Err(GpuError(PARABOLOID.into()));
         }
         let bias = depth_bias(settings)?;
         let map = GpuDepthMap::empty(gpu, view.resolution)?;
         let module = gpu.device.create_shader_module(wgpu::include_wgsl!("depth.wgsl"));
-        let (closed, open) = casters(scene);
         let closed_cull = match settings.culling {
             Culling::None => None,
             Culling::BackFacesOfClosed => Some(wgpu::Face::Back),
@@ -72,26 +84,33 @@ impl GpuDepthMap {
             layout: &bind_layout,
             entries: &[wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() }],
         });
-        let buffers = [&closed, &open].map(|vertices| {
-            gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("casters"),
-                // A zero-sized vertex buffer is invalid: an empty list draws nothing anyway.
-                contents: bytemuck::cast_slice(if vertices.is_empty() { &[[0.0f32; 3]] } else { vertices }),
-                usage: wgpu::BufferUsages::VERTEX,
-            })
-        });
         let attachment = map.texture.create_view(&Default::default());
+        // Cleared first, then each chunk drawn on top: closed objects' triangles before open
+        // ones', each in id order, as one draw of each would (the depth test keeps the first of
+        // equal depths).
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        {
-            let mut pass = encoder.begin_render_pass(&depth_pass(&attachment, wgpu::LoadOp::Clear(1.0)));
-            for ((pipeline, buffer), vertices) in pipelines.iter().zip(&buffers).zip([&closed, &open]) {
-                pass.set_pipeline(pipeline);
-                pass.set_bind_group(0, &bind_group, &[]);
-                pass.set_vertex_buffer(0, buffer.slice(..));
-                pass.draw(0..vertices.len() as u32, 0..1);
-            }
-        }
+        drop(encoder.begin_render_pass(&depth_pass(&attachment, wgpu::LoadOp::Clear(1.0))));
         gpu.queue.submit([encoder.finish()]);
+        for (pipeline, closed) in pipelines.iter().zip([true, false]) {
+            for_each_chunk(scene, closed, chunk_triangles, |vertices| {
+                let buffer = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("casters"),
+                    contents: bytemuck::cast_slice(vertices),
+                    usage: wgpu::BufferUsages::VERTEX,
+                });
+                let mut encoder = gpu.device.create_command_encoder(&Default::default());
+                {
+                    let mut pass = encoder.begin_render_pass(&depth_pass(&attachment, wgpu::LoadOp::Load));
+                    pass.set_pipeline(pipeline);
+                    pass.set_bind_group(0, &bind_group, &[]);
+                    pass.set_vertex_buffer(0, buffer.slice(..));
+                    pass.draw(0..vertices.len() as u32, 0..1);
+                }
+                gpu.queue.submit([encoder.finish()]);
+                // Each chunk's buffer is freed once drawn: memory stays at one chunk.
+                gpu.wait()
+            })?;
+        }
         Ok(map)
     }
 
@@ -204,17 +223,6 @@ fn depth_bias(settings: &RasterSettings) -> Result<wgpu::DepthBiasState, GpuErro
         return Err(GpuError(format!("the GPU's depth bias takes whole units, not {units}")));
     }
     Ok(wgpu::DepthBiasState { constant: units as i32, slope_scale: settings.slope_factor, clamp: 0.0 })
-}
-
-/// World-space vertices of the triangles of closed objects and of the others, three per triangle.
-fn casters(scene: &Scene) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
-    let (mut closed, mut open) = (Vec::new(), Vec::new());
-    for (id, tri) in scene.triangles() {
-        let is_closed = scene.is_closed(id);
-        let list = if is_closed { &mut closed } else { &mut open };
-        list.extend(tri.iter().map(|p| p.to_array()));
-    }
-    (closed, open)
 }
 
 fn depth_state(compare: wgpu::CompareFunction, bias: wgpu::DepthBiasState) -> wgpu::DepthStencilState {

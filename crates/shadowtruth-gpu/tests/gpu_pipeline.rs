@@ -341,3 +341,27 @@ fn cube_faces_match_the_cpu() {
         }
     }
 }
+
+/// The casters are streamed to the device in chunks of bounded size, so that a scene past the
+/// adapter's buffer limit is drawn (chunk by chunk) instead of refused: the map is the same bits
+/// whatever the chunk size, down to one triangle per draw, closed objects' chunks before open
+/// ones' as one draw of each would order them.
+#[test]
+fn a_map_drawn_in_chunks_is_the_map_drawn_at_once() {
+    let gpu = gpu();
+    for name in ["plane_box", "rocks"] {
+        let scene = common::bundled(name);
+        let view = LightView::new(&scene.lights[0], scene.bounds(), 512);
+        for culling in [Culling::None, Culling::BackFacesOfClosed] {
+            let settings = RasterSettings { culling, ..RasterSettings::default() };
+            let whole = gpu_layer(&gpu, &scene, &view, &settings);
+            let triangles = scene.triangle_count();
+            for chunk in [1, 7, triangles / 3 + 1, triangles] {
+                let map = GpuDepthMap::render_in_chunks(&gpu, &scene, &view, &settings, chunk).unwrap();
+                let layer = map.read_back(&gpu).unwrap();
+                let bits = |l: &DepthLayer| l.depth.iter().map(|d| d.to_bits()).collect::<Vec<_>>();
+                assert!(bits(&layer) == bits(&whole), "{name} {culling:?}: chunks of {chunk} triangles");
+            }
+        }
+    }
+}
