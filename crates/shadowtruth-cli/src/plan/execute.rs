@@ -23,6 +23,7 @@ use super::select::{
 };
 use super::trace_view;
 use super::{Pipeline, Plan, PlanError};
+use glam::Vec3;
 use shadowtruth::metrics::Stopwatch;
 use shadowtruth::raster::DepthFormat;
 use shadowtruth::record::{SceneRecord, ScheduleRecord};
@@ -185,6 +186,9 @@ impl Schedule<'_, '_, '_> {
             bvh_build_ms: sw.ms(),
         };
         emit(self.sinks, &Event::SceneBuilt(&record))?;
+        // The scene's bounds, computed with the BVH (every instanced triangle walked once): the
+        // tree is dropped before the last view's maps.
+        let bounds = bvh.scene_bounds();
         let mut bvh = Some(bvh);
         let last = pairs.len() - 1;
         for (k, (ci, li)) in pairs.into_iter().enumerate() {
@@ -201,7 +205,7 @@ impl Schedule<'_, '_, '_> {
                 bvh = None;
             }
             let traced = TracedView { scene, camera, light, gbuffer: &gbuffer, references: &references };
-            self.view(&traced)?;
+            self.view(&traced, bounds)?;
         }
         Ok(())
     }
@@ -228,13 +232,13 @@ impl Schedule<'_, '_, '_> {
         trace_view(plan, cache, scene, bvh, (camera, light), &mut stage)
     }
 
-    /// Every map of a traced view: the runs of its shaded and its imported techniques.
-    fn view(&mut self, traced: &TracedView) -> Result<(), PlanError> {
-        let (scene, light) = (traced.scene, traced.light);
+    /// Every map of a traced view (its scene's `bounds`): the runs of its shaded and its imported
+    /// techniques.
+    fn view(&mut self, traced: &TracedView, bounds: (Vec3, Vec3)) -> Result<(), PlanError> {
+        let light = traced.light;
         emit(self.sinks, &Event::ViewTraced(traced))?;
         let mut imported = ImportedBackend::load(self.plan, traced)?;
         let mut commands = CommandBackend::new(self.plan);
-        let bounds = scene.bounds();
         let key = traced.key();
         for &resolution in &self.plan.resolutions {
             let left = |f: &&DepthFormat| self.portion.runs_map(key, resolution, f.name());

@@ -109,8 +109,8 @@ impl Schedule<'_, '_, '_> {
         let key = shadowtruth::scene::ViewKey::from_view(scene, camera, light);
         let maps = self.maps_left(key);
         let first_camera = camera.at_time(times[0]);
-        // Every triangle walked once per view, not per frame or map.
-        let bounds = scene.bounds();
+        // Computed once, when the BVH was built: not per view, frame or map.
+        let bounds = bvh.scene_bounds();
         let runs = maps.len() * self.plan.techniques.len();
         let pixels = camera.pixel_count();
         let mut tracks: Vec<RunTrack> = (0..runs).map(|_| RunTrack::new(pixels, times.len())).collect();

@@ -60,6 +60,13 @@ fn intersection(a: Vec4, b: Vec4, plane: usize, guard: f32) -> Vec4 {
     p + (q - p) * t
 }
 
+/// Whether every vertex of `tri` lies inside every plane: `clip_triangle` then returns the
+/// triangle itself.
+#[inline]
+pub(crate) fn inside_every_plane(tri: &[Vec4; 3], guard: f32) -> bool {
+    tri.iter().all(|&p| outcode(p, guard) == 0)
+}
+
 /// Clips triangle `tri` (clip-space vertices) to the depth range and the guard band `guard`
 /// (≥ 1). Returns an empty polygon when nothing is left.
 pub(crate) fn clip_triangle(tri: [Vec4; 3], guard: f32) -> ClippedPolygon {

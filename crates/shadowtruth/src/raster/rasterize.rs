@@ -19,10 +19,10 @@
 //! slice of the map. Every texel's value is computed from the triangle alone (no incremental
 //! state crossing rows), so the split never changes the result.
 
-use super::clip::clip_triangle;
+use super::clip::{clip_triangle, inside_every_plane};
 use super::dual_paraboloid::front_part;
 use super::{DepthFormat, DepthLayer, DepthPairLayer, LightView, Projection};
-use crate::scene::Scene;
+use crate::scene::{Scene, TriangleCursor};
 use rayon::prelude::*;
 
 /// Which faces of closed objects are not rasterized (open objects are never culled).
@@ -278,11 +278,12 @@ impl Rasterizer<'_> {
                 let first_row = band as u32 * BAND_ROWS;
                 let last_row = first_row + (texels.len() / n as usize) as u32 - 1;
                 init(texels);
-                for &index in &bands.triangles[bands.start[band]..bands.start[band + 1]] {
+                // A band lists its triangles in id order: the cursor searches once per instance.
+                let mut triangles = TriangleCursor::new(scene);
+                for &id in &bands.triangles[bands.start[band]..bands.start[band + 1]] {
                     setup.clear();
-                    let index = index as usize;
-                    let id = index as u32;
-                    setup_triangle(&scene.triangle(id), scene.is_closed(id), view, settings, setup);
+                    let (triangle, closed) = triangles.triangle(id);
+                    setup_triangle(&triangle, closed, view, settings, setup);
                     for tri in setup.iter() {
                         for row in tri.rows.0.max(first_row)..=tri.rows.1.min(last_row) {
                             let Some((lo, hi)) = tri.span(row) else {
@@ -353,8 +354,9 @@ fn bin_by_band(scene: &Scene, view: &LightView) -> Bands {
 
 /// The bands [lo, hi) that a triangle may cover under any setting. Without clipping behind the
 /// eye (every w > 0) the rows come from its snapped vertices, widened by a row each way for the
-/// rounding of clipped vertices (clipping only shrinks the triangle); otherwise from its full
-/// set-up without culling (culling only removes triangles; offsets never move rows).
+/// rounding of clipped vertices (clipping only shrinks the triangle), and an unclipped triangle
+/// whose snapped box holds no texel centre is in no band; otherwise from its full set-up without
+/// culling (culling only removes triangles; offsets never move rows).
 fn band_range(tri: &[glam::Vec3; 3], view: &LightView, scratch: &mut Vec<RasterTriangle>) -> (u16, u16) {
     let clip = tri.map(|p| view.clip_of(p));
     if !clip.iter().all(|c| c.is_finite()) {
@@ -364,6 +366,15 @@ fn band_range(tri: &[glam::Vec3; 3], view: &LightView, scratch: &mut Vec<RasterT
     let rows = if !paraboloid && clip.iter().all(|c| c.w > 0.0) {
         let n = view.resolution as f32;
         let ys = clip.map(|c| snap((1.0 - (0.5 * c.y * (1.0 / c.w) + 0.5)) * n));
+        // A triangle inside every clip plane is set up from exactly these snapped vertices (the
+        // set-up's own divide, viewport and snap): when their box holds no texel centre, as for
+        // most triangles of a dense mesh at map resolution, it is in no band and never set up.
+        if inside_every_plane(&clip, guard_band(view.resolution)) {
+            let xs = clip.map(|c| snap((0.5 * c.x * (1.0 / c.w) + 0.5) * n));
+            if !centres_in_bounds(&xs, &ys, view.resolution) {
+                return (0, 0);
+            }
+        }
         let lo = ys.iter().min().expect("three") - SUBTEXEL;
         let hi = ys.iter().max().expect("three") + SUBTEXEL;
         centre_range(&[lo, hi], view.resolution).map(|(a, b)| (a as u32, b as u32))

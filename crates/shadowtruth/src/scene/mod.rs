@@ -21,6 +21,7 @@ mod placement;
 mod point_map;
 mod shapes;
 mod transform;
+mod triangle_cursor;
 mod triangles;
 mod view_key;
 
@@ -43,6 +44,7 @@ pub use pixel_footprint::PixelFootprint;
 pub use point_map::{CubeSettings, MAX_GUARD_TEXELS, PointMap};
 pub use shapes::{IndexedMesh, Shape};
 pub use transform::Transform;
+pub use triangle_cursor::TriangleCursor;
 pub use triangles::TriangleSource;
 pub use view_key::ViewKey;
 

@@ -47,7 +47,7 @@ pub fn trace_shadow_overlap(
     shadowed: impl Fn(usize) -> bool + Sync,
 ) -> ShadowOverlap {
     let sight = LightSight::of(light);
-    let (lo, hi) = scene.bounds();
+    let (lo, hi) = bvh.scene_bounds();
     let reach = (hi - lo).length().max(1.0) as f64 * 2.0;
     let w = gbuffer.width.max(1) as usize;
     let mut overlapped = vec![false; gbuffer.pixel_count()];
