@@ -59,6 +59,14 @@ impl Instance {
         if self.mirrored { [a, c, b] } else { [a, b, c] }
     }
 
+    /// World triangle `local` from `world`, the mesh's vertices already in world space
+    /// (`world_vertex` of each): the same triangle as [`Instance::triangle`].
+    #[inline]
+    pub fn triangle_of(&self, world: &[Vec3], mesh: &SharedMesh, local: usize) -> [Vec3; 3] {
+        let [a, b, c] = mesh.triangles[local].map(|i| world[i as usize]);
+        if self.mirrored { [a, c, b] } else { [a, b, c] }
+    }
+
     /// World triangle `local`, or `None` when it is degenerate in world space (the triangle
     /// that flattening would have dropped).
     #[inline]

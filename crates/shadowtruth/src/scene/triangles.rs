@@ -2,7 +2,7 @@
 //! Every stage that reads triangles by id or walks all of them goes through these methods, so
 //! flat and instanced geometry are read by the same rules (src/scene/instance.rs).
 
-use super::{Instance, Scene};
+use super::{Instance, Scene, is_degenerate, world_vertex};
 use glam::Vec3;
 use std::ops::Range;
 
@@ -78,9 +78,23 @@ impl Scene {
                 let mesh = &self.meshes[instance.mesh as usize];
                 let start = flat_end.max(instance.first_triangle);
                 let end = ids.end.min(instance.first_triangle + mesh.triangles.len() as u32);
+                // Each vertex transformed once when the range reads at least as many corners as
+                // the mesh has vertices (a chunk of a placed tree, a whole object), rather than
+                // once per corner: the same `world_vertex` of the same vertex, so the same bits.
+                let corners = 3 * end.saturating_sub(start) as usize;
+                let world: Vec<Vec3> = if corners >= mesh.positions.len() {
+                    mesh.positions.iter().map(|&p| world_vertex(&instance.world_from_local, p)).collect()
+                } else {
+                    Vec::new()
+                };
                 (start..end).filter_map(move |id| {
                     let local = (id - instance.first_triangle) as usize;
-                    instance.world_triangle(mesh, local).map(|tri| (id, tri))
+                    let tri = if world.is_empty() {
+                        instance.triangle(mesh, local)
+                    } else {
+                        instance.triangle_of(&world, mesh, local)
+                    };
+                    (!is_degenerate(&tri)).then_some((id, tri))
                 })
             });
         flat.chain(instanced)
