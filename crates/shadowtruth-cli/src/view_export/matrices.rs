@@ -158,7 +158,7 @@ pub(crate) fn light_matrices(view: &LightView) -> ViewMatrices {
             let s = 1.0 / tan_half_fov as f64;
             perspective_d3d(s, s, n, f)
         }
-        Projection::Paraboloid => unreachable!("view export refuses point lights"),
+        Projection::Paraboloid => unreachable!("a paraboloid hemisphere is exported without matrices"),
     };
     let d3d_clip_from_world = view.clip_from_world.as_dmat4();
     let apis = Api::ALL
