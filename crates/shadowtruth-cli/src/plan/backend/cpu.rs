@@ -4,7 +4,7 @@
 
 use super::{MapBackend, ProducedRun, RunRecorder};
 use crate::plan::events::TracedView;
-use crate::plan::layer_groups::LayerGroups;
+use crate::plan::layer_groups::{LayerGroups, group_label};
 use crate::plan::layers::{BinnedView, build_layers_timed};
 use crate::plan::map_setting::MapSetting;
 use crate::plan::{Plan, PlanError};
@@ -35,11 +35,21 @@ impl MapBackend for CpuBackend<'_> {
         let mut binned: Vec<BinnedView> = Vec::new();
         for (needs, members) in self.groups {
             let (resolution, format) = (map.resolution, map.format.name());
-            recorder.stage(&format!(
-                "{}/{}/{}: {resolution}² {format} layers",
-                scene.name, camera.name, light.name
-            ))?;
+            // Two stages a group, so that `--timing` names its rasterization and its shading apart.
+            let group = format!(
+                "{}/{}/{}: {resolution}² {format} layers, {}",
+                scene.name,
+                camera.name,
+                light.name,
+                group_label(needs)
+            );
+            recorder.stage(&format!("{group}: rasterizing"))?;
             let (layers, prepare_ms) = group_layers(self.plan, needs, scene, map, &mut binned);
+            let count = members.len();
+            recorder.stage(&format!(
+                "{group}: shading and scoring {count} technique{}",
+                if count == 1 { "" } else { "s" }
+            ))?;
             let layer_memory_bytes = layers.iter().map(|l| l.memory_bytes() as u64).sum();
             for &ti in members {
                 let spec = &self.plan.techniques[ti];
