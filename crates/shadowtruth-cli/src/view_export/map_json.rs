@@ -30,16 +30,21 @@ pub(super) fn map_json(light: &Light, view: &LightView) -> Value {
         }
         Projection::Paraboloid => unreachable!("a paraboloid is exported as a hemisphere"),
     }
+    map["eye"] = eye_json(light, view);
+    map.as_object_mut().expect("an object").extend(matrices_json(&light_matrices(view)));
+    map
+}
+
+/// The map's camera as engines place one: `lookAt(position, target, up)`.
+pub(super) fn eye_json(light: &Light, view: &LightView) -> Value {
     let eye = ShadowEye::of(light, view);
-    map["eye"] = json!({
+    json!({
         "position": nums(&eye.position.to_array()),
         "target": nums(&eye.target(view).to_array()),
         "up": nums(&eye.up.as_vec3().to_array()),
         "rule": "lookAt(position, target, up) (f = normalize(target − position), s = normalize(f × up), u = s × f, \
                  rows s, u, −f) gives view_from_world to f32 rounding; up is the view's unit y axis",
-    });
-    map.as_object_mut().expect("an object").extend(matrices_json(&light_matrices(view)));
-    map
+    })
 }
 
 /// `{name}_row_major` and `{name}_column_major` of `m`.

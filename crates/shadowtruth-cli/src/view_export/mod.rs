@@ -70,7 +70,8 @@ pub(crate) fn write_view_export(
         .with_context(|| format!("--out {}: cannot create the output folder", dir.display()))?;
     progress("tracing the G-buffer");
     let bvh = SceneBvh::build(scene);
-    let bounds = scene.bounds();
+    // The bounds the BVH was built from: the scene's triangles walked once.
+    let bounds = bvh.scene_bounds();
     let gbuffer = GBuffer::trace(scene, &bvh, camera, light);
     let views = light_views(light, bounds, resolution);
 

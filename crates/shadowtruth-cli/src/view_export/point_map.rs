@@ -2,9 +2,8 @@
 //! perspective map with its matrices, or its two paraboloid hemispheres, each a view frame and
 //! the mapping in words (a paraboloid is not a matrix).
 
-use super::json_number::{num, nums};
-use super::map_json::{insert_matrix, map_json};
-use super::shadow_eye::ShadowEye;
+use super::json_number::num;
+use super::map_json::{eye_json, insert_matrix, map_json};
 use serde_json::{Map, Value, json};
 use shadowtruth::raster::{CUBE_FACE_NAMES, CubeMap, DualParaboloid, LightView, PARABOLOID_NAMES};
 use shadowtruth::scene::{Light, LightKind, PointMap};
@@ -63,20 +62,12 @@ pub(super) fn point_map_json(light: &Light, views: &[LightView], resolution: u32
 
 /// One paraboloid hemisphere: its name, depth range, eye and view matrix.
 fn hemisphere_json(light: &Light, view: &LightView, name: &str) -> Value {
-    let eye = ShadowEye::of(light, view);
     let mut object = Map::new();
     object.insert("name".into(), json!(name));
     object.insert("resolution".into(), json!(view.resolution));
     object.insert("near".into(), num(view.near));
     object.insert("far".into(), num(view.far));
-    object.insert(
-        "eye".into(),
-        json!({
-            "position": nums(&eye.position.to_array()),
-            "target": nums(&eye.target(view).to_array()),
-            "up": nums(&eye.up.as_vec3().to_array()),
-        }),
-    );
+    object.insert("eye".into(), eye_json(light, view));
     insert_matrix(&mut object, "view_from_world", &view.light_from_world);
     Value::Object(object)
 }

@@ -1,6 +1,7 @@
 //! The filterable shadow maps' texels: up to four moments of a warped depth per texel, computed
-//! from the nearest depth layer, blurred, optionally mipmapped, and read with bilinear or trilinear
-//! filtering (docs/formulas.md, "Filterable shadow maps"). The tests that read them are in `technique::filterable`.
+//! from the nearest depth layer, blurred, optionally mipmapped, and read with bilinear or
+//! trilinear filtering (docs/formulas.md, "Filterable shadow maps"). The tests that read them are
+//! in `technique::filterable`.
 //!
 //! The moments are of the layer's own depth d ∈ [0, 1] (empty texels hold the far plane, 1), as
 //! a renderer that writes them from the depth pass would; everything is f32, the format the
@@ -121,8 +122,8 @@ impl MomentLayer {
         let weights = blur.weights();
         let moments = if weights.len() == 1 { raw } else { blur_rows_then_columns(&raw, n, &weights) };
         let mut levels = vec![MomentLevel { resolution: base.resolution, moments }];
-        while mipmaps && levels[levels.len() - 1].resolution > 1 {
-            let next = levels[levels.len() - 1].halved();
+        while let Some(last) = levels.last().filter(|l| mipmaps && l.resolution > 1) {
+            let next = last.halved();
             levels.push(next);
         }
         MomentLayer { warp, levels }
