@@ -39,7 +39,7 @@ fn distance(p: Vec4, plane: usize, guard: f32) -> f32 {
 
 /// Bit i set when `p` is outside plane i (same planes and tests as `distance`).
 #[inline]
-fn outcode(p: Vec4, guard: f32) -> u8 {
+pub(crate) fn outcode(p: Vec4, guard: f32) -> u8 {
     let g = guard * p.w;
     (p.z < 0.0) as u8
         | ((p.w - p.z < 0.0) as u8) << 1

@@ -1,6 +1,7 @@
 //! The light's view: projection and frustum fitting, the CPU depth rasterizer (GPU rules),
 //! depth layers and depth formats.
 
+mod bands;
 mod cascades;
 mod clip;
 mod cube_map;
@@ -12,7 +13,9 @@ mod moment_level;
 mod moment_map;
 mod multi_depth;
 mod projection;
+mod raster_settings;
 mod rasterize;
+mod setup;
 
 pub use cascades::{CascadeChoice, Cascades, default_max_distance, split_distances};
 pub use cube_map::{CUBE_FACE_NAMES, CubeMap, SEAM_TEXELS};
@@ -30,7 +33,7 @@ pub use moment_map::{
 };
 pub use multi_depth::{DepthSelection, MAX_DEPTHS_PER_TEXEL, MultiDepthLayer};
 pub use projection::{LightView, Projection};
+pub use raster_settings::{Culling, DepthPlane, RasterSettings};
 pub use rasterize::{
-    Culling, DepthPlane, RasterSettings, Rasterizer, rasterize_coverage, rasterize_nearest,
-    rasterize_nearest_into, rasterize_two_nearest,
+    Rasterizer, rasterize_coverage, rasterize_nearest, rasterize_nearest_into, rasterize_two_nearest,
 };
