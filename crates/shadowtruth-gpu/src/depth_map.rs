@@ -2,7 +2,7 @@
 //! `clip_from_world`, closed objects culled as `RasterSettings.culling` says (open ones never),
 //! glPolygonOffset as the hardware depth bias (`DepthBiasState`).
 
-use super::casters::{chunk_triangles, for_each_chunk};
+use super::casters::{InstanceRun, check_mesh_fits, chunk_items, for_each_flat_chunk, instance_runs};
 use super::readback::read_f32_texture;
 use super::{GpuDevice, GpuError};
 use shadowtruth::raster::{Culling, DepthFormat, DepthLayer, LightView, RasterSettings};
@@ -30,17 +30,18 @@ impl GpuDepthMap {
         view: &LightView,
         settings: &RasterSettings,
     ) -> Result<Self, GpuError> {
-        Self::render_in_chunks(gpu, scene, view, settings, chunk_triangles(gpu.limits.max_buffer_size))
+        Self::render_in_chunks(gpu, scene, view, settings, chunk_items(gpu.limits.max_buffer_size))
     }
 
-    /// [`GpuDepthMap::render`], handing the device `chunk_triangles` triangles per draw (the
-    /// same map for any chunk size).
+    /// [`GpuDepthMap::render`], handing the device at most `chunk` flat triangles, `chunk`
+    /// placements and `chunk` triangles of a placed mesh per draw (the same map for any chunk
+    /// size).
     pub fn render_in_chunks(
         gpu: &GpuDevice,
         scene: &Scene,
         view: &LightView,
         settings: &RasterSettings,
-        chunk_triangles: usize,
+        chunk: usize,
     ) -> Result<Self, GpuError> {
         if view.projection == shadowtruth::raster::Projection::Paraboloid {
             return Err(GpuError(PARABOLOID.into()));
@@ -73,7 +74,10 @@ impl GpuDepthMap {
             bind_group_layouts: &[Some(&bind_layout)],
             immediate_size: 0,
         });
-        let pipelines = [closed_cull, None].map(|cull| caster_pipeline(gpu, &module, &layout, cull, bias));
+        let pipelines = [closed_cull, None].map(|cull| Casters {
+            flat: caster_pipeline(gpu, &module, &layout, cull, bias, false),
+            instanced: caster_pipeline(gpu, &module, &layout, cull, bias, true),
+        });
         let uniform = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("light"),
             contents: bytemuck::cast_slice(&view.clip_from_world.to_cols_array()),
@@ -85,31 +89,25 @@ impl GpuDepthMap {
             entries: &[wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() }],
         });
         let attachment = map.texture.create_view(&Default::default());
-        // Cleared first, then each chunk drawn on top: closed objects' triangles before open
-        // ones', each in id order, as one draw of each would (the depth test keeps the first of
-        // equal depths).
+        // Cleared first, then each draw on top: a depth-only pass keeps the nearest fragment
+        // whatever the order of draws.
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         drop(encoder.begin_render_pass(&depth_pass(&attachment, wgpu::LoadOp::Clear(1.0))));
         gpu.queue.submit([encoder.finish()]);
-        for (pipeline, closed) in pipelines.iter().zip([true, false]) {
-            for_each_chunk(scene, closed, chunk_triangles, |vertices| {
-                let buffer = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("casters"),
-                    contents: bytemuck::cast_slice(vertices),
-                    usage: wgpu::BufferUsages::VERTEX,
-                });
-                let mut encoder = gpu.device.create_command_encoder(&Default::default());
-                {
-                    let mut pass = encoder.begin_render_pass(&depth_pass(&attachment, wgpu::LoadOp::Load));
-                    pass.set_pipeline(pipeline);
-                    pass.set_bind_group(0, &bind_group, &[]);
+        let target = Target { gpu, attachment: &attachment, bind_group: &bind_group };
+        let chunk = chunk.max(1);
+        for (casters, closed) in pipelines.iter().zip([true, false]) {
+            for_each_flat_chunk(scene, closed, chunk, |vertices| {
+                let buffer =
+                    target.buffer("casters", bytemuck::cast_slice(vertices), wgpu::BufferUsages::VERTEX);
+                target.draw(&casters.flat, |pass| {
                     pass.set_vertex_buffer(0, buffer.slice(..));
                     pass.draw(0..vertices.len() as u32, 0..1);
-                }
-                gpu.queue.submit([encoder.finish()]);
-                // Each chunk's buffer is freed once drawn: memory stays at one chunk.
-                gpu.wait()
+                })
             })?;
+            for run in instance_runs(scene, closed) {
+                target.draw_instances(&casters.instanced, &run, chunk)?;
+            }
         }
         Ok(map)
     }
@@ -208,6 +206,76 @@ impl GpuDepthMap {
     }
 }
 
+/// The caster pipelines of one culling: flat triangles' and placed meshes'.
+struct Casters {
+    flat: wgpu::RenderPipeline,
+    instanced: wgpu::RenderPipeline,
+}
+
+/// The map being drawn into, with the light's bind group.
+struct Target<'a> {
+    gpu: &'a GpuDevice,
+    attachment: &'a wgpu::TextureView,
+    bind_group: &'a wgpu::BindGroup,
+}
+
+impl Target<'_> {
+    fn buffer(&self, label: &str, contents: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
+        self.gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents,
+            usage,
+        })
+    }
+
+    /// One render pass with `pipeline` and the light bound, recorded by `record`, submitted and
+    /// waited for: each draw's buffers are freed once drawn, so memory stays at one chunk.
+    fn draw(
+        &self,
+        pipeline: &wgpu::RenderPipeline,
+        record: impl FnOnce(&mut wgpu::RenderPass<'_>),
+    ) -> Result<(), GpuError> {
+        let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_render_pass(&depth_pass(self.attachment, wgpu::LoadOp::Load));
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, self.bind_group, &[]);
+            record(&mut pass);
+        }
+        self.gpu.queue.submit([encoder.finish()]);
+        self.gpu.wait()
+    }
+
+    /// A run of placements of one mesh: its vertices once, then instanced draws of at most
+    /// `chunk` placements and `chunk` of its triangles each.
+    fn draw_instances(
+        &self,
+        pipeline: &wgpu::RenderPipeline,
+        run: &InstanceRun,
+        chunk: usize,
+    ) -> Result<(), GpuError> {
+        check_mesh_fits(run.mesh, self.gpu.limits.max_buffer_size)?;
+        let positions =
+            self.buffer("mesh", bytemuck::cast_slice(&run.positions()), wgpu::BufferUsages::VERTEX);
+        let indices = run.indices();
+        for corners in indices.chunks(3 * chunk) {
+            let index_buffer =
+                self.buffer("mesh indices", bytemuck::cast_slice(corners), wgpu::BufferUsages::INDEX);
+            for placements in run.placements.chunks(chunk) {
+                let placement_buffer =
+                    self.buffer("placements", bytemuck::cast_slice(placements), wgpu::BufferUsages::VERTEX);
+                self.draw(pipeline, |pass| {
+                    pass.set_vertex_buffer(0, positions.slice(..));
+                    pass.set_vertex_buffer(1, placement_buffer.slice(..));
+                    pass.set_index_buffer(index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+                    pass.draw_indexed(0..corners.len() as u32, 0, 0..placements.len() as u32);
+                })?;
+            }
+        }
+        Ok(())
+    }
+}
+
 /// glPolygonOffset(factor, units) as the device's depth bias: the same `factor·m + units·r`
 /// (Vulkan "Depth Bias"; r of a float buffer is 2^(e − 23) from the primitive's largest depth,
 /// as `DepthFormat::F32`), with `units` a whole number since the device takes an integer.
@@ -254,26 +322,39 @@ fn depth_pass<'a>(
 }
 
 /// The caster pipeline: counter-clockwise in (u, v) is a front face, as the CPU rasterizer's
-/// facing (docs/conventions.md, "Rasterizer"); the nearest fragment wins.
+/// facing (docs/conventions.md, "Rasterizer"); the nearest fragment wins. `instanced`: a placed
+/// mesh's vertices (buffer 0) and one placement per instance (buffer 1).
 fn caster_pipeline(
     gpu: &GpuDevice,
     module: &wgpu::ShaderModule,
     layout: &wgpu::PipelineLayout,
     cull_mode: Option<wgpu::Face>,
     bias: wgpu::DepthBiasState,
+    instanced: bool,
 ) -> wgpu::RenderPipeline {
+    let vertices = wgpu::VertexBufferLayout {
+        array_stride: 12,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+    };
+    let placements = wgpu::VertexBufferLayout {
+        array_stride: std::mem::size_of::<super::casters::Placement>() as u64,
+        step_mode: wgpu::VertexStepMode::Instance,
+        attributes: &wgpu::vertex_attr_array![1 => Float32x4, 2 => Float32x4, 3 => Float32x4],
+    };
+    let (entry_point, buffers) = if instanced {
+        ("caster_instanced", vec![Some(vertices), Some(placements)])
+    } else {
+        ("caster", vec![Some(vertices)])
+    };
     gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some("casters"),
         layout: Some(layout),
         vertex: wgpu::VertexState {
             module,
-            entry_point: Some("caster"),
+            entry_point: Some(entry_point),
             compilation_options: Default::default(),
-            buffers: &[Some(wgpu::VertexBufferLayout {
-                array_stride: 12,
-                step_mode: wgpu::VertexStepMode::Vertex,
-                attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-            })],
+            buffers: &buffers,
         },
         primitive: wgpu::PrimitiveState { front_face: wgpu::FrontFace::Ccw, cull_mode, ..Default::default() },
         depth_stencil: Some(depth_state(wgpu::CompareFunction::Less, bias)),

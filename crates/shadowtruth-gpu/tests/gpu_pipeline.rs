@@ -365,3 +365,82 @@ fn a_map_drawn_in_chunks_is_the_map_drawn_at_once() {
         }
     }
 }
+
+/// Placed meshes are drawn by instanced draws (the mesh once, one f32 transform per placement,
+/// as an engine draws them), where the CPU places each vertex in f64 and rounds once: the maps
+/// differ only where a texel centre lies within that rounding of an edge. Checked on instanced
+/// spheres (rotated, non-uniformly scaled and mirrored, so that culling must follow the swapped
+/// winding) and boxes over a flat ground, under a sun and a spot, with each culling: the same
+/// bounds as the flat scenes' maps, and the same bits whatever the draws' chunk size.
+#[test]
+fn instanced_meshes_drawn_instanced_match_the_cpu_rasterizer() {
+    use serde_json::json;
+    let placements: Vec<_> = (0..12)
+        .map(|i| {
+            let scale = match i % 3 {
+                0 => json!([1.0, 1.3, 1.0]),
+                1 => json!([0.7, 1.9, 0.9]),
+                _ => json!([-0.8, 1.1, 0.8]),
+            };
+            json!({ "scale": scale, "rotate_deg": [7.0 * i as f64, 33.0 * i as f64 + 11.0, -5.0 * i as f64],
+                    "translate": [(i % 4) as f64 * 2.6 - 4.0, 0.4 + 0.1 * i as f64, (i / 4) as f64 * 2.9 - 3.0] })
+        })
+        .collect();
+    let scene = common::scene_from_json(&json!({
+        "format": "shadowtruth/scene/v1", "name": "placed",
+        "objects": [
+            { "name": "ground", "shape": { "type": "plane", "size": [14, 14], "subdivisions": 4 } },
+            { "name": "tree", "shape": { "type": "sphere", "radius": 0.6, "segments": 24, "rings": 12 },
+              "closed": true, "instances": placements },
+            { "name": "rock", "shape": { "type": "box", "size": [0.5, 0.3, 0.4] }, "closed": true,
+              "instances": [{ "translate": [1.1, 0.15, 1.2] }, { "rotate_deg": [0, 45, 0], "translate": [-1.5, 0.15, 0.5] }] }
+        ],
+        "cameras": [{ "name": "cam", "position": [-7, 6, 8], "look_at": [0, 0.5, 0], "fov_y_deg": 50, "width": 64, "height": 48 }],
+        "lights": [
+            { "name": "sun", "type": "directional", "direction": [-0.35, -1, -0.25] },
+            { "name": "lamp", "type": "spot", "position": [2, 7, 3], "direction": [-0.3, -1, -0.4], "cone_deg": 80, "near": 0.5, "far": 30 }
+        ]
+    }));
+    assert_eq!(scene.instances.len(), 14, "the spheres and boxes are placed, not flattened");
+    assert!(scene.instances.iter().any(|i| i.mirrored), "some placements mirror");
+    let mut ground_only = scene.clone();
+    ground_only.instances.clear();
+    let gpu = gpu();
+    for light in &scene.lights {
+        for resolution in [512u32, 1024] {
+            let view = LightView::new(light, scene.bounds(), resolution);
+            let ground = rasterize_nearest(&ground_only, &view, &RasterSettings::default());
+            for culling in [Culling::None, Culling::BackFacesOfClosed, Culling::FrontFacesOfClosed] {
+                let settings = RasterSettings { culling, ..Default::default() };
+                let cpu = rasterize_nearest(&scene, &view, &settings);
+                let whole = gpu_layer(&gpu, &scene, &view, &settings);
+                let n = resolution as usize;
+                let (mut coverage, mut outside, mut placed) = (0, 0, 0);
+                for row in 0..n {
+                    for x in 0..n {
+                        let (c, g) = (cpu.depth[row * n + x], whole.depth[row * n + x]);
+                        placed += (c < ground.depth[row * n + x]) as u32;
+                        if (c < 1.0) != (g < 1.0) {
+                            coverage += 1;
+                        } else if (c - g).abs() > local_step(&cpu, x, row) / 64.0 + 4e-6 {
+                            outside += 1;
+                        }
+                    }
+                }
+                let case = format!("{} {resolution} {culling:?}", light.name);
+                println!(
+                    "{case}: {placed} texels of placements, {coverage} covered by one side only, {outside} beyond the depth bound"
+                );
+                assert!(placed as usize > n * n / 100, "{case}: the placements are in the map");
+                assert!(coverage <= 1, "{case}: {coverage} texels covered by one side only");
+                assert!(outside <= 1, "{case}: {outside} texels beyond the depth bound");
+                for chunk in [1, 5] {
+                    let map = GpuDepthMap::render_in_chunks(&gpu, &scene, &view, &settings, chunk).unwrap();
+                    let bits = |l: &DepthLayer| l.depth.iter().map(|d| d.to_bits()).collect::<Vec<_>>();
+                    let layer = map.read_back(&gpu).unwrap();
+                    assert!(bits(&layer) == bits(&whole), "{case}: chunks of {chunk}");
+                }
+            }
+        }
+    }
+}
