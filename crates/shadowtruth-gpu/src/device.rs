@@ -91,6 +91,11 @@ impl GpuDevice {
         AdapterRecord { name: self.info.name.clone(), driver, backend: "vulkan".into() }
     }
 
+    /// The largest buffer the device takes, in bytes.
+    pub fn max_buffer_size(&self) -> u64 {
+        self.limits.max_buffer_size
+    }
+
     /// The largest square texture side the device takes.
     pub fn max_texture_side(&self) -> u32 {
         self.limits.max_texture_dimension_2d

@@ -107,6 +107,7 @@ struct Scratch {
 }
 
 impl Chunk {
+    /// The triangles of the chunk that may cover texel centres, with their bands.
     fn bin(&self, scene: &Scene, view: &LightView, scratch: &mut Scratch) -> Vec<Binned> {
         let mut binned = Vec::new();
         let mut keep = |id: u32, bands: (u16, u16)| {
@@ -128,45 +129,32 @@ impl Chunk {
                 let mesh = &scene.meshes[instance.mesh as usize];
                 // Each vertex projected once when the chunk reads at least as many corners as the
                 // mesh has vertices: the same `world_vertex` and `clip_of` of the same vertex, so
-                // the same bits as projecting each corner.
+                // the same bits as projecting each corner. (Bands do not depend on the winding,
+                // so a mirrored placement's corners are read in the mesh's order.)
                 let whole = 3 * locals.len() >= mesh.positions.len();
                 if whole {
                     scratch.world.clear();
-                    scratch
-                        .world
-                        .extend(mesh.positions.iter().map(|&p| world_vertex(&instance.world_from_local, p)));
+                    let world_from_local = &instance.world_from_local;
+                    scratch.world.extend(mesh.positions.iter().map(|&p| world_vertex(world_from_local, p)));
                     scratch.vertices.clear();
                     scratch.vertices.extend(scratch.world.iter().map(|&p| BinVertex::of(view, p, guard)));
                 }
                 for local in locals.clone() {
-                    let id = instance.first_triangle + local;
-                    let corners = mesh.triangles[local as usize];
-                    if whole {
-                        let vertices = corners.map(|i| scratch.vertices[i as usize]);
-                        // The bound from the projected vertices alone, when it needs no set-up.
-                        let bands = match quick_band_range(&vertices, view) {
-                            Some(bands) => bands,
-                            None => {
-                                let tri = corners.map(|i| scratch.world[i as usize]);
-                                band_range(&tri, &vertices, view, &mut scratch.setup)
-                            }
-                        };
-                        // A triangle degenerate in world space is not in the scene
-                        // (`Scene::triangles`); tested last, as few triangles get this far.
-                        if bands.0 < bands.1 && !is_degenerate(&corners.map(|i| scratch.world[i as usize])) {
-                            keep(id, bands);
-                        }
+                    let (tri, vertices) = if whole {
+                        let corners = mesh.triangles[local as usize];
+                        (
+                            corners.map(|i| scratch.world[i as usize]),
+                            corners.map(|i| scratch.vertices[i as usize]),
+                        )
                     } else {
                         let tri = instance.triangle(mesh, local as usize);
-                        let bands = band_range(
-                            &tri,
-                            &tri.map(|p| BinVertex::of(view, p, guard)),
-                            view,
-                            &mut scratch.setup,
-                        );
-                        if bands.0 < bands.1 && !is_degenerate(&tri) {
-                            keep(id, bands);
-                        }
+                        (tri, tri.map(|p| BinVertex::of(view, p, guard)))
+                    };
+                    let bands = band_range(&tri, &vertices, view, &mut scratch.setup);
+                    // A triangle degenerate in world space is not in the scene
+                    // (`Scene::triangles`); tested last, as few triangles get this far.
+                    if bands.0 < bands.1 && !is_degenerate(&tri) {
+                        keep(instance.first_triangle + local, bands);
                     }
                 }
             }
@@ -253,6 +241,7 @@ fn quick_band_range(v: &[BinVertex; 3], view: &LightView) -> Option<(u16, u16)> 
 /// The bands [lo, hi) that world triangle `tri` (its projected vertices `v`) may cover under any
 /// setting: `quick_band_range`, or else the rows of its full set-up without culling (culling only
 /// removes triangles; offsets never move rows).
+#[inline]
 fn band_range(
     tri: &[Vec3; 3],
     v: &[BinVertex; 3],
