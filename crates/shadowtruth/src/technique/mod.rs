@@ -159,6 +159,15 @@ pub trait Technique: Sync {
     fn layer_needs(&self) -> LayerNeeds;
     /// Visibility of `sample` in [0, 1] (1 = lit).
     fn visibility(&self, sample: &Sample, ctx: &ShadeContext) -> f32;
+    /// The visibility of each of `samples`, in order, into `out` (as long): `visibility`'s
+    /// answers. The shading order puts the samples of one texel, and of one triangle, next to
+    /// each other, so a technique may override this to reuse work between neighbours. Compiled
+    /// per technique, so `visibility` is called directly here, not through the trait object.
+    fn visibility_of_run(&self, samples: &[Sample], ctx: &ShadeContext, out: &mut [f32]) {
+        for (s, v) in samples.iter().zip(out) {
+            *v = self.visibility(s, ctx);
+        }
+    }
     /// Whether the technique reads the light's projection as a matrix (rays through texel
     /// centres, a frustum's size): it cannot run on a dual-paraboloid map, whose map is not one.
     fn needs_projective_map(&self) -> bool {

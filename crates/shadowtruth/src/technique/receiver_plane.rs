@@ -75,12 +75,40 @@ impl Technique for ReceiverPlane {
     }
 
     fn visibility(&self, s: &Sample, ctx: &ShadeContext) -> f32 {
+        let slope = receiver_plane_slope_at(ctx.view, &ctx.scene.triangle(s.triangle), s.position);
+        self.test(s, ctx, slope)
+    }
+
+    /// The slope of a triangle whose vertices are all in front of the light does not depend on
+    /// the receiver: it is computed once for a run of samples on one triangle.
+    fn visibility_of_run(&self, samples: &[Sample], ctx: &ShadeContext, out: &mut [f32]) {
+        let mut last: Option<(u32, Option<(f64, f64)>)> = None;
+        for (s, v) in samples.iter().zip(out) {
+            let of_vertices = match last {
+                Some((triangle, slope)) if triangle == s.triangle => slope,
+                _ => {
+                    let slope = receiver_plane_slope(ctx.view, &ctx.scene.triangle(s.triangle));
+                    last = Some((s.triangle, slope));
+                    slope
+                }
+            };
+            // `receiver_plane_slope_at`: the vertices' slope, or else the one around the receiver.
+            let slope = of_vertices
+                .or_else(|| receiver_plane_slope_at(ctx.view, &ctx.scene.triangle(s.triangle), s.position));
+            *v = self.test(s, ctx, slope);
+        }
+    }
+}
+
+impl ReceiverPlane {
+    /// The tilted comparison of `s` with its receiver plane's `slope` (None: untilted).
+    #[inline]
+    fn test(&self, s: &Sample, ctx: &ShadeContext, slope: Option<(f64, f64)>) -> f32 {
         let Some(uvd) = ctx.view.project(s.position) else { return 1.0 };
         let map = ctx.layers.nearest();
         let (x, row) = texel_at(map.resolution, uvd.x, uvd.y);
         let (u_c, v_c) = texel_centre(map.resolution, x, row);
-        let tri = &ctx.scene.triangle(s.triangle);
-        let z_c = match receiver_plane_slope_at(ctx.view, tri, s.position) {
+        let z_c = match slope {
             Some((z_u, z_v)) => uvd.z + (z_u * (u_c - uvd.x) as f64 + z_v * (v_c - uvd.y) as f64) as f32,
             None => uvd.z,
         };

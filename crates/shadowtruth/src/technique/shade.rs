@@ -107,11 +107,17 @@ pub fn shade_evaluated(technique: &dyn Technique, order: &ShadeOrder, ctx: &Shad
     visibility
 }
 
+/// Samples per parallel task, shaded as one run (`Technique::visibility_of_run`).
+const SHADE_RUN: usize = 4096;
+
 /// Shades the pixels of `order` into `visibility` (indexed as `gbuffer.evaluated`), leaving the
 /// other entries as they are.
 pub fn shade_into(technique: &dyn Technique, order: &ShadeOrder, ctx: &ShadeContext, visibility: &mut [f32]) {
-    let shaded: Vec<f32> =
-        order.samples.par_iter().with_min_len(4096).map(|s| technique.visibility(s, ctx)).collect();
+    let mut shaded = vec![0.0; order.samples.len()];
+    shaded
+        .par_chunks_mut(SHADE_RUN)
+        .zip(order.samples.par_chunks(SHADE_RUN))
+        .for_each(|(out, samples)| technique.visibility_of_run(samples, ctx, out));
     for (&k, v) in order.slot.iter().zip(shaded) {
         visibility[k as usize] = v;
     }
