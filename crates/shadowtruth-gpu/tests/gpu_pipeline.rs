@@ -39,6 +39,35 @@ fn local_step(layer: &DepthLayer, x: usize, row: usize) -> f32 {
     step
 }
 
+/// Where the device's map departs from the CPU's.
+struct MapDifferences {
+    /// Texels covered by one side only.
+    coverage: u32,
+    /// Texels both cover whose depths differ by more than 1/64 of the CPU's local depth step
+    /// plus 4·10⁻⁶.
+    outside: u32,
+    /// The largest depth difference over texels both cover.
+    max_diff: f32,
+}
+
+fn differences(cpu: &DepthLayer, gpu: &DepthLayer) -> MapDifferences {
+    let n = cpu.resolution as usize;
+    let mut d = MapDifferences { coverage: 0, outside: 0, max_diff: 0.0 };
+    for row in 0..n {
+        for x in 0..n {
+            let (c, g) = (cpu.depth[row * n + x], gpu.depth[row * n + x]);
+            if (c < 1.0) != (g < 1.0) {
+                d.coverage += 1;
+                continue;
+            }
+            let diff = (c - g).abs();
+            d.max_diff = d.max_diff.max(diff);
+            d.outside += (diff > local_step(cpu, x, row) / 64.0 + 4e-6) as u32;
+        }
+    }
+    d
+}
+
 /// Without depth bias the device's map covers the CPU's texels, and its depths differ from the
 /// CPU's by at most 1/64 of the local depth step plus 4·10⁻⁶: the CPU evaluates the depth plane
 /// through vertices snapped to 1/256 texel, the device through the unsnapped ones, and the
@@ -61,20 +90,7 @@ fn depth_map_matches_the_cpu_rasterizer() {
                 let settings = RasterSettings { culling, ..Default::default() };
                 let cpu = rasterize_nearest(&scene, &view, &settings);
                 let gpu_map = gpu_layer(&gpu, &scene, &view, &settings);
-                let n = resolution as usize;
-                let (mut coverage, mut outside, mut max_diff) = (0, 0, 0.0f32);
-                for row in 0..n {
-                    for x in 0..n {
-                        let (c, g) = (cpu.depth[row * n + x], gpu_map.depth[row * n + x]);
-                        if (c < 1.0) != (g < 1.0) {
-                            coverage += 1;
-                            continue;
-                        }
-                        let diff = (c - g).abs();
-                        max_diff = max_diff.max(diff);
-                        outside += (diff > local_step(&cpu, x, row) / 64.0 + 4e-6) as u32;
-                    }
-                }
+                let MapDifferences { coverage, outside, max_diff } = differences(&cpu, &gpu_map);
                 println!(
                     "{name:14} {resolution:>5} {:>20} {coverage:>9} {outside:>9} {max_diff:>12.3e}",
                     format!("{culling:?}")
@@ -415,23 +431,13 @@ fn instanced_meshes_drawn_instanced_match_the_cpu_rasterizer() {
                 let cpu = rasterize_nearest(&scene, &view, &settings);
                 let whole = gpu_layer(&gpu, &scene, &view, &settings);
                 let n = resolution as usize;
-                let (mut coverage, mut outside, mut placed) = (0, 0, 0);
-                for row in 0..n {
-                    for x in 0..n {
-                        let (c, g) = (cpu.depth[row * n + x], whole.depth[row * n + x]);
-                        placed += (c < ground.depth[row * n + x]) as u32;
-                        if (c < 1.0) != (g < 1.0) {
-                            coverage += 1;
-                        } else if (c - g).abs() > local_step(&cpu, x, row) / 64.0 + 4e-6 {
-                            outside += 1;
-                        }
-                    }
-                }
+                let placed = cpu.depth.iter().zip(&ground.depth).filter(|(c, g)| c < g).count();
+                let MapDifferences { coverage, outside, .. } = differences(&cpu, &whole);
                 let case = format!("{} {resolution} {culling:?}", light.name);
                 println!(
                     "{case}: {placed} texels of placements, {coverage} covered by one side only, {outside} beyond the depth bound"
                 );
-                assert!(placed as usize > n * n / 100, "{case}: the placements are in the map");
+                assert!(placed > n * n / 100, "{case}: the placements are in the map");
                 assert!(coverage <= 1, "{case}: {coverage} texels covered by one side only");
                 assert!(outside <= 1, "{case}: {outside} texels beyond the depth bound");
                 for chunk in [1, 5] {
