@@ -210,3 +210,39 @@ fn l_shape_depth_layer_family_as_counts() {
         }
     }
 }
+
+/// Layers rasterized into the memory of earlier ones (of another resolution, kind, culling,
+/// offset or format, as the run reuses them from group to group) are the bits of fresh ones.
+#[test]
+fn layers_built_into_a_spare_are_the_bits_of_fresh_ones() {
+    use shadowtruth::raster::Rasterizer;
+    use shadowtruth::technique::BuiltLayers;
+    let scene = bundled("rocks");
+    let needs_of = |json: serde_json::Value| {
+        let spec: TechniqueSpec = serde_json::from_value(json).unwrap();
+        spec.build().expect("a shaded technique").layer_needs()
+    };
+    let needs = [
+        needs_of(json!({ "technique": "constant", "bias_depth": 0.001 })),
+        needs_of(json!({ "technique": "slope_scaled", "factor": 2.0, "units": 4.0 })),
+        needs_of(json!({ "technique": "midpoint", "cull_back_faces": true })),
+        needs_of(json!({ "technique": "second_depth" })),
+        needs_of(json!({ "technique": "vsm", "min_variance": 0 })),
+    ];
+    let formats = [DepthFormat::F32, DepthFormat::Unorm16];
+    let mut spare: Option<BuiltLayers> = None;
+    let mut kinds = std::collections::HashSet::new();
+    for resolution in [96, 64, 128] {
+        let view = LightView::new(&scene.lights[0], scene.bounds(), resolution);
+        let rasterizer = Rasterizer::new(&scene, &view);
+        for (i, needs) in needs.iter().enumerate() {
+            let format = formats[i % formats.len()];
+            let fresh = BuiltLayers::rasterize(&rasterizer, format, needs);
+            let reused = BuiltLayers::rasterize_reusing(&rasterizer, format, needs, spare.take());
+            assert_eq!(reused, fresh, "{resolution}² {format:?} {needs:?}");
+            kinds.insert(std::mem::discriminant(&reused));
+            spare = Some(reused);
+        }
+    }
+    assert_eq!(kinds.len(), 3, "nearest, two nearest and moments each reused");
+}

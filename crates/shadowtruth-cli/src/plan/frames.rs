@@ -222,8 +222,14 @@ impl Schedule<'_, '_, '_> {
                 let (layers, prepare_ms) = match reused {
                     Some(k) => (k.layers.clone(), 0.0),
                     None => {
-                        let (layers, ms) =
-                            group_layers(self.plan, &self.groups[gi].0, scene, &setting, &mut binned);
+                        let (layers, ms) = group_layers(
+                            self.plan,
+                            &self.groups[gi].0,
+                            scene,
+                            &setting,
+                            &mut binned,
+                            Vec::new(),
+                        );
                         (Arc::new(layers), ms)
                     }
                 };

@@ -22,15 +22,19 @@ impl<'a> BinnedView<'a> {
     }
 }
 
-/// Rasterizes the layers `needs` asks for, `repeats` times; returns the last build and its
-/// time in milliseconds: the median of the repeats plus the binning's.
+/// Rasterizes the layers `needs` asks for, `repeats` times, each build into the previous one's
+/// memory (the first into `spare`'s, when given); returns the last build and its time in
+/// milliseconds: the median of the repeats plus the binning's.
 pub fn build_layers_timed(
     binned: &BinnedView,
     format: DepthFormat,
     needs: &LayerNeeds,
     repeats: usize,
+    spare: Option<BuiltLayers>,
 ) -> (BuiltLayers, f64) {
-    let (built, build_ms) =
-        timed_median(repeats, || BuiltLayers::rasterize(&binned.rasterizer, format, needs));
-    (built, binned.bin_ms + build_ms)
+    let mut layers = spare;
+    let ((), build_ms) = timed_median(repeats, || {
+        layers = Some(BuiltLayers::rasterize_reusing(&binned.rasterizer, format, needs, layers.take()));
+    });
+    (layers.expect("built at least once"), binned.bin_ms + build_ms)
 }

@@ -155,8 +155,9 @@ fn layers_for<'m>(
     match kept.iter().position(|(n, _)| n == needs) {
         Some(i) => &kept[i].1,
         None => {
-            let build =
-                |view: &&LightView| build_layers_timed(&BinnedView::new(scene, view), format, needs, 1).0;
+            let build = |view: &&LightView| {
+                build_layers_timed(&BinnedView::new(scene, view), format, needs, 1, None).0
+            };
             let built = views.iter().map(build).collect();
             if kept.len() == KEPT_LAYER_SETS {
                 kept.remove(0);

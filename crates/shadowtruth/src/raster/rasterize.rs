@@ -106,11 +106,20 @@ impl<'a> Rasterizer<'a> {
     pub fn two_nearest(&self, settings: &RasterSettings) -> DepthPairLayer {
         let n = self.view.resolution as usize;
         // Zeroed memory comes lazily from the system; each band initialises its own rows.
-        let mut pairs = vec![[0.0f32; 2]; n * n];
+        let mut layer = DepthPairLayer { resolution: self.view.resolution, depth: vec![[0.0f32; 2]; n * n] };
+        self.two_nearest_into(settings, &mut layer);
+        layer
+    }
+
+    /// `two_nearest` into an existing layer, reusing its allocation.
+    pub fn two_nearest_into(&self, settings: &RasterSettings, layer: &mut DepthPairLayer) {
+        let n = self.view.resolution as usize;
+        layer.resolution = self.view.resolution;
+        layer.depth.resize(n * n, [1.0, 1.0]);
         let format = settings.format;
         self.rasterize_into(
             settings,
-            &mut pairs,
+            &mut layer.depth,
             |band| band.fill([1.0, 1.0]),
             // Branch-free, so that the span loop vectorizes: a nearer fragment pushes z1 down to
             // z2; one strictly between them replaces z2; one equal to z1 is the same surface.
@@ -133,7 +142,6 @@ impl<'a> Rasterizer<'a> {
                 }
             },
         );
-        DepthPairLayer { resolution: self.view.resolution, depth: pairs }
     }
 }
 

@@ -29,6 +29,18 @@ impl BuiltLayers {
     /// As [`BuiltLayers::build`], with the view's triangles already binned (shared by every
     /// group of techniques on that view).
     pub fn rasterize(rasterizer: &Rasterizer, format: DepthFormat, needs: &LayerNeeds) -> BuiltLayers {
+        Self::rasterize_reusing(rasterizer, format, needs, None)
+    }
+
+    /// As [`BuiltLayers::rasterize`], into `spare`'s allocation where it holds layers of the
+    /// same kind. A 4096² map is 64 MiB: touching fresh memory of that size costs more than
+    /// rasterizing a small scene into it, and an engine renders each frame into the same map.
+    pub fn rasterize_reusing(
+        rasterizer: &Rasterizer,
+        format: DepthFormat,
+        needs: &LayerNeeds,
+        spare: Option<BuiltLayers>,
+    ) -> BuiltLayers {
         let settings = RasterSettings {
             format,
             culling: needs.culling,
@@ -36,6 +48,19 @@ impl BuiltLayers {
             slope_units: needs.slope_units,
             ..RasterSettings::default()
         };
+        // The same choice of kind as below: moments first, then a second layer.
+        let moments = needs.moments.is_some();
+        match (spare, needs.second_layer) {
+            (Some(BuiltLayers::Nearest(mut layer)), false) if !moments && needs.multi_depth.is_none() => {
+                rasterizer.nearest_into(&settings, &mut layer);
+                return BuiltLayers::Nearest(layer);
+            }
+            (Some(BuiltLayers::TwoNearest(mut layer)), true) if !moments => {
+                rasterizer.two_nearest_into(&settings, &mut layer);
+                return BuiltLayers::TwoNearest(layer);
+            }
+            _ => {}
+        }
         if let Some(m) = needs.moments {
             return BuiltLayers::Moments(MomentLayer::from_depth(
                 &rasterizer.nearest(&settings),

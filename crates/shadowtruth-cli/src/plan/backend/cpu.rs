@@ -33,6 +33,8 @@ impl MapBackend for CpuBackend<'_> {
         let (scene, camera, light) = (traced.scene, traced.camera, traced.light);
         // Each map binned when the first group needs it, then shared by the others.
         let mut binned: Vec<BinnedView> = Vec::new();
+        // The layers of the group before, their memory reused by the next group's.
+        let mut spares: Vec<BuiltLayers> = Vec::new();
         for (needs, members) in self.groups {
             let (resolution, format) = (map.resolution, map.format.name());
             // Two stages a group, so that `--timing` names its rasterization and its shading apart.
@@ -44,7 +46,7 @@ impl MapBackend for CpuBackend<'_> {
                 group_label(needs)
             );
             recorder.stage(&format!("{group}: rasterizing"))?;
-            let (layers, prepare_ms) = group_layers(self.plan, needs, scene, map, &mut binned);
+            let (layers, prepare_ms) = group_layers(self.plan, needs, scene, map, &mut binned, spares);
             let count = members.len();
             recorder.stage(&format!(
                 "{group}: shading and scoring {count} technique{}",
@@ -64,19 +66,22 @@ impl MapBackend for CpuBackend<'_> {
                 };
                 recorder.record(run)?;
             }
+            spares = layers;
         }
         Ok(())
     }
 }
 
 /// The layers `needs` asks for, one per map of `map` (each cascade's, or the one), built from
-/// the maps' binned triangles (binned here on first use), and the time they took (ms).
+/// the maps' binned triangles (binned here on first use) into the memory of `spares` where it
+/// fits, and the time they took (ms).
 pub(in crate::plan) fn group_layers<'m>(
     plan: &Plan,
     needs: &LayerNeeds,
     scene: &'m Scene,
     map: &MapSetting<'m>,
     binned: &mut Vec<BinnedView<'m>>,
+    spares: Vec<BuiltLayers>,
 ) -> (Vec<BuiltLayers>, f64) {
     if let Some(map_file) = &plan.shadow_map {
         return (vec![BuiltLayers::Nearest(map_file.layer.clone())], 0.0);
@@ -85,10 +90,11 @@ pub(in crate::plan) fn group_layers<'m>(
         binned.extend(map.views().into_iter().map(|view| BinnedView::new(scene, view)));
     }
     let mut total_ms = 0.0;
+    let mut spares = spares.into_iter();
     let layers = binned
         .iter()
         .map(|b| {
-            let (layers, ms) = build_layers_timed(b, map.format, needs, plan.repeats);
+            let (layers, ms) = build_layers_timed(b, map.format, needs, plan.repeats, spares.next());
             total_ms += ms;
             layers
         })
