@@ -159,10 +159,28 @@ fn viewer_section(h: &mut String) {
          <input id=\"view-slider\" type=\"range\" min=\"0\" max=\"100\" value=\"50\" hidden \
          aria-label=\"technique shown left of\"> <label>zoom <select id=\"view-zoom\"><option value=\"1\">1×</option>\
          <option value=\"2\">2×</option><option value=\"4\">4×</option><option value=\"8\">8×</option></select></label>\
-         </div><p>The error map shows false shadow and false lit in colour over the scene; in slide mode the \
-         technique's shadows are left of the slider, the reference's right.</p><div id=\"view-stage\">\
+         </div><p>",
+    );
+    h.push_str(&colour_code_legend());
+    h.push_str(
+        " over the scene; in slide mode the technique's shadows are left of the slider, the \
+         reference's right.</p><div id=\"view-stage\">\
          <img id=\"view-base\" alt=\"\"><img id=\"view-over\" alt=\"\" hidden></div></section>",
     );
+}
+
+/// The error map's colours in words and swatches, from the one colour code (palette.rs).
+fn colour_code_legend() -> String {
+    use super::palette::{FALSE_LIT, FALSE_SHADOW, UNCERTAIN};
+    let swatch = |[r, g, b]: [u8; 3], what: &str| {
+        format!("<span style=\"color:#{r:02X}{g:02X}{b:02X}\">&#9632;</span> {what}")
+    };
+    format!(
+        "The error map shows {}, {} and {} (pixels the reference cannot decide)",
+        swatch(FALSE_SHADOW, "false shadow"),
+        swatch(FALSE_LIT, "false lit"),
+        swatch(UNCERTAIN, "uncertain")
+    )
 }
 
 fn scenes_table(h: &mut String, report: &Report) {

@@ -1,6 +1,14 @@
-//! The one fixed palette every figure is drawn in: indices 0–[`GREY_MAX`] are greys of that
-//! level, [`FALSE_SHADOW_INDEX`] and [`FALSE_LIT_INDEX`] the two error colours and
-//! [`UNCERTAIN_INDEX`] the colour of the pixels the reference cannot decide.
+//! The one colour code of every output, and the fixed palette every figure is drawn in.
+//!
+//! The colour code (Okabe & Ito, "Color Universal Design", 2008: told apart by colour-blind
+//! readers): false shadow is vermillion, false lit blue and their total (the error) black, in
+//! error maps, sweep and resolution plots, the `tune` plot and the page alike; pixels the
+//! reference cannot decide are reddish purple. Series that are not an error rate (techniques,
+//! settings) take the colours the code leaves free ([`SERIES`]).
+//!
+//! The palette of the error maps: indices 0–[`GREY_MAX`] are greys of that level,
+//! [`FALSE_SHADOW_INDEX`] and [`FALSE_LIT_INDEX`] the two error colours and [`UNCERTAIN_INDEX`]
+//! the colour of the pixels the reference cannot decide.
 
 /// The lightest grey (and the page white of grids and zoom frames): levels above it are drawn as it.
 pub const GREY_MAX: u8 = 252;
@@ -16,6 +24,31 @@ pub const FALSE_SHADOW: [u8; 3] = [0xD5, 0x5E, 0x00];
 pub const FALSE_LIT: [u8; 3] = [0x00, 0x72, 0xB2];
 /// Uncertain (the reference cannot decide the pixel, scored neither way): Okabe–Ito reddish purple.
 pub const UNCERTAIN: [u8; 3] = [0xCC, 0x79, 0xA7];
+/// The error, false shadow and false lit together: Okabe–Ito black.
+pub const TOTAL_ERROR: [u8; 3] = [0x00, 0x00, 0x00];
+/// The colours of series that are not an error rate: the Okabe–Ito colours the code leaves
+/// free, the nearest to the error colours last.
+pub const SERIES: [[u8; 3]; 6] = [
+    [0x00, 0x9E, 0x73], // bluish green
+    [0xE6, 0x9F, 0x00], // orange
+    [0x56, 0xB4, 0xE9], // sky blue
+    [0x66, 0x66, 0x66], // dark grey
+    [0xF0, 0xE4, 0x42], // yellow
+    [0xCC, 0x79, 0xA7], // reddish purple
+];
+/// A sweep's best value and the band of values near it: bluish green, as no rate is drawn.
+pub const BEST: [u8; 3] = [0x00, 0x9E, 0x73];
+
+/// The colour of a series named for an error rate ("false shadow", "false lit", or "error",
+/// alone or followed by a space and more words), or `None` for any other series.
+pub fn rate_colour(series: &str) -> Option<[u8; 3]> {
+    match series {
+        "false shadow" => Some(FALSE_SHADOW),
+        "false lit" => Some(FALSE_LIT),
+        _ if series == "error" || series.starts_with("error ") => Some(TOTAL_ERROR),
+        _ => None,
+    }
+}
 
 /// The RGB colour of palette index `index`.
 pub const fn palette_rgb(index: u8) -> [u8; 3] {
@@ -57,5 +90,18 @@ mod tests {
         assert!(!is_grey(UNCERTAIN_INDEX));
         assert_eq!(grey(1.0), GREY_MAX);
         assert_eq!(grey(0.5), 128);
+    }
+
+    #[test]
+    fn rates_have_their_colours_and_other_series_never_take_them() {
+        assert_eq!(rate_colour("false shadow"), Some(FALSE_SHADOW));
+        assert_eq!(rate_colour("false lit"), Some(FALSE_LIT));
+        assert_eq!(rate_colour("error"), Some(TOTAL_ERROR));
+        assert_eq!(rate_colour("error (the objective)"), Some(TOTAL_ERROR));
+        assert_eq!(rate_colour("false shadow + 2·false lit"), None);
+        assert_eq!(rate_colour("constant bias_depth=0.001"), None);
+        for code in [FALSE_SHADOW, FALSE_LIT, TOTAL_ERROR] {
+            assert!(!SERIES.contains(&code) && BEST != code);
+        }
     }
 }

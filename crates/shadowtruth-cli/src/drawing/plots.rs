@@ -3,6 +3,7 @@
 //! Drawn with plotters; text uses the bundled DejaVu Sans, so no system font is needed.
 
 use super::bundled_font::DEJAVU_SANS_TTF;
+use super::palette::{BEST, SERIES, rate_colour};
 use plotters::coord::CoordTranslate;
 use plotters::prelude::*;
 use shadowtruth::atomic_file::{encode_rgb_png, write_atomic};
@@ -37,7 +38,7 @@ pub struct Chart {
 }
 
 impl Default for Chart {
-    /// No series; lines with markers; one panel per eight series.
+    /// No series; lines with markers; one panel per six series (one per colour).
     fn default() -> Self {
         Chart {
             stem: String::new(),
@@ -320,18 +321,17 @@ fn y_top(c: &Chart) -> f64 {
     if y1 <= Y_FLOOR { 1.0 } else { labelled_tick_above(y1 * 1.2) }
 }
 
-/// Eight colours told apart also by colour-blind readers (Okabe & Ito, "Color Universal
-/// Design", 2008), then the same colours with another marker: no two series look alike.
-const COLOURS: [RGBColor; 8] = [
-    RGBColor(0, 114, 178),
-    RGBColor(213, 94, 0),
-    RGBColor(0, 158, 115),
-    RGBColor(204, 121, 167),
-    RGBColor(230, 159, 0),
-    RGBColor(86, 180, 233),
-    RGBColor(0, 0, 0),
-    RGBColor(240, 228, 66),
-];
+/// The colours of series that are not an error rate (palette.rs), then the same colours with
+/// another marker: no two series look alike.
+const COLOURS: [RGBColor; SERIES.len()] = {
+    let mut out = [RGBColor(0, 0, 0); SERIES.len()];
+    let mut i = 0;
+    while i < SERIES.len() {
+        out[i] = RGBColor(SERIES[i][0], SERIES[i][1], SERIES[i][2]);
+        i += 1;
+    }
+    out
+};
 
 /// The colour and marker of series `i`.
 pub fn series_style(i: usize) -> (RGBColor, MarkerShape) {
@@ -339,6 +339,18 @@ pub fn series_style(i: usize) -> (RGBColor, MarkerShape) {
         [MarkerShape::Circle, MarkerShape::Triangle, MarkerShape::Square, MarkerShape::Cross];
     (COLOURS[i % COLOURS.len()], SHAPES[(i / COLOURS.len()) % SHAPES.len()])
 }
+
+/// The colour and marker of series `i` named `name`: an error rate's own colour (the colour
+/// code, palette.rs) with a circle, else `series_style(i)`.
+fn named_series_style(name: &str, i: usize) -> (RGBColor, MarkerShape) {
+    match rate_colour(name) {
+        Some([r, g, b]) => (RGBColor(r, g, b), MarkerShape::Circle),
+        None => series_style(i),
+    }
+}
+
+/// A sweep's best value and its band (palette.rs).
+const BEST_COLOUR: RGBColor = RGBColor(BEST[0], BEST[1], BEST[2]);
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MarkerShape {
@@ -426,7 +438,7 @@ const LEGEND_CHARS: usize = 48;
 
 /// Most series in one panel: a chart with more is drawn as small multiples, a panel per eight
 /// series on the same axes, so that colours never repeat within a panel.
-pub const SERIES_PER_PANEL: usize = 8;
+pub const SERIES_PER_PANEL: usize = COLOURS.len();
 
 /// The chart's panels: itself, or its series `panel_size` at a time (each panel with the whole
 /// chart's Pareto front and its own marks).
@@ -494,11 +506,11 @@ macro_rules! panel_body {
         if let Some(Some(m)) = c.marks.first() {
             let band = [(m.band.0, band_bottom), (m.band.1, band_top)];
             chart
-                .draw_series(std::iter::once(Rectangle::new(band, COLOURS[2].mix(0.15).filled())))
+                .draw_series(std::iter::once(Rectangle::new(band, BEST_COLOUR.mix(0.15).filled())))
                 .map_err(err)?;
         }
-        for (i, (_, points)) in c.series.iter().enumerate() {
-            let (colour, shape) = series_style(i);
+        for (i, (name, points)) in c.series.iter().enumerate() {
+            let (colour, shape) = named_series_style(name, i);
             if !c.points_only {
                 chart
                     .draw_series(LineSeries::new(points.iter().copied(), colour.stroke_width(2)))
@@ -513,7 +525,9 @@ macro_rules! panel_body {
                 .map_err(err)?;
         }
         if let Some(Some(m)) = c.marks.first() {
-            chart.draw_series(std::iter::once(Cross::new(m.point, 9, RED.stroke_width(3)))).map_err(err)?;
+            chart
+                .draw_series(std::iter::once(Cross::new(m.point, 9, BEST_COLOUR.stroke_width(3))))
+                .map_err(err)?;
         }
     }};
 }
@@ -618,7 +632,7 @@ fn draw_legend<DB: DrawingBackend>(
         area.draw(&Text::new(shown, (34, y - 7), font.clone()))
     };
     for (i, (name, _)) in c.series.iter().enumerate() {
-        let (colour, shape) = series_style(i);
+        let (colour, shape) = named_series_style(name, i);
         if !c.points_only {
             area.draw(&PathElement::new(vec![(4, y), (26, y)], colour.stroke_width(2)))?;
         }
@@ -632,10 +646,10 @@ fn draw_legend<DB: DrawingBackend>(
         y += 18;
     }
     if let Some(Some(m)) = c.marks.first() {
-        area.draw(&Cross::new((15, y), 9, RED.stroke_width(3)))?;
+        area.draw(&Cross::new((15, y), 9, BEST_COLOUR.stroke_width(3)))?;
         row(area, &m.point_label, y)?;
         y += 18;
-        area.draw(&Rectangle::new([(4, y - 6), (26, y + 6)], COLOURS[2].mix(0.15).filled()))?;
+        area.draw(&Rectangle::new([(4, y - 6), (26, y + 6)], BEST_COLOUR.mix(0.15).filled()))?;
         row(area, &m.band_label, y)?;
     }
     Ok(())
@@ -701,6 +715,8 @@ impl crate::export::Export for PlotsExport {
 pub(crate) mod tests {
     use super::*;
 
+    use crate::drawing::palette::{FALSE_LIT, FALSE_SHADOW, TOTAL_ERROR};
+
     fn chart(series: usize) -> Chart {
         Chart {
             stem: "t".into(),
@@ -724,9 +740,26 @@ pub(crate) mod tests {
             .collect()
     }
 
+    /// The colour code (palette.rs): wherever the rates are drawn, false shadow is vermillion,
+    /// false lit blue and the error black, whatever their order; other series take none of them.
+    #[test]
+    fn rates_are_drawn_in_the_colour_code() {
+        let hex = |[r, g, b]: [u8; 3]| format!("#{r:02X}{g:02X}{b:02X}");
+        let mut c = chart(5);
+        for (k, name) in ["false lit", "error", "false shadow"].into_iter().enumerate() {
+            c.series[k + 1].0 = name.into();
+        }
+        let colours = line_colours(&chart_svg(&c).unwrap());
+        let (shadow, lit, total) = (hex(FALSE_SHADOW), hex(FALSE_LIT), hex(TOTAL_ERROR));
+        // Each line twice: in the plot and in the legend.
+        assert_eq!(colours.len(), 10, "{colours:?}");
+        assert_eq!([&colours[1], &colours[2], &colours[3]], [&lit, &total, &shadow], "{colours:?}");
+        assert!(![&colours[0], &colours[4]].iter().any(|c| [&shadow, &lit, &total].contains(c)));
+    }
+
     #[test]
     fn series_in_one_panel_never_share_a_colour_and_marker() {
-        let styles: Vec<_> = (0..32).map(series_style).collect();
+        let styles: Vec<_> = (0..COLOURS.len() * 4).map(series_style).collect();
         for (i, a) in styles.iter().enumerate() {
             for b in &styles[i + 1..] {
                 assert_ne!(a, b);
@@ -735,7 +768,7 @@ pub(crate) mod tests {
         // Drawn: 20 series make three panels, and within each the lines' colours differ.
         let c = chart(20);
         let panels = panels(&c);
-        assert_eq!(panels.iter().map(|p| p.series.len()).collect::<Vec<_>>(), [8, 8, 4]);
+        assert_eq!(panels.iter().map(|p| p.series.len()).collect::<Vec<_>>(), [6, 6, 6, 2]);
         for panel in &panels {
             let mut colours = line_colours(&chart_svg(panel).unwrap());
             // The legend repeats each series' line once.

@@ -32,7 +32,7 @@ pub fn tune_chart(result: &TuneResult, request: &TuneRequest, axis: usize) -> Ch
         series: vec![
             ("false shadow".into(), series(|p| p.false_shadow)),
             ("false lit".into(), series(|p| p.false_lit)),
-            (format!("objective: {}", request.objective.describe()), series(|p| p.objective)),
+            (objective_series_name(&request.objective), series(|p| p.objective)),
         ],
         panel_size: 3,
         marks: vec![Some(Marks {
@@ -42,5 +42,14 @@ pub fn tune_chart(result: &TuneResult, request: &TuneRequest, axis: usize) -> Ch
             band_label: format!("safe range (≤ {:.0} % above)", 100.0 * crate::tune::SAFE_RANGE_SLACK),
         })],
         ..Chart::default()
+    }
+}
+
+/// The objective's series: the total error, drawn in its colour, when that is what is
+/// minimised; otherwise named for what it weighs.
+fn objective_series_name(objective: &crate::tune::Objective) -> String {
+    match objective {
+        crate::tune::Objective::Total => "error (the objective)".into(),
+        other => format!("objective: {}", other.describe()),
     }
 }
