@@ -98,11 +98,19 @@ fn usage_errors_exit_2() {
         (vec!["run", "s.json", "--plan", "missing-plan.json"], "missing-plan.json"),
         (vec!["run", "s.json", "--resolutions", "0", "--quiet", "--no-cache"], "resolution"),
         (vec!["run", "s.json", "--threads", "0"], "threads"),
+        // An output named for another format than the one written.
+        (vec!["reference", "s.json", "-o", "m.jpg"], "must end in .png (it has '.jpg')"),
+        (vec!["reference", "s.json", "--kind", "coverage", "-o", "c.png"], "must end in .exr"),
+        (vec!["depth-map", "s.json", "--resolution", "64", "-o", "d.png"], "must end in .exr"),
+        (vec!["export-obj", "s.json", "-o", "w"], "must end in .obj (it has no extension)"),
     ];
     for (args, needle) in cases {
         let (code, stderr) = shadowtruth(&args, dir.path());
         assert_eq!(code, 2, "{args:?}: exit code {code}, stderr: {stderr}");
         assert!(stderr.contains(needle), "{args:?}: error lacks '{needle}': {stderr}");
+    }
+    for wrong in ["m.jpg", "c.png", "d.png", "w"] {
+        assert!(!dir.path().join(wrong).exists(), "{wrong} was written");
     }
 }
 

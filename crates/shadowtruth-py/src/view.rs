@@ -33,7 +33,7 @@ fn named<'s, T>(
                 let have: Vec<&str> = items.iter().map(&name_of).collect();
                 format!("{file}: no {what} named '{n}' (have: {})", have.join(", "))
             }
-            None => format!("{file}: the scene has no {what}"),
+            None => format!("{file}: {}", shadowtruth::scene::missing_view_item(&scene.source, what)),
         })
     })
 }

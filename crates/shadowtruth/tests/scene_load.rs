@@ -125,6 +125,20 @@ fn unknown_fields_are_named_with_their_path() {
     assert_eq!(p.len(), 4, "{p:#?}");
 }
 
+/// Another program's JSON (a package.json in a folder of scenes) is one problem that says what
+/// the file is not, not one per field it lacks or has.
+#[test]
+fn foreign_json_is_not_a_scene_in_one_problem() {
+    let p = problems(r#"{ "name": "web", "version": "1.0.0", "dependencies": { "x": "1" } }"#);
+    assert_eq!(p.len(), 1, "{p:#?}");
+    assert_problem(&p, "", "not a shadowtruth scene");
+    // A scene with a field missing still has that field named.
+    let p = problems(&with(base(), |s| {
+        s.as_object_mut().unwrap().remove("format");
+    }));
+    assert_problem(&p, "format", "missing");
+}
+
 #[test]
 fn wrong_format_tag_is_rejected() {
     let p = problems(&with(base(), |s| s["format"] = json!("shadowtruth/scene/v2")));

@@ -31,11 +31,13 @@ pub(super) struct DepthMapArgs {
     /// Faces of closed objects left out.
     #[arg(long, value_enum, default_value_t = Cull::None)]
     cull: Cull,
+    /// The one-channel f32 EXR to write (*.exr); its JSON sidecar goes beside it.
     #[arg(short, long)]
     out: PathBuf,
 }
 
 pub(super) fn depth_map(a: DepthMapArgs) -> Result<u8> {
+    super::args::check_output_extension(&a.out, "exr", "a one-channel f32 EXR")?;
     let format = a.format;
     let scene = load_scene(&a.scene)?;
     let light = pick(&scene.lights, a.light.as_deref(), |l| &l.name, "light", &a.scene)?;

@@ -7,6 +7,7 @@ use clap::{Parser, Subcommand};
 
 mod args;
 mod depth_map;
+mod examples;
 mod export_obj;
 mod folder_lock;
 mod gate;
@@ -46,6 +47,7 @@ enum Command {
     ///
     /// With no arguments: every scene of `scenes/` with the default plan (plans/default.json:
     /// every technique at a few settings; shadow maps 512² to 4096² in f32 depth).
+    #[command(after_help = examples::RUN)]
     Run(run::RunArgs),
     /// Write the exact hard shadow mask of one camera and light as a PNG, or a soft reference
     /// (pixel coverage, area light) as an EXR.
@@ -54,6 +56,7 @@ enum Command {
     /// light, 192 outside the light, 96 uncertain (the tracer cannot decide it beyond doubt).
     /// Soft references: channels V (visibility in [0, 1], 0 where not evaluated) and E (its
     /// standard error), f32, row 0 at the top.
+    #[command(after_help = examples::REFERENCE)]
     Reference(reference::ReferenceArgs),
     /// Check the hard reference against exact predicates: the same visibility decided exactly
     /// on the f32 inputs, independent of the tracer (docs/reference.md).
@@ -62,9 +65,11 @@ enum Command {
     /// view, the agreement with the exact answer, the disagreements at and away from shadow
     /// boundaries, and the worst cases with their pixel and triangles. Exit 1 when a
     /// disagreement lies outside the documented error band.
+    #[command(after_help = examples::VERIFY)]
     Verify(verify::VerifyArgs),
     /// Write the scene's world-space triangles as OBJ (one `o` group per object), with
     /// coordinates that read back as the same f32 values.
+    #[command(after_help = examples::EXPORT_OBJ)]
     ExportObj(export_obj::ExportObjArgs),
     /// Check a report against rules: exit 0 when every rule holds, 1 on violations, 2 on bad input.
     ///
@@ -72,9 +77,11 @@ enum Command {
     /// (`max`) and/or against a baseline report (`max_increase`, `max_increase_ratio`). With
     /// --baseline every baseline run must pair with a run of the report (same view, resolution,
     /// depth format, reference and technique parameters); one that does not is a violation.
+    #[command(after_help = examples::GATE)]
     Gate(gate::GateArgs),
     /// Write one depth layer of a light as a one-channel f32 EXR, with a JSON sidecar holding
     /// clip_from_world and the near and far planes, to check the rasterizer against another.
+    #[command(after_help = examples::DEPTH_MAP)]
     DepthMap(depth_map::DepthMapArgs),
     /// Score another renderer's shadows: its visibility buffer of one view (and optionally its
     /// camera depth) against the exact reference, into a report folder like `run`'s.
@@ -88,6 +95,7 @@ enum Command {
     ///
     /// With --shadow-map and --technique instead of --visibility: the renderer's shadow map (as
     /// `depth-map` writes it) read by a built-in technique, to tell a wrong map from a wrong test.
+    #[command(after_help = examples::SCORE)]
     Score(score::ScoreArgs),
     /// Find the setting of one technique to ship: the values of one to three of its parameters
     /// that minimise an objective (total error by default) per scene and for the whole suite,
@@ -99,9 +107,11 @@ enum Command {
     /// (shadowtruth/tune/v1), plots/tune_<param>.png, the tuned settings run as a report
     /// (report.json, figures, page) and tune-gate.toml, gate rules that lock the suite setting's
     /// error on every view. docs/tune.md explains the search.
+    #[command(after_help = examples::TUNE)]
     Tune(tune::TuneArgs),
     /// Re-render report.csv, the plots and index.html of a report folder from its report.json,
     /// without running anything.
+    #[command(after_help = examples::REPORT)]
     Report(report::ReportArgs),
     /// Join the report folders of `run --shard K/N` (K = 1..N, any order) into one report
     /// folder, as the whole run would have written it apart from timings.
@@ -111,6 +121,7 @@ enum Command {
     /// folder: a folder that is no shard, shards of different plans, scenes or options, a
     /// missing or repeated shard, a run in a view of another shard, an unfinished shard.
     /// docs/cluster.md runs shards as a Slurm job array or a CI matrix.
+    #[command(after_help = examples::MERGE)]
     Merge(merge::MergeArgs),
     /// Reproduce the papers' results and judge each claim: Ehm et al.'s Figure 12 on the island
     /// (scenes/papers/island.json), Fig. 4 and Table 1 and Pagot et al.'s Table 1 and Fig. 6 on
@@ -119,6 +130,7 @@ enum Command {
     /// Writes the usual report (the papers' set-ups) into OUT_DIR, plus claims.json (per claim:
     /// id, paper, statement, set-up, rule, our numbers, verdict holds / partly / does_not_hold,
     /// and the same rule over other set-ups: sensitivity, sensitivity_summary) and claims.html.
+    #[command(after_help = examples::PAPERS)]
     Papers(papers::PapersArgs),
     /// Generate the island of Ehm et al. (WSCG 2015, Figure 12) from a seed: DIR/island.json
     /// and DIR/meshes/island_terrain.obj.
@@ -127,6 +139,7 @@ enum Command {
     /// a `front` camera on the lit side (the featured tree's trunk `tree00_trunk` in view) and
     /// a `back` camera where the light grazes the slopes. The same seed gives the same bytes;
     /// the default seed gives the committed scenes/papers/island.json.
+    #[command(after_help = examples::ISLAND)]
     Island(island::IslandArgs),
     /// Write everything an engine needs to render the same pixels under the same light into
     /// DIR: view.json, the G-buffer as EXRs and the scene as glTF binary.
@@ -138,6 +151,7 @@ enum Command {
     /// z) and ids.exr (u32 triangle, object, class: 0 background, 1 facing away, 2 outside the
     /// light, 3 evaluated), row 0 at the top. scene.glb: one mesh per object in world space,
     /// every camera and every light (KHR_lights_punctual).
+    #[command(after_help = examples::VIEW_EXPORT)]
     ViewExport(view_export::ViewExportArgs),
     /// Generate a procedural scene of a given size into DIR: DIR/scene.json and one mesh file
     /// per object, the same bytes for the same arguments.
@@ -148,6 +162,7 @@ enum Command {
     /// of the triangles are terrain. The count is met within 2 % from 20K triangles up. Each
     /// scene has a camera `main` over the ground from one corner, a low directional `sun` and a
     /// spot light `lamp` above the centre, both casting long shadows into the view.
+    #[command(after_help = examples::GENERATE)]
     Generate(generate::GenerateArgs),
 }
 
@@ -207,5 +222,53 @@ mod tests {
             let command = cli.find_subcommand(name).unwrap_or_else(|| panic!("no command {name}"));
             assert!(command.get_arguments().any(|a| a.get_id() == arg), "{name} has no argument {arg}");
         }
+    }
+
+    /// `a 'b c' d  # note` → ["a", "b c", "d"]: the shell's words of an example line.
+    fn words(line: &str) -> Vec<String> {
+        let line = line.split(" #").next().unwrap_or_default();
+        let (mut out, mut word, mut quoted) = (Vec::new(), String::new(), false);
+        for c in line.chars() {
+            match c {
+                '\'' => quoted = !quoted,
+                ' ' if !quoted => out.extend((!word.is_empty()).then(|| std::mem::take(&mut word))),
+                c => word.push(c),
+            }
+        }
+        out.extend((!word.is_empty()).then_some(word));
+        out
+    }
+
+    #[test]
+    fn every_command_ends_its_help_with_examples_that_parse() {
+        let cli = <Cli as clap::CommandFactory>::command();
+        for command in cli.get_subcommands() {
+            let name = command.get_name();
+            let help = command.get_after_help().map(|h| h.to_string()).unwrap_or_default();
+            let lines: Vec<&str> =
+                help.lines().filter_map(|l| l.trim().strip_prefix("shadowtruth ")).collect();
+            assert!(help.starts_with("Examples:") && !lines.is_empty(), "{name} has no examples");
+            for line in lines {
+                let argv = std::iter::once("shadowtruth".to_string()).chain(words(line));
+                let parsed = Cli::try_parse_from(argv);
+                assert!(parsed.is_ok(), "{name}: `{line}` does not parse: {}", parsed.err().unwrap());
+                assert!(words(line)[0] == name, "{name}: `{line}` is another command's");
+            }
+        }
+    }
+
+    #[test]
+    fn every_option_and_argument_says_what_it_is() {
+        let cli = <Cli as clap::CommandFactory>::command();
+        let mut silent = Vec::new();
+        for command in cli.get_subcommands() {
+            for arg in command.get_arguments().filter(|a| a.get_id() != "help") {
+                let help = arg.get_help().or(arg.get_long_help()).map(|h| h.to_string()).unwrap_or_default();
+                if help.trim().is_empty() {
+                    silent.push(format!("{} {}", command.get_name(), arg.get_id()));
+                }
+            }
+        }
+        assert!(silent.is_empty(), "without help: {silent:?}");
     }
 }

@@ -18,6 +18,8 @@ pub(super) fn pick<'a, T>(
             .iter()
             .find(|i| get(i) == n)
             .with_context(|| format!("{}: no {what} named '{n}' (have: {})", file.display(), have())),
-        None => items.first().with_context(|| format!("{}: the scene has no {what}", file.display())),
+        None => items.first().with_context(|| {
+            format!("{}: {}", file.display(), shadowtruth::scene::missing_view_item(file, what))
+        }),
     }
 }

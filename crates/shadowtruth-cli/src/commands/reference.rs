@@ -77,6 +77,10 @@ pub(super) fn reference(a: ReferenceArgs) -> Result<u8> {
         (ReferenceKind::Coverage, n) => n.unwrap_or(DEFAULT_COVERAGE_GRID),
         (ReferenceKind::Area, n) => n.unwrap_or(DEFAULT_AREA_LIGHT_GRID),
     };
+    match a.kind {
+        ReferenceKind::Hard => super::args::check_output_extension(&a.out, "png", "the hard mask as a PNG")?,
+        _ => super::args::check_output_extension(&a.out, "exr", "a soft reference as a two-channel EXR")?,
+    }
     set_threads(a.threads)?;
     // Read before tracing, so that a wrong file fails at once.
     let embree = (a.embree_timing.as_deref())
@@ -98,13 +102,23 @@ pub(super) fn reference(a: ReferenceArgs) -> Result<u8> {
             _ => trace_area_light_reference(&scene, &bvh, g, light, grid)?,
         })
     };
-    if a.kind == ReferenceKind::Hard {
+    let what = if a.kind == ReferenceKind::Hard {
         write_mask_png(&a.out, gbuffer.width, gbuffer.height, &hard.mask_codes(&gbuffer))
             .with_context(|| format!("writing {}", a.out.display()))?;
+        "hard shadow mask"
     } else {
         write_soft_exr(&a.out, &trace_soft(&gbuffer)?)
             .with_context(|| format!("writing {}", a.out.display()))?;
-    }
+        if a.kind == ReferenceKind::Coverage { "pixel-coverage reference" } else { "area-light reference" }
+    };
+    println!(
+        "wrote {}: the {what} of camera '{}' under light '{}', {}×{} pixels",
+        a.out.display(),
+        camera.name,
+        light.name,
+        gbuffer.width,
+        gbuffer.height
+    );
     if a.timing {
         let ours = trace_timing::time_tracer(&scene, &bvh, camera, light, a.repeats);
         println!("node test: {}", shadowtruth::trace::node_test_name());

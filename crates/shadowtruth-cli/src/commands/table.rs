@@ -19,13 +19,20 @@ pub(super) enum TableLayout {
 }
 
 pub(super) fn print_tables(report: &Report, layout: TableLayout) {
-    let groups = match layout {
-        TableLayout::PerScene => summaries(report, per_scene),
-        TableLayout::Grouped => summaries(report, |scene| scene_folder(report, scene)),
-        TableLayout::Suite => summaries(report, |_| "all scenes".into()),
+    let key = |scene: &str| match layout {
+        TableLayout::PerScene => per_scene(scene),
+        TableLayout::Grouped => scene_folder(report, scene),
+        TableLayout::Suite => "all scenes".into(),
     };
+    let groups = summaries(report, key);
+    if !groups.is_empty() {
+        println!(
+            "\nshd/lit %: false shadow % / false lit %, of the evaluated pixels of the views a table \
+             pools (named under its title)"
+        );
+    }
     for g in &groups {
-        print_group(g);
+        print_group(g, &views_of(report, &g.name, key));
     }
     if let Some(line) = uncertain_line(report) {
         println!("{line}");
@@ -50,6 +57,19 @@ fn uncertain_line(report: &Report) -> Option<String> {
     Some(format!("reference uncertain (pixels left out of every score): {}", list.join(", ")))
 }
 
+/// The views (scene/camera/light) of the runs whose scene `key` puts in group `group`, in the
+/// report's order.
+fn views_of(report: &Report, group: &str, key: impl Fn(&str) -> String) -> Vec<String> {
+    let mut views: Vec<String> = Vec::new();
+    for r in report.runs.iter().filter(|r| key(&r.scene) == group) {
+        let view = format!("{}/{}/{}", r.scene, r.camera, r.light);
+        if !views.contains(&view) {
+            views.push(view);
+        }
+    }
+    views
+}
+
 /// The folder of a scene's file, as the report records it.
 fn scene_folder(report: &Report, scene: &str) -> String {
     report
@@ -65,7 +85,7 @@ fn row_name(s: &SettingSummary) -> String {
     if s.depth_format == "f32" { s.label.clone() } else { format!("{} [{}]", s.label, s.depth_format) }
 }
 
-fn print_group(g: &GroupSummary) {
+fn print_group(g: &GroupSummary, views: &[String]) {
     let resolutions = g.resolutions();
     let mut unique: Vec<String> = Vec::new();
     for row in g.settings.iter().map(row_name) {
@@ -75,6 +95,10 @@ fn print_group(g: &GroupSummary) {
     }
     let width = unique.iter().map(|r| r.len()).max().unwrap_or(9).max(9);
     println!("\n{}", g.name);
+    match views {
+        [one] => println!("view {one}"),
+        _ => println!("pools the pixels of {} views: {}", views.len(), views.join(", ")),
+    }
     print!("{:width$}", "technique");
     for res in &resolutions {
         print!("  {:>15}", format!("{res}² shd/lit %"));
@@ -123,5 +147,20 @@ mod tests {
         report.runs = vec![run("a", "x", 0), run("rocks", "x", 3), run("rocks", "y", 3), run("spot", "x", 1)];
         let line = uncertain_line(&report).expect("two views have uncertain pixels");
         assert!(line.ends_with(": rocks/main/sun 3, spot/main/sun 1"), "{line}");
+    }
+
+    #[test]
+    fn a_table_names_the_views_it_pools() {
+        let run = |scene: &str, light: &str| {
+            let mut r = crate::gate::test_run(scene, "none", serde_json::json!({}), "x", Counts::default());
+            r.light = light.into();
+            r
+        };
+        let report = Report {
+            runs: vec![run("a", "sun"), run("a", "lamp"), run("a", "sun"), run("b", "sun")],
+            ..Report::default()
+        };
+        assert_eq!(views_of(&report, "a", |s| s.to_string()), ["a/main/sun", "a/main/lamp"]);
+        assert_eq!(views_of(&report, "all", |_| "all".to_string()).len(), 3);
     }
 }

@@ -41,7 +41,9 @@ pub(super) fn verify(a: VerifyArgs) -> Result<u8> {
         match name {
             Some(n) if names.contains(&n.as_str()) => Ok(vec![n.clone()]),
             Some(n) => bail!("{}: no {what} named '{n}' (have: {})", a.scene.display(), names.join(", ")),
-            None if names.is_empty() => bail!("{}: the scene has no {what}", a.scene.display()),
+            None if names.is_empty() => {
+                bail!("{}: {}", a.scene.display(), shadowtruth::scene::missing_view_item(&a.scene, what))
+            }
             None => Ok(names.iter().map(|s| s.to_string()).collect()),
         }
     };

@@ -62,8 +62,7 @@ fn select(plan: &Plan, scene: Scene, problems: &mut Vec<Problem>) -> Selected {
     let light_names: Vec<&str> = scene.lights.iter().map(|l| l.name.as_str()).collect();
     for (field, names) in [("cameras", &camera_names), ("lights", &light_names)] {
         if names.is_empty() {
-            let message =
-                format!("the scene has no {}: there is nothing to score", &field[..field.len() - 1]);
+            let message = shadowtruth::scene::missing_view_item(&scene.source, &field[..field.len() - 1]);
             problems.push(Problem { file: scene.source.clone(), path: field.into(), message });
         }
     }

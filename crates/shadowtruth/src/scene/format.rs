@@ -76,6 +76,18 @@ pub(crate) fn read_scene(root: &Value, problems: &mut Problems) -> SceneDesc {
     let Some(mut top) = Reader::new(root, String::new(), problems) else {
         return desc;
     };
+    // Another program's JSON (a folder of scenes may hold some): one problem, not one for
+    // each field it lacks and each it has.
+    if ["format", "objects", "cameras", "lights"].iter().all(|k| top.get(k).is_none()) {
+        top.problem(
+            "",
+            format!(
+                "not a shadowtruth scene: it has no \"format\": \"{SCENE_FORMAT}\", objects, cameras \
+                 or lights. Name the scene files, or keep other JSON files out of a folder of scenes"
+            ),
+        );
+        return desc;
+    }
     if let Some(format) = top.required("format", as_string)
         && format != SCENE_FORMAT
     {
