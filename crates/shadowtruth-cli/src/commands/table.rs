@@ -117,18 +117,17 @@ fn print_group(g: &GroupSummary, views: &[String]) {
         println!();
     }
     let Some(&top) = resolutions.last() else { return };
-    println!("best of each technique at {top}² (error %, shading ns/pixel):");
+    println!(
+        "best of each technique at {top}² (error %, CPU shading ns/pixel: median (range) of the repeats):"
+    );
     for s in g.best_per_family(top) {
-        println!(
-            "  {:<14} {:<width$} {:>8.3} {:>8.1}",
-            s.technique,
-            row_name(s),
-            100.0 * s.error,
-            s.ns_per_pixel
-        );
+        println!("  {:<14} {:<width$} {:>8.3}  {}", s.technique, row_name(s), 100.0 * s.error, s.cost_text());
     }
     let front: Vec<String> = g.pareto(top).iter().map(|s| row_name(s)).collect();
-    println!("Pareto set at {top}² (no setting both cheaper and better), by cost: {}", front.join(", "));
+    println!(
+        "Pareto set at {top}² (none better in error and no costlier beyond the timing noise), by cost: {}",
+        front.join(", ")
+    );
 }
 
 #[cfg(test)]

@@ -100,7 +100,7 @@ fn scene_summary(h: &mut String, g: &GroupSummary) {
         h,
         "<table class=\"summary\"><caption class=\"l\"><b>{}</b></caption><thead><tr><th>resolution</th>\
          <th class=\"l\">technique</th><th class=\"l\">best setting</th><th>error %</th><th>false shadow %</th>\
-         <th>false lit %</th><th>ns/pixel</th><th>Pareto</th></tr></thead><tbody>",
+         <th>false lit %</th><th title=\"this tool's CPU shading pass per evaluated pixel: the median of the repeats, their range in brackets\">ns/pixel (range)</th><th>Pareto</th></tr></thead><tbody>",
         escape(&g.name)
     );
     for res in g.resolutions() {
@@ -110,13 +110,13 @@ fn scene_summary(h: &mut String, g: &GroupSummary) {
             let _ = write!(
                 h,
                 "<tr><td>{res}</td><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{:.3}</td><td>{:.3}</td>\
-                 <td>{:.3}</td><td>{:.1}</td><td class=\"front\">{}</td></tr>",
+                 <td>{:.3}</td><td>{}</td><td class=\"front\">{}</td></tr>",
                 escape(&s.technique),
                 escape(&s.label),
                 100.0 * s.error,
                 100.0 * s.false_shadow,
                 100.0 * s.false_lit,
-                s.ns_per_pixel,
+                s.cost_text(),
                 if on_front { "✓" } else { "" }
             );
         }

@@ -11,6 +11,7 @@ pub mod frame_plots;
 pub mod html;
 pub mod indexed_image;
 pub mod palette;
+pub mod pareto;
 mod path_section;
 pub mod plots;
 mod point_map_section;

@@ -4,6 +4,7 @@
 
 use super::bundled_font::DEJAVU_SANS_TTF;
 use super::palette::{BEST, SERIES, rate_colour};
+use super::pareto::{CostPoint, pareto_front};
 use plotters::coord::CoordTranslate;
 use plotters::prelude::*;
 use shadowtruth::atomic_file::{encode_rgb_png, write_atomic};
@@ -28,6 +29,9 @@ pub struct Chart {
     /// Series drawn as lines with markers (`points_only` draws markers alone).
     pub series: Vec<(String, Vec<(f64, f64)>)>,
     pub points_only: bool,
+    /// Per series, the x range of its one point (a cost's least and greatest over the repeats),
+    /// drawn as a horizontal bar; empty when no point has one.
+    pub x_ranges: Vec<Option<[f64; 2]>>,
     pub pareto: Option<Vec<(f64, f64)>>,
     /// Per panel, a point marked (an optimum) with an x band around it (its safe range).
     pub marks: Vec<Option<Marks>>,
@@ -50,6 +54,7 @@ impl Default for Chart {
             integer_x: false,
             series: Vec::new(),
             points_only: false,
+            x_ranges: Vec::new(),
             pareto: None,
             marks: Vec::new(),
             panel_size: SERIES_PER_PANEL,
@@ -252,46 +257,40 @@ fn resolution_charts(report: &Report) -> Vec<Chart> {
         .collect()
 }
 
-/// The points not dominated by another (cheaper and no worse, or no dearer and better),
-/// sorted by cost.
-pub fn pareto_front(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
-    let mut sorted: Vec<(f64, f64)> = points.to_vec();
-    sorted.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
-    let mut front: Vec<(f64, f64)> = Vec::new();
-    for p in sorted {
-        if front.last().is_none_or(|last| p.1 < last.1) {
-            front.push(p);
-        }
-    }
-    front
-}
-
 /// Shading cost against error at each resolution, one point per technique setting, with the
 /// Pareto front.
 fn cost_charts(report: &Report) -> Vec<Chart> {
-    // By (view, resolution, depth format): (label, (cost, error)) per run.
-    type Points = Vec<(String, (f64, f64))>;
+    // By (view, resolution, depth format): (label, cost and error) per run.
+    type Points = Vec<(String, CostPoint)>;
     let mut groups: BTreeMap<(View, u32, String), Points> = BTreeMap::new();
     for r in &report.runs {
+        let point = CostPoint {
+            cost: r.timings.ns_per_pixel,
+            cost_range: r.timings.cost_range(),
+            error: error_percent(r),
+            measured: r.timings.cost_measured(),
+        };
         groups
             .entry((view_of(r), r.resolution, r.depth_format.clone()))
             .or_default()
-            .push((r.label.clone(), (r.timings.ns_per_pixel, error_percent(r))));
+            .push((r.label.clone(), point));
     }
     groups
         .into_iter()
         .filter(|(_, pts)| pts.len() >= 2)
         .map(|((view, res, format), pts)| {
-            let all: Vec<(f64, f64)> = pts.iter().map(|p| p.1).collect();
+            let all: Vec<CostPoint> = pts.iter().map(|p| p.1).collect();
+            let front = pareto_front(&all).into_iter().map(|i| (all[i].cost, all[i].error)).collect();
             Chart {
                 stem: chart_stem("cost", &view, &[&res.to_string(), &format], &format!("{res}_{format}")),
                 title: format!("{}: cost against error at {res}² ({format})", view_title(&view)),
                 x_label: "shading cost (ns per evaluated pixel)".into(),
                 y_label: "error (% of evaluated pixels; 0 drawn at 1e-4)".into(),
                 log_x: false,
-                series: pts.into_iter().map(|(label, p)| (label, vec![p])).collect(),
+                x_ranges: all.iter().map(|p| p.measured.then_some(p.cost_range)).collect(),
+                series: pts.into_iter().map(|(label, p)| (label, vec![(p.cost, p.error)])).collect(),
                 points_only: true,
-                pareto: Some(pareto_front(&all)),
+                pareto: Some(front),
                 ..Chart::default()
             }
         })
@@ -456,6 +455,7 @@ pub fn panels(c: &Chart) -> Vec<Chart> {
                 None => format!("{} ({}/{count})", c.title, i + 1),
             },
             series: chunk.to_vec(),
+            x_ranges: c.x_ranges.iter().skip(i * c.panel_size).take(chunk.len()).copied().collect(),
             marks: vec![c.marks.get(i).cloned().flatten()],
             ..c.clone()
         })
@@ -517,6 +517,10 @@ macro_rules! panel_body {
                     .map_err(err)?;
             }
             draw_markers(&mut chart, points, shape, colour).map_err(err)?;
+            if let (Some(Some([lo, hi])), Some(&(x, y))) = (c.x_ranges.get(i), points.first()) {
+                let bar = ErrorBar::new_horizontal(y, *lo, x, *hi, colour.stroke_width(1), 8);
+                chart.draw_series(std::iter::once(bar)).map_err(err)?;
+            }
         }
         if let Some(front) = &c.pareto {
             chart.draw_series(LineSeries::new(pareto_steps(front), BLACK.stroke_width(2))).map_err(err)?;
@@ -716,6 +720,7 @@ pub(crate) mod tests {
     use super::*;
 
     use crate::drawing::palette::{FALSE_LIT, FALSE_SHADOW, TOTAL_ERROR};
+    use crate::drawing::pareto::{CostPoint, pareto_front};
 
     fn chart(series: usize) -> Chart {
         Chart {
@@ -779,31 +784,55 @@ pub(crate) mod tests {
     }
 
     #[test]
-    fn the_pareto_front_holds_exactly_the_non_dominated_points() {
+    fn the_pareto_step_line_turns_only_at_front_points() {
         let mut state = 7u64;
         let mut next = || {
             state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
             ((state >> 40) % 50) as f64
         };
         for _ in 0..50 {
-            let points: Vec<(f64, f64)> = (0..30).map(|_| (next(), next())).collect();
-            let front = pareto_front(&points);
-            let dominates = |a: &(f64, f64), b: &(f64, f64)| a.0 <= b.0 && a.1 <= b.1 && a != b;
-            for f in &front {
-                assert!(!points.iter().any(|p| dominates(p, f)), "{f:?} is dominated");
-            }
-            for p in &points {
-                if !points.iter().any(|q| dominates(q, p)) {
-                    assert!(front.contains(p), "{p:?} is not dominated but left out");
-                }
-            }
-            // The step line turns only at front points: every other corner is (next x, previous y).
+            let points: Vec<CostPoint> = (0..30).map(|_| CostPoint::exact(next(), next())).collect();
+            let front: Vec<(f64, f64)> =
+                pareto_front(&points).into_iter().map(|i| (points[i].cost, points[i].error)).collect();
+            // Every other corner is (next x, previous y).
             let steps = pareto_steps(&front);
             assert_eq!(steps.len(), 2 * front.len() - 1);
             for (k, w) in steps.windows(2).enumerate() {
                 assert!(w[0].0 == w[1].0 || w[0].1 == w[1].1, "segment {k} is not a step");
             }
         }
+    }
+
+    /// A cost chart draws each measured point's cost range as a bar, and no front mark on a
+    /// point whose cost was not measured.
+    #[test]
+    fn cost_ranges_are_drawn_and_unmeasured_costs_stay_off_the_front() {
+        let run = |label: &str, ns: f64, range: Option<[f64; 2]>, shade: f64, false_shadow: u64| {
+            let counts = shadowtruth::metrics::Counts { evaluated: 1000, false_shadow, ..Default::default() };
+            let mut r = crate::gate::test_run("s", "constant", serde_json::json!({}), label, counts);
+            r.rates = r.counts.rates();
+            r.timings = shadowtruth::record::Timings {
+                prepare: 1.0,
+                shade,
+                ns_per_pixel: ns,
+                ns_per_pixel_range: range,
+            };
+            r
+        };
+        let report = Report {
+            runs: vec![
+                run("none", 9.0, Some([8.5, 10.5]), 5.0, 480),
+                run("constant", 9.6, Some([9.0, 11.0]), 5.0, 5),
+                run("external", 0.0, None, 0.0, 1),
+            ],
+            ..Report::new()
+        };
+        let charts = cost_charts(&report);
+        assert_eq!(charts.len(), 1);
+        let c = &charts[0];
+        assert_eq!(c.x_ranges, [Some([8.5, 10.5]), Some([9.0, 11.0]), None]);
+        assert_eq!(c.pareto, Some(vec![(9.6, 0.5)]), "none is within constant's noise; external unmeasured");
+        assert!(chart_svg(c).is_ok());
     }
 
     #[test]

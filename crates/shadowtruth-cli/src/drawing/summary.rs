@@ -3,7 +3,7 @@
 //! and the settings no other beats on both error and cost (the Pareto set). The terminal table
 //! and the page's summary read it.
 
-use super::plots::pareto_front;
+use super::pareto::{CostPoint, pareto_front};
 use shadowtruth::record::{Report, RunRecord};
 
 /// One setting (label, resolution, depth format) over the views of a scene or group.
@@ -18,9 +18,35 @@ pub struct SettingSummary {
     pub false_shadow: f64,
     pub false_lit: f64,
     pub error: f64,
-    /// Shading cost, the mean over the views.
+    /// Shading cost, the mean over the views of their medians.
     pub ns_per_pixel: f64,
+    /// The means over the views of the least and greatest cost of the repeats.
+    pub ns_per_pixel_range: [f64; 2],
+    /// Whether the cost was measured here in every view (not another renderer's buffer).
+    pub cost_measured: bool,
     pub views: usize,
+}
+
+impl SettingSummary {
+    /// The cost as read: "12.3 (11.8–13.0)" ns/pixel, median and range of the repeats; "—"
+    /// where it was not measured here.
+    pub fn cost_text(&self) -> String {
+        let [lo, hi] = self.ns_per_pixel_range;
+        match (self.cost_measured, lo < hi) {
+            (false, _) => "—".into(),
+            (true, true) => format!("{:.1} ({lo:.1}–{hi:.1})", self.ns_per_pixel),
+            (true, false) => format!("{:.1}", self.ns_per_pixel),
+        }
+    }
+
+    fn cost_point(&self) -> CostPoint {
+        CostPoint {
+            cost: self.ns_per_pixel,
+            cost_range: self.ns_per_pixel_range,
+            error: self.error,
+            measured: self.cost_measured,
+        }
+    }
 }
 
 /// The settings of one scene or group, in report order.
@@ -53,14 +79,12 @@ impl GroupSummary {
         best
     }
 
-    /// The settings at `resolution` that no other beats on both cost and error, by cost.
+    /// The settings at `resolution` that no other beats on error and cost beyond the cost's
+    /// noise (pareto.rs), by cost.
     pub fn pareto(&self, resolution: u32) -> Vec<&SettingSummary> {
         let at: Vec<&SettingSummary> = self.settings.iter().filter(|s| s.resolution == resolution).collect();
-        let points: Vec<(f64, f64)> = at.iter().map(|s| (s.ns_per_pixel, s.error)).collect();
-        pareto_front(&points)
-            .into_iter()
-            .filter_map(|p| at.iter().find(|s| (s.ns_per_pixel, s.error) == p).copied())
-            .collect()
+        let points: Vec<CostPoint> = at.iter().map(|s| s.cost_point()).collect();
+        pareto_front(&points).into_iter().map(|i| at[i]).collect()
     }
 }
 
@@ -103,6 +127,7 @@ fn settings(runs: &[&RunRecord]) -> Vec<SettingSummary> {
             let scored = of.iter().map(|r| r.counts.scored()).sum::<u64>().max(1) as f64;
             let false_shadow = of.iter().map(|r| r.counts.false_shadow).sum::<u64>() as f64 / scored;
             let false_lit = of.iter().map(|r| r.counts.false_lit).sum::<u64>() as f64 / scored;
+            let mean = |f: &dyn Fn(&RunRecord) -> f64| of.iter().map(|r| f(r)).sum::<f64>() / of.len() as f64;
             SettingSummary {
                 label: label.to_string(),
                 technique: of[0].technique.clone(),
@@ -111,7 +136,12 @@ fn settings(runs: &[&RunRecord]) -> Vec<SettingSummary> {
                 false_shadow,
                 false_lit,
                 error: false_shadow + false_lit,
-                ns_per_pixel: of.iter().map(|r| r.timings.ns_per_pixel).sum::<f64>() / of.len() as f64,
+                ns_per_pixel: mean(&|r| r.timings.ns_per_pixel),
+                ns_per_pixel_range: [
+                    mean(&|r| r.timings.cost_range()[0]),
+                    mean(&|r| r.timings.cost_range()[1]),
+                ],
+                cost_measured: of.iter().all(|r| r.timings.cost_measured()),
                 views: of.len(),
             }
         })
@@ -140,7 +170,8 @@ mod tests {
             Counts { evaluated: 1000, false_shadow: fs, false_lit: fl, ..Counts::default() },
         );
         r.resolution = resolution;
-        r.timings.ns_per_pixel = ns;
+        // Timed here, with no spread: the front is the classic one.
+        (r.timings.shade, r.timings.ns_per_pixel) = (ns * 1e-3, ns);
         r
     }
 

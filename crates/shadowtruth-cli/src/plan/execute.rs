@@ -275,7 +275,7 @@ impl RunRecorder for Recorder<'_, '_, '_> {
 
     fn record(&mut self, run: ProducedRun) -> Result<(), PlanError> {
         let mut record = run_record(self.traced, self.map, run.spec, run.visibility);
-        record.timings = timings(run.prepare_ms, run.shade_ms, record.counts.evaluated);
+        record.timings = timings(run.prepare_ms, run.shade_ms, run.shade_range_ms, record.counts.evaluated);
         record.layer_memory_bytes = run.layer_memory_bytes;
         record.pipeline = run.pipeline.cloned();
         emit(self.sinks, &Event::RunDone { record: &record, visibility: run.visibility })

@@ -256,10 +256,11 @@ impl Schedule<'_, '_, '_> {
         track: &mut RunTrack,
     ) -> Result<Vec<f32>, PlanError> {
         let spec = &self.plan.techniques[ti];
-        let (visibility, shade_ms) =
-            shade_timed(self.plan.repeats, spec, traced.scene, run.setting, run.layers);
+        let (visibility, shade) = shade_timed(self.plan.repeats, spec, traced.scene, run.setting, run.layers);
+        let shade_ms = shade.median_ms;
         let mut record = run_record(traced, run.setting, spec, &visibility);
-        record.timings = timings(run.prepare_ms, shade_ms, record.counts.evaluated);
+        record.timings =
+            timings(run.prepare_ms, shade_ms, Some([shade.min_ms, shade.max_ms]), record.counts.evaluated);
         record.layer_memory_bytes = run.layers.iter().map(|l| l.memory_bytes() as u64).sum();
         let (frame, frames) = (run.frame as u32, run.frames as u32);
         emit(
@@ -399,8 +400,12 @@ impl RunTrack {
         record.counts = self.counts;
         record.rates = self.counts.rates();
         let n = frames.max(1) as f64;
-        record.timings =
-            timings(self.prepare_ms / n, self.shade_ms / n, self.counts.evaluated / frames.max(1) as u64);
+        record.timings = timings(
+            self.prepare_ms / n,
+            self.shade_ms / n,
+            None,
+            self.counts.evaluated / frames.max(1) as u64,
+        );
         record.temporal = Some(TemporalRecord {
             frames: frames as u32,
             moving: moving.into(),

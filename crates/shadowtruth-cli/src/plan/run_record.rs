@@ -41,7 +41,20 @@ pub(super) fn run_record(
     }
 }
 
-/// A run's timings: building its layers, shading (both ms) and shading per evaluated pixel.
-pub(super) fn timings(prepare_ms: f64, shade_ms: f64, evaluated: u64) -> Timings {
-    Timings { prepare: prepare_ms, shade: shade_ms, ns_per_pixel: shade_ms * 1e6 / evaluated.max(1) as f64 }
+/// A run's timings: building its layers, shading (both ms, shading the median of repeats whose
+/// least and greatest time are `shade_range_ms` where it was timed over repeats) and shading per
+/// evaluated pixel.
+pub(super) fn timings(
+    prepare_ms: f64,
+    shade_ms: f64,
+    shade_range_ms: Option<[f64; 2]>,
+    evaluated: u64,
+) -> Timings {
+    let ns_per_pixel = |ms: f64| ms * 1e6 / evaluated.max(1) as f64;
+    Timings {
+        prepare: prepare_ms,
+        shade: shade_ms,
+        ns_per_pixel: ns_per_pixel(shade_ms),
+        ns_per_pixel_range: shade_range_ms.map(|r| r.map(ns_per_pixel)),
+    }
 }

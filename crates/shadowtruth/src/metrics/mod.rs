@@ -11,4 +11,4 @@ pub use attribution::{Attribution, DEFAULT_ATTRIBUTION_RESOLUTION, LightUv, MAX_
 pub use classify::{Counts, Rates, add_false_counts, falseness, score_hard};
 pub use flicker::{FrameDecisions, count_flicker, reference_decisions, technique_decisions};
 pub use soft::{SoftErrors, score_soft, thresholded};
-pub use timing::{Stopwatch, median_ms, timed_median, try_timed_median};
+pub use timing::{RepeatTimes, Stopwatch, median_ms, timed_median, timed_repeats, try_timed_median};

@@ -37,7 +37,30 @@ pub fn timed_median<T>(repeats: usize, mut work: impl FnMut() -> T) -> (T, f64) 
 }
 
 /// [`timed_median`] of fallible work: the first error ends the repeats.
-pub fn try_timed_median<T, E>(repeats: usize, mut work: impl FnMut() -> Result<T, E>) -> Result<(T, f64), E> {
+pub fn try_timed_median<T, E>(repeats: usize, work: impl FnMut() -> Result<T, E>) -> Result<(T, f64), E> {
+    try_timed_repeats(repeats, work).map(|(last, times)| (last, times.median_ms))
+}
+
+/// The wall-clock times of repeats of one piece of work: their median, least and greatest (ms).
+/// The range is the noise a comparison of two medians has to clear.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RepeatTimes {
+    pub median_ms: f64,
+    pub min_ms: f64,
+    pub max_ms: f64,
+}
+
+/// [`timed_median`] with the range of the repeats' times as well.
+pub fn timed_repeats<T>(repeats: usize, mut work: impl FnMut() -> T) -> (T, RepeatTimes) {
+    match try_timed_repeats(repeats, || Ok::<T, std::convert::Infallible>(work())) {
+        Ok(done) => done,
+    }
+}
+
+fn try_timed_repeats<T, E>(
+    repeats: usize,
+    mut work: impl FnMut() -> Result<T, E>,
+) -> Result<(T, RepeatTimes), E> {
     let mut samples_ms = Vec::with_capacity(repeats.max(1));
     let mut last = None;
     for _ in 0..repeats.max(1) {
@@ -45,7 +68,12 @@ pub fn try_timed_median<T, E>(repeats: usize, mut work: impl FnMut() -> Result<T
         last = Some(work()?);
         samples_ms.push(sw.ms());
     }
-    Ok((last.expect("at least one repeat"), median_ms(&samples_ms)))
+    let times = RepeatTimes {
+        median_ms: median_ms(&samples_ms),
+        min_ms: samples_ms.iter().copied().fold(f64::INFINITY, f64::min),
+        max_ms: samples_ms.iter().copied().fold(0.0, f64::max),
+    };
+    Ok((last.expect("at least one repeat"), times))
 }
 
 #[cfg(test)]
@@ -72,6 +100,17 @@ mod tests {
         );
         let failed: Result<((), f64), &str> = try_timed_median(3, || Err("stop"));
         assert_eq!(failed.unwrap_err(), "stop");
+    }
+
+    #[test]
+    fn repeats_report_their_range_around_the_median() {
+        let mut sleep_ms = [1u64, 12, 4].into_iter();
+        let ((), t) = timed_repeats(3, || {
+            std::thread::sleep(std::time::Duration::from_millis(sleep_ms.next().unwrap()))
+        });
+        // A sleep lasts at least as asked (a loaded machine only lengthens it).
+        assert!(t.min_ms >= 1.0 && t.median_ms >= 4.0 && t.max_ms >= 12.0, "{t:?}");
+        assert!(t.min_ms <= t.median_ms && t.median_ms <= t.max_ms, "{t:?}");
     }
 
     #[test]

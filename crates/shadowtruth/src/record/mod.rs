@@ -56,8 +56,24 @@ pub struct Timings {
     pub prepare: f64,
     /// The shading pass over the evaluated pixels, milliseconds.
     pub shade: f64,
-    /// Shading time per evaluated pixel, nanoseconds.
+    /// Shading time per evaluated pixel, nanoseconds: the median of the repeats.
     pub ns_per_pixel: f64,
+    /// The least and the greatest of the repeats' `ns_per_pixel`: the noise of the cost. Absent
+    /// where the shading was not timed here (another renderer's buffer) or in older reports.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ns_per_pixel_range: Option<[f64; 2]>,
+}
+
+impl Timings {
+    /// Whether the shading was timed here: another renderer's buffer records no cost (0 ms).
+    pub fn cost_measured(&self) -> bool {
+        self.shade > 0.0
+    }
+
+    /// The range of the cost over the repeats; the median alone where none was recorded.
+    pub fn cost_range(&self) -> [f64; 2] {
+        self.ns_per_pixel_range.unwrap_or([self.ns_per_pixel; 2])
+    }
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize)]

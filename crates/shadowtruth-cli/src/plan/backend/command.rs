@@ -106,6 +106,7 @@ impl MapBackend for CommandBackend<'_> {
                 visibility,
                 prepare_ms: *ms,
                 shade_ms: 0.0,
+                shade_range_ms: None,
                 layer_memory_bytes: 0,
                 pipeline: None,
             };

@@ -8,7 +8,7 @@ use crate::plan::layer_groups::{LayerGroups, group_label};
 use crate::plan::layers::{BinnedView, build_layers_timed};
 use crate::plan::map_setting::MapSetting;
 use crate::plan::{Plan, PlanError};
-use shadowtruth::metrics::timed_median;
+use shadowtruth::metrics::{RepeatTimes, timed_repeats};
 use shadowtruth::scene::Scene;
 use shadowtruth::technique::{BuiltLayers, LayerNeeds, TechniqueSpec};
 
@@ -55,12 +55,13 @@ impl MapBackend for CpuBackend<'_> {
             let layer_memory_bytes = layers.iter().map(|l| l.memory_bytes() as u64).sum();
             for &ti in members {
                 let spec = &self.plan.techniques[ti];
-                let (visibility, shade_ms) = shade_timed(self.plan.repeats, spec, scene, map, &layers);
+                let (visibility, shade) = shade_timed(self.plan.repeats, spec, scene, map, &layers);
                 let run = ProducedRun {
                     spec,
                     visibility: &visibility,
                     prepare_ms,
-                    shade_ms,
+                    shade_ms: shade.median_ms,
+                    shade_range_ms: Some([shade.min_ms, shade.max_ms]),
                     layer_memory_bytes,
                     pipeline: None,
                 };
@@ -103,16 +104,16 @@ pub(in crate::plan) fn group_layers<'m>(
 }
 
 /// The technique's visibility of every evaluated sample through `layers` (one per map of
-/// `map`), and the median shading time (ms) of `repeats`.
+/// `map`), and the shading times of `repeats` (their median and range).
 pub(in crate::plan) fn shade_timed(
     repeats: usize,
     spec: &TechniqueSpec,
     scene: &Scene,
     map: &MapSetting,
     layers: &[BuiltLayers],
-) -> (Vec<f32>, f64) {
+) -> (Vec<f32>, RepeatTimes) {
     let technique = spec.build().expect("only shaded techniques are in a layer group");
     // The contexts are built once, outside the clock: only shading is timed.
     let contexts = map.contexts(scene, layers);
-    timed_median(repeats, || map.shade(technique.as_ref(), &contexts))
+    timed_repeats(repeats, || map.shade(technique.as_ref(), &contexts))
 }

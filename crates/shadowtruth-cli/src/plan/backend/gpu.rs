@@ -90,6 +90,7 @@ impl MapBackend for GpuBackend<'_> {
                     visibility: &visibility,
                     prepare_ms,
                     shade_ms,
+                    shade_range_ms: None,
                     layer_memory_bytes,
                     pipeline: Some(&self.used),
                 };

@@ -53,6 +53,7 @@ impl MapBackend for ImportedBackend {
                 visibility: &run.visibility,
                 prepare_ms: run.read_ms,
                 shade_ms: 0.0,
+                shade_range_ms: None,
                 layer_memory_bytes: 0,
                 pipeline: None,
             };

@@ -24,8 +24,10 @@ pub(in crate::plan) struct ProducedRun<'a> {
     pub visibility: &'a [f32],
     /// Building (or reading) what the technique reads, ms.
     pub prepare_ms: f64,
-    /// Shading, ms.
+    /// Shading, ms (0 where not timed here).
     pub shade_ms: f64,
+    /// The least and greatest shading time of the repeats, where shading was repeated, ms.
+    pub shade_range_ms: Option<[f64; 2]>,
     pub layer_memory_bytes: u64,
     /// The device, when not the CPU.
     pub pipeline: Option<&'a PipelineUsed>,
