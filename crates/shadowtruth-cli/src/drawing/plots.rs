@@ -815,7 +815,8 @@ pub(crate) mod tests {
                 prepare: 1.0,
                 shade,
                 ns_per_pixel: ns,
-                ns_per_pixel_range: range,
+                ns_per_pixel_min: range.map(|r| r[0]),
+                ns_per_pixel_max: range.map(|r| r[1]),
             };
             r
         };

@@ -55,6 +55,7 @@ pub(super) fn timings(
         prepare: prepare_ms,
         shade: shade_ms,
         ns_per_pixel: ns_per_pixel(shade_ms),
-        ns_per_pixel_range: shade_range_ms.map(|r| r.map(ns_per_pixel)),
+        ns_per_pixel_min: shade_range_ms.map(|r| ns_per_pixel(r[0])),
+        ns_per_pixel_max: shade_range_ms.map(|r| ns_per_pixel(r[1])),
     }
 }

@@ -58,10 +58,14 @@ pub struct Timings {
     pub shade: f64,
     /// Shading time per evaluated pixel, nanoseconds: the median of the repeats.
     pub ns_per_pixel: f64,
-    /// The least and the greatest of the repeats' `ns_per_pixel`: the noise of the cost. Absent
-    /// where the shading was not timed here (another renderer's buffer) or in older reports.
+    /// The least of the repeats' `ns_per_pixel`; with `ns_per_pixel_max`, the noise of the cost.
+    /// Absent where the shading was not timed here over repeats (another renderer's buffer, a
+    /// path's mean over frames) and in older reports.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub ns_per_pixel_range: Option<[f64; 2]>,
+    pub ns_per_pixel_min: Option<f64>,
+    /// The greatest of the repeats' `ns_per_pixel`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ns_per_pixel_max: Option<f64>,
 }
 
 impl Timings {
@@ -72,7 +76,10 @@ impl Timings {
 
     /// The range of the cost over the repeats; the median alone where none was recorded.
     pub fn cost_range(&self) -> [f64; 2] {
-        self.ns_per_pixel_range.unwrap_or([self.ns_per_pixel; 2])
+        [
+            self.ns_per_pixel_min.unwrap_or(self.ns_per_pixel),
+            self.ns_per_pixel_max.unwrap_or(self.ns_per_pixel),
+        ]
     }
 }
 
