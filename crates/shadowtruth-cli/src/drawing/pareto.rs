@@ -46,20 +46,25 @@ pub fn pareto_front(points: &[CostPoint]) -> Vec<usize> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    /// With exact costs the front is the classic one: exactly the points no other point is at
-    /// least as good as on both axes and better on one.
-    #[test]
-    fn with_exact_costs_the_front_holds_exactly_the_non_dominated_points() {
+    /// Fifty sets of thirty points with exact costs and errors on a coarse grid (so that ties
+    /// happen), the same every time.
+    pub(crate) fn random_point_sets() -> Vec<Vec<CostPoint>> {
         let mut state = 7u64;
         let mut next = || {
             state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
             ((state >> 40) % 50) as f64
         };
-        for _ in 0..50 {
-            let points: Vec<CostPoint> = (0..30).map(|_| CostPoint::exact(next(), next())).collect();
+        (0..50).map(|_| (0..30).map(|_| CostPoint::exact(next(), next())).collect()).collect()
+    }
+
+    /// With exact costs the front is the classic one: exactly the points no other point is at
+    /// least as good as on both axes and better on one.
+    #[test]
+    fn with_exact_costs_the_front_holds_exactly_the_non_dominated_points() {
+        for points in random_point_sets() {
             let front = pareto_front(&points);
             let dominates = |a: &CostPoint, b: &CostPoint| {
                 a.cost <= b.cost && a.error <= b.error && (a.cost, a.error) != (b.cost, b.error)

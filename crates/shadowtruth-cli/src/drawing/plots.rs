@@ -26,6 +26,9 @@ pub struct Chart {
     pub linear_y: bool,
     /// The x values are whole numbers (frames): a linear x axis labels whole ticks only.
     pub integer_x: bool,
+    /// The x values are base-2 logarithms (of resolutions): with `integer_x`, each whole tick
+    /// is labelled with its power of two, so every resolution is.
+    pub x_powers_of_two: bool,
     /// Series drawn as lines with markers (`points_only` draws markers alone).
     pub series: Vec<(String, Vec<(f64, f64)>)>,
     pub points_only: bool,
@@ -52,6 +55,7 @@ impl Default for Chart {
             log_x: false,
             linear_y: false,
             integer_x: false,
+            x_powers_of_two: false,
             series: Vec::new(),
             points_only: false,
             x_ranges: Vec::new(),
@@ -164,6 +168,8 @@ fn parameter_sweeps(report: &Report) -> Vec<Chart> {
         .into_iter()
         .filter(|(_, by_res)| by_res.values().any(|p| p.len() >= 2))
         .map(|((view, technique, format, param, others), by_res)| {
+            // Two values are two measurements, not a curve: no line between them.
+            let points_only = by_res.values().all(|p| p.len() < 3);
             let xs: Vec<f64> = by_res.values().flatten().map(|p| p.0).collect();
             let (lo, hi) = xs.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));
             let others_text = others.trim_matches(|c| c == '{' || c == '}').replace('"', "");
@@ -192,6 +198,7 @@ fn parameter_sweeps(report: &Report) -> Vec<Chart> {
                 x_label: param,
                 y_label: "% of evaluated pixels (0 drawn at 1e-4)".into(),
                 log_x: lo > 0.0 && hi / lo > 20.0,
+                points_only,
                 series,
                 marks,
                 panel_size: 3,
@@ -244,12 +251,14 @@ fn resolution_charts(report: &Report) -> Vec<Chart> {
             title: format!("{}: error against shadow-map resolution ({format})", view_title(&view)),
             x_label: "shadow-map resolution (texels per side)".into(),
             y_label: "error (% of evaluated pixels; 0 drawn at 1e-4)".into(),
-            log_x: true,
+            // Resolutions double: equal steps on a log2 axis, each labelled.
+            integer_x: true,
+            x_powers_of_two: true,
             series: series
                 .into_iter()
                 .map(|(label, mut pts)| {
                     pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-                    (label, pts)
+                    (label, pts.into_iter().map(|(res, error)| (res.log2(), error)).collect())
                 })
                 .collect(),
             ..Chart::default()
@@ -552,7 +561,11 @@ where
     let y0 = if c.linear_y { 0.0 } else { Y_FLOOR * 0.7 };
     let pad = (x1 - x0) * 0.05;
     let (log_x, linear_x) = (x0 * 0.9..x1 * 1.1, (x0 - pad).max(0.0)..x1 + pad);
-    let x_tick = |x: f64| if c.integer_x && x.fract() != 0.0 { String::new() } else { compact(x) };
+    let x_tick = |x: f64| match (c.integer_x && x.fract() != 0.0, c.x_powers_of_two) {
+        (true, _) => String::new(),
+        (false, true) => compact(x.exp2()),
+        (false, false) => compact(x),
+    };
     match (c.log_x, c.linear_y) {
         (true, false) => panel_body!(
             builder.build_cartesian_2d(log_x.log_scale(), (y0..y1).log_scale()).map_err(err)?,
@@ -620,6 +633,36 @@ fn draw_markers<DB: DrawingBackend, CT: CoordTranslate<From = (f64, f64)>>(
     Ok(())
 }
 
+/// The legend's names of series named `technique(k=v,…)`: where a name is too long for the
+/// legend, the parameters every series of its technique shares are left out (marked `…`), so
+/// that what tells the series apart is what stays.
+fn legend_names(names: &[&str]) -> Vec<String> {
+    let split = |name: &str| -> Option<(String, Vec<String>)> {
+        let (technique, rest) = name.split_once('(')?;
+        let params = rest.strip_suffix(')')?;
+        Some((technique.to_string(), params.split(',').map(str::to_string).collect()))
+    };
+    let parsed: Vec<Option<(String, Vec<String>)>> = names.iter().map(|n| split(n)).collect();
+    names
+        .iter()
+        .zip(&parsed)
+        .map(|(name, parts)| match parts {
+            Some((technique, params)) if name.chars().count() > LEGEND_CHARS => {
+                let siblings: Vec<&Vec<String>> =
+                    parsed.iter().flatten().filter(|(t, _)| t == technique).map(|(_, p)| p).collect();
+                let shared = |p: &String| siblings.len() > 1 && siblings.iter().all(|s| s.contains(p));
+                let kept: Vec<&str> = params.iter().filter(|p| !shared(p)).map(String::as_str).collect();
+                if kept.len() == params.len() {
+                    name.to_string()
+                } else {
+                    format!("{technique}(…,{})", kept.join(","))
+                }
+            }
+            _ => name.to_string(),
+        })
+        .collect()
+}
+
 /// The legend in its own column, beside the data rather than over it.
 fn draw_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
@@ -635,13 +678,14 @@ fn draw_legend<DB: DrawingBackend>(
         };
         area.draw(&Text::new(shown, (34, y - 7), font.clone()))
     };
-    for (i, (name, _)) in c.series.iter().enumerate() {
+    let names: Vec<&str> = c.series.iter().map(|(name, _)| name.as_str()).collect();
+    for (i, (name, shown)) in names.iter().zip(legend_names(&names)).enumerate() {
         let (colour, shape) = named_series_style(name, i);
         if !c.points_only {
             area.draw(&PathElement::new(vec![(4, y), (26, y)], colour.stroke_width(2)))?;
         }
         marker(area, shape, (15, y), 8, colour)?;
-        row(area, name, y)?;
+        row(area, &shown, y)?;
         y += 18;
     }
     if c.pareto.is_some() {
@@ -720,7 +764,6 @@ pub(crate) mod tests {
     use super::*;
 
     use crate::drawing::palette::{FALSE_LIT, FALSE_SHADOW, TOTAL_ERROR};
-    use crate::drawing::pareto::{CostPoint, pareto_front};
 
     fn chart(series: usize) -> Chart {
         Chart {
@@ -763,6 +806,20 @@ pub(crate) mod tests {
     }
 
     #[test]
+    fn long_legend_names_keep_what_tells_the_series_apart() {
+        let long = [
+            "normal_offset(falloff=sin_theta,scale_texels=0.5)",
+            "normal_offset(falloff=sin_theta,scale_texels=1.0)",
+        ];
+        let names = [long[0], long[1], "none", "receiver_plane(bias_depth=0.0)"];
+        let shown = legend_names(&names);
+        assert_eq!(shown[..2], ["normal_offset(…,scale_texels=0.5)", "normal_offset(…,scale_texels=1.0)"]);
+        assert_eq!(shown[2..], ["none", "receiver_plane(bias_depth=0.0)"], "short names stay whole");
+        // A long name alone of its technique keeps every parameter (then the legend cuts it).
+        assert_eq!(legend_names(&[long[0], "none"])[0], long[0]);
+    }
+
+    #[test]
     fn series_in_one_panel_never_share_a_colour_and_marker() {
         let styles: Vec<_> = (0..COLOURS.len() * 4).map(series_style).collect();
         for (i, a) in styles.iter().enumerate() {
@@ -785,13 +842,7 @@ pub(crate) mod tests {
 
     #[test]
     fn the_pareto_step_line_turns_only_at_front_points() {
-        let mut state = 7u64;
-        let mut next = || {
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            ((state >> 40) % 50) as f64
-        };
-        for _ in 0..50 {
-            let points: Vec<CostPoint> = (0..30).map(|_| CostPoint::exact(next(), next())).collect();
+        for points in crate::drawing::pareto::tests::random_point_sets() {
             let front: Vec<(f64, f64)> =
                 pareto_front(&points).into_iter().map(|i| (points[i].cost, points[i].error)).collect();
             // Every other corner is (next x, previous y).
