@@ -2,16 +2,18 @@
 //! the false shadow / false lit of every setting at every resolution, then the best setting of
 //! each technique family and the Pareto set at the highest resolution.
 
-use crate::drawing::summary::{GroupSummary, SettingSummary, per_scene, summaries};
-use shadowtruth::record::Report;
+use crate::drawing::summary::{GroupSummary, SettingSummary, per_scene, per_view, summaries};
+use shadowtruth::record::{Report, RunRecord};
 use std::path::Path;
 
 /// How the runs are split into tables.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
 pub(super) enum TableLayout {
-    /// One table per scene.
+    /// One table per scene (its cameras and lights pooled).
     #[default]
     PerScene,
+    /// One table per view (scene, camera and light).
+    PerView,
     /// One table per folder of scene files (`scenes/`, `scenes/papers/`, …).
     Grouped,
     /// One table over every scene.
@@ -19,9 +21,10 @@ pub(super) enum TableLayout {
 }
 
 pub(super) fn print_tables(report: &Report, layout: TableLayout) {
-    let key = |scene: &str| match layout {
-        TableLayout::PerScene => per_scene(scene),
-        TableLayout::Grouped => scene_folder(report, scene),
+    let key = |run: &RunRecord| match layout {
+        TableLayout::PerScene => per_scene(run),
+        TableLayout::PerView => per_view(run),
+        TableLayout::Grouped => scene_folder(report, &run.scene),
         TableLayout::Suite => "all scenes".into(),
     };
     let groups = summaries(report, key);
@@ -57,11 +60,11 @@ fn uncertain_line(report: &Report) -> Option<String> {
     Some(format!("reference uncertain (pixels left out of every score): {}", list.join(", ")))
 }
 
-/// The views (scene/camera/light) of the runs whose scene `key` puts in group `group`, in the
+/// The views (scene/camera/light) of the runs `key` puts in group `group`, in the
 /// report's order.
-fn views_of(report: &Report, group: &str, key: impl Fn(&str) -> String) -> Vec<String> {
+fn views_of(report: &Report, group: &str, key: impl Fn(&RunRecord) -> String) -> Vec<String> {
     let mut views: Vec<String> = Vec::new();
-    for r in report.runs.iter().filter(|r| key(&r.scene) == group) {
+    for r in report.runs.iter().filter(|r| key(r) == group) {
         let view = format!("{}/{}/{}", r.scene, r.camera, r.light);
         if !views.contains(&view) {
             views.push(view);
@@ -159,7 +162,8 @@ mod tests {
             runs: vec![run("a", "sun"), run("a", "lamp"), run("a", "sun"), run("b", "sun")],
             ..Report::default()
         };
-        assert_eq!(views_of(&report, "a", |s| s.to_string()), ["a/main/sun", "a/main/lamp"]);
+        assert_eq!(views_of(&report, "a", per_scene), ["a/main/sun", "a/main/lamp"]);
         assert_eq!(views_of(&report, "all", |_| "all".to_string()).len(), 3);
+        assert_eq!(views_of(&report, "a/main/lamp", per_view), ["a/main/lamp"]);
     }
 }

@@ -89,10 +89,10 @@ impl GroupSummary {
 }
 
 /// Groups of the report: each scene, or with `group` the scenes mapped to one name together.
-pub fn summaries(report: &Report, group: impl Fn(&str) -> String) -> Vec<GroupSummary> {
+pub fn summaries(report: &Report, group: impl Fn(&RunRecord) -> String) -> Vec<GroupSummary> {
     let mut groups: Vec<(String, Vec<&RunRecord>)> = Vec::new();
     for r in &report.runs {
-        let name = group(&r.scene);
+        let name = group(r);
         match groups.iter_mut().find(|(n, _)| *n == name) {
             Some((_, runs)) => runs.push(r),
             None => groups.push((name, vec![r])),
@@ -102,8 +102,13 @@ pub fn summaries(report: &Report, group: impl Fn(&str) -> String) -> Vec<GroupSu
 }
 
 /// The scene's own name: one group per scene.
-pub fn per_scene(scene: &str) -> String {
-    scene.to_string()
+pub fn per_scene(run: &RunRecord) -> String {
+    run.scene.clone()
+}
+
+/// The run's view, `scene/camera/light`: one group per view.
+pub fn per_view(run: &RunRecord) -> String {
+    format!("{}/{}/{}", run.scene, run.camera, run.light)
 }
 
 /// The runs summed per (label, resolution, depth format), in first-seen order.
