@@ -64,10 +64,11 @@ pub(super) struct ReferenceArgs {
     #[arg(long, default_value_t = 5,
           value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_REPEATS as u64))]
     repeats: usize,
-    /// With --timing: the saved `--timing` output of the Embree reference tool on the same view
-    /// (`embree-reference mask --timing`); prints our rate over Embree's at this thread count.
+    /// With --timing: Embree's timing on the same view, saved (the Embree reference tool's
+    /// `mask --timing` output, or a native Embree benchmark's lines per mode); prints our rate
+    /// over Embree's best at this thread count. Repeat it to take the best over several files.
     #[arg(long, requires = "timing")]
-    embree_timing: Option<PathBuf>,
+    embree_timing: Vec<PathBuf>,
 }
 
 pub(super) fn reference(a: ReferenceArgs) -> Result<u8> {
@@ -83,8 +84,8 @@ pub(super) fn reference(a: ReferenceArgs) -> Result<u8> {
     }
     set_threads(a.threads)?;
     // Read before tracing, so that a wrong file fails at once.
-    let embree = (a.embree_timing.as_deref())
-        .map(|path| trace_timing::read_other_timing(path, rayon::current_num_threads()))
+    let embree = (!a.embree_timing.is_empty())
+        .then(|| trace_timing::read_other_timing(&a.embree_timing, rayon::current_num_threads()))
         .transpose()?;
     let scene: Scene = load_scene(&a.scene)?;
     let camera = pick(&scene.cameras, a.camera.as_deref(), |c| &c.name, "camera", &a.scene)?;

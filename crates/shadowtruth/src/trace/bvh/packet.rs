@@ -48,6 +48,53 @@ pub(in crate::trace) struct Packet {
     /// coordinates' error as (fixed, per unit of reach): a lane is then rejected only where two
     /// edge functions have opposite signs beyond their bound (certified.rs).
     slack: Option<[__m256; 2]>,
+    /// Bounds of every lane's slab distances, eight children at a time (`Frustum`), where the
+    /// rays share an origin.
+    frustum: Option<Frustum>,
+}
+
+/// What bounds the slab distances of all of a packet's rays at once, per axis: the lanes'
+/// extreme origins and the extremes of their shrunk and grown reciprocals. A lane computes
+/// fl(fl(plane − o)·inv); both roundings are monotone, so over o and inv in those ranges the
+/// value is bounded by its value at a corner. Entry distances take the lowest corner, exit
+/// distances the highest: a child that some lane's own test keeps is kept here too.
+struct Frustum {
+    /// The origin that gives the lowest entry distance (the largest where the ray moves up the
+    /// axis, the smallest where it moves down).
+    near_origin: [__m256; 3],
+    /// The origin that gives the highest exit distance.
+    far_origin: [__m256; 3],
+    /// Smallest and largest shrunk reciprocal.
+    inv_near: [[__m256; 2]; 3],
+    /// Smallest and largest grown reciprocal.
+    inv_far: [[__m256; 2]; 3],
+}
+
+impl Frustum {
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn new(origin: &[__m256; 3], inv_near: &[__m256; 3], inv_far: &[__m256; 3], negative: [bool; 3]) -> Self {
+        // The least and the greatest lane, each in every lane.
+        let extremes = |v: __m256| {
+            let swapped = _mm256_permute2f128_ps::<1>(v, v);
+            let (lo, hi) = (_mm256_min_ps(v, swapped), _mm256_max_ps(v, swapped));
+            let (lo, hi) = (
+                _mm256_min_ps(lo, _mm256_permute_ps::<0b01_00_11_10>(lo)),
+                _mm256_max_ps(hi, _mm256_permute_ps::<0b01_00_11_10>(hi)),
+            );
+            [
+                _mm256_min_ps(lo, _mm256_permute_ps::<0b10_11_00_01>(lo)),
+                _mm256_max_ps(hi, _mm256_permute_ps::<0b10_11_00_01>(hi)),
+            ]
+        };
+        let origin = origin.map(extremes);
+        Frustum {
+            near_origin: std::array::from_fn(|axis| origin[axis][!negative[axis] as usize]),
+            far_origin: std::array::from_fn(|axis| origin[axis][negative[axis] as usize]),
+            inv_near: inv_near.map(extremes),
+            inv_far: inv_far.map(extremes),
+        }
+    }
 }
 
 impl Packet {
@@ -84,8 +131,14 @@ impl Packet {
             negative[axis] = below == 0xff;
         }
         let (near_offset, far_offset) = plane_offsets(negative);
+        let origin = std::array::from_fn(|axis| load(std::array::from_fn(|k| ray(k).origin[axis])));
+        // Rays from one point (a camera's) only: rays from scattered points (the shadow rays of
+        // neighbouring pixels) can start far apart across a silhouette, and a frustum around
+        // them keeps far more than any lane meets.
+        let one_origin = rays.iter().all(|r| r.origin == first.origin);
+        let frustum = one_origin.then(|| Frustum::new(&origin, &inv_near, &inv_far, negative));
         Some(Packet {
-            origin: std::array::from_fn(|axis| load(std::array::from_fn(|k| ray(k).origin[axis]))),
+            origin,
             inv_near,
             inv_far,
             near_offset,
@@ -94,6 +147,7 @@ impl Packet {
             shear: [load(std::array::from_fn(|k| ray(k).sx)), load(std::array::from_fn(|k| ray(k).sy))],
             lanes: (1u32 << rays.len()) - 1,
             slack: None,
+            frustum,
         })
     }
 
@@ -114,6 +168,98 @@ impl Packet {
     }
 
     /// Pushes the children of `node` that some lane of `lanes` may meet within [0, tmax[lane]]
+    /// onto `stack[..*depth]`, and pops the one to visit next (`None` when no child is met).
+    ///
+    /// Inner children are kept when the packet's frustum meets them (`Frustum`), with all of
+    /// `lanes`: one test of eight boxes for the whole packet. A leaf child kept so is tested
+    /// lane by lane, with each lane's own test (the single-ray walk's operations), so a lane
+    /// reaches exactly the leaves its own walk reaches: a box that a lane's test keeps is kept
+    /// for every box around it (the test is monotone in the planes), and the frustum keeps
+    /// whatever a lane keeps. Nearest first, children are sorted by the frustum's entry
+    /// distance; otherwise they go in node order. Every slot is tested: an empty one's inverted
+    /// box is missed.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn push_children<const NEAREST: bool>(
+        &self,
+        node: &WideNode,
+        tmax: &[f32; LANES],
+        lanes: u32,
+        stack: &mut [(ChildRef, u32, f32)],
+        depth: &mut usize,
+    ) -> Option<(ChildRef, u32)> {
+        let bytes = node as *const WideNode as *const u8;
+        // SAFETY: `offset` is that of one of the node's plane arrays (`plane_offsets`).
+        let planes = |offset: usize| unsafe { _mm256_loadu_ps(bytes.add(offset) as *const f32) };
+        // SAFETY: eight f32.
+        let tmax_lanes = unsafe { _mm256_loadu_ps(tmax.as_ptr()) };
+        let reach = {
+            // The largest tmax of the lanes walking: the others are −∞.
+            let walking = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
+                _mm256_and_si256(
+                    _mm256_set1_epi32(lanes as i32),
+                    _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128),
+                ),
+                _mm256_setzero_si256(),
+            ));
+            let t = _mm256_blendv_ps(_mm256_set1_ps(f32::NEG_INFINITY), tmax_lanes, walking);
+            let t = _mm256_max_ps(t, _mm256_permute2f128_ps::<1>(t, t));
+            let t = _mm256_max_ps(t, _mm256_permute_ps::<0b01_00_11_10>(t));
+            _mm256_max_ps(t, _mm256_permute_ps::<0b10_11_00_01>(t))
+        };
+        let Some(f) = &self.frustum else {
+            return self.push_children_lane_by_lane::<NEAREST>(node, tmax, lanes, stack, depth);
+        };
+        let (mut enter, mut exit) = (_mm256_setzero_ps(), reach);
+        for axis in 0..3 {
+            let near = _mm256_sub_ps(planes(self.near_offset[axis]), f.near_origin[axis]);
+            let [lo, hi] = f.inv_near[axis];
+            enter = _mm256_max_ps(enter, _mm256_min_ps(_mm256_mul_ps(near, lo), _mm256_mul_ps(near, hi)));
+            let far = _mm256_sub_ps(planes(self.far_offset[axis]), f.far_origin[axis]);
+            let [lo, hi] = f.inv_far[axis];
+            exit = _mm256_min_ps(exit, _mm256_max_ps(_mm256_mul_ps(far, lo), _mm256_mul_ps(far, hi)));
+        }
+        let mut met = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit)) as u32;
+        let mut keys = [0.0f32; LANES];
+        if NEAREST {
+            // SAFETY: eight f32.
+            unsafe { _mm256_storeu_ps(keys.as_mut_ptr(), enter) };
+        }
+        let base = *depth;
+        let mut top = base;
+        // Room for eight more: a node at level L (root 1) finds at most 7·(L − 1) entries
+        // beneath it, and the stack holds 7·depth + 1 (`SceneBvh::scratch`).
+        assert!(stack.len() >= base + 8, "the packet stack is sized to the tree");
+        while met != 0 {
+            let c = met.trailing_zeros() as usize;
+            met &= met - 1;
+            let child = node.child[c];
+            let hit = if child.is_leaf() { self.lanes_meeting(node, c, tmax_lanes) & lanes } else { lanes };
+            // SAFETY: top < base + 8 ≤ stack.len() (asserted above).
+            unsafe { *stack.get_unchecked_mut(top) = (child, hit, keys[c]) };
+            top += (hit != 0) as usize;
+        }
+        *depth = top;
+        if NEAREST {
+            // Insertion sort, farthest first: a node has few met children.
+            for i in base + 1..top {
+                let entry = stack[i];
+                let mut k = i;
+                while k > base && stack[k - 1].2 < entry.2 {
+                    stack[k] = stack[k - 1];
+                    k -= 1;
+                }
+                stack[k] = entry;
+            }
+        }
+        if *depth == base {
+            return None;
+        }
+        *depth -= 1;
+        Some((stack[*depth].0, stack[*depth].1))
+    }
+
+    /// Pushes the children of `node` that some lane of `lanes` may meet within [0, tmax[lane]]
     /// onto `stack[..*depth]`, each with those lanes, and pops the one to visit next (`None`
     /// when no child is met). Nearest first, the children are sorted by the distance at which
     /// the lowest lane enters them, so the nearest is next; otherwise they go in node order.
@@ -121,7 +267,7 @@ impl Packet {
     /// skipping it).
     #[target_feature(enable = "avx2")]
     #[inline]
-    fn push_children<const NEAREST: bool>(
+    fn push_children_lane_by_lane<const NEAREST: bool>(
         &self,
         node: &WideNode,
         tmax: &[f32; LANES],
@@ -177,6 +323,26 @@ impl Packet {
         }
         *depth -= 1;
         Some((stack[*depth].0, stack[*depth].1))
+    }
+
+    /// The lanes whose own node test meets child `c` of `node` within [0, tmax[lane]]: the
+    /// single-ray test's operations, lane by lane.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn lanes_meeting(&self, node: &WideNode, c: usize, tmax: __m256) -> u32 {
+        let bytes = node as *const WideNode as *const u8;
+        // SAFETY: `offset` is that of one of the node's plane arrays (`plane_offsets`), and c < 8.
+        let plane = |offset: usize| unsafe { _mm256_set1_ps(*(bytes.add(offset) as *const f32).add(c)) };
+        let (mut enter, mut exit) = (_mm256_setzero_ps(), tmax);
+        for axis in 0..3 {
+            let near = plane(self.near_offset[axis]);
+            let far = plane(self.far_offset[axis]);
+            let t_near = _mm256_mul_ps(_mm256_sub_ps(near, self.origin[axis]), self.inv_near[axis]);
+            let t_far = _mm256_mul_ps(_mm256_sub_ps(far, self.origin[axis]), self.inv_far[axis]);
+            enter = _mm256_max_ps(enter, t_near);
+            exit = _mm256_min_ps(exit, t_far);
+        }
+        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit)) as u32
     }
 
     /// The lanes of `lanes` whose ray the watertight test might not reject for `triangle`: all

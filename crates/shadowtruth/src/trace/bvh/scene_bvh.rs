@@ -371,6 +371,7 @@ impl SceneBvh {
 /// watertight ray beside it (lanes past the last repeat it), or `None` where they cannot share
 /// a walk or the processor has no AVX2.
 #[cfg(target_arch = "x86_64")]
+#[inline]
 pub(in crate::trace) fn primary_packet(
     origin: Vec3,
     directions: &[Vec3],
