@@ -255,7 +255,12 @@ fn the_index_page_loads_its_table_and_every_image_in_a_real_browser() {
     let browser = required_chromium();
     let dir = tempfile::tempdir().unwrap();
     let report = small_report(dir.path());
-    let page = dir.path().join("index.html");
+    // The figures and plots load as they are scrolled to: here every one is loaded at once, so
+    // that a broken link fails.
+    let html = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
+    assert!(html.contains("<img loading=\"lazy\""), "the plots wait to be scrolled to");
+    let page = dir.path().join("index-eager.html");
+    std::fs::write(&page, html.replace("loading=\"lazy\" ", "")).unwrap();
     let profile = tempfile::tempdir().unwrap();
     let args = |extra: &[&str]| chromium_args(profile.path(), &page, extra);
     let out = Command::new(&browser).args(args(&["--dump-dom"])).output().expect("chromium runs");
@@ -282,4 +287,184 @@ fn the_index_page_loads_its_table_and_every_image_in_a_real_browser() {
     let img = image::open(&shot).expect("a screenshot was saved").into_rgb8();
     assert!(img.width() == 1400 && img.height() == 1800);
     eprintln!("screenshot: {}", shot.display());
+}
+
+/// Reads, once the page has loaded in a 1280×800 window, what a reader sees first; then clicks
+/// the first point of the first chart and pages the runs table; writes it all into
+/// `<pre id="seen">`. Where `openOnly` is set, it only opens the point's run (for a screenshot of
+/// the viewer).
+const FIRST_SCREEN_DRIVER: &str = r#"<script>
+(function () {
+  var opening = window.openOnly === true;
+  window.addEventListener('load', function () { setTimeout(function () {
+    var log = {}, viewer = document.getElementById('viewer');
+    var img = document.querySelector('#answer img.answer-img');
+    log.image = img ? { top: img.getBoundingClientRect().top, bottom: img.getBoundingClientRect().bottom,
+                        width: img.naturalWidth } : null;
+    var chart = document.querySelector('#answer svg.cost-chart');
+    log.chartTop = chart ? chart.getBoundingClientRect().top : null;
+    var table = document.getElementById('runs');
+    log.table = { right: table.getBoundingClientRect().right, inner: window.innerWidth,
+                  scroll: table.parentNode.scrollWidth, client: table.parentNode.clientWidth };
+    var point = document.querySelector('.cost-chart circle[data-run]');
+    log.point = point ? Number(point.dataset.run) : null;
+    log.hiddenBefore = viewer.hidden;
+    if (point) point.dispatchEvent(new MouseEvent('click', { bubbles: true }));
+    if (opening) {
+      // Headless screenshots are of the page's top: the viewer is moved there.
+      document.body.insertBefore(viewer, document.body.firstChild);
+      window.scrollTo(0, 0);
+      return;
+    }
+    var data = JSON.parse(document.getElementById('runs-data').textContent);
+    log.viewer = { hidden: viewer.hidden, run: Number(viewer.dataset.run),
+                   caption: document.getElementById('view-caption').textContent,
+                   base: document.getElementById('view-base').getAttribute('src'),
+                   want: point ? data[log.point].figures : null };
+    var at = document.getElementById('page-at');
+    log.pages = [{ page: Number(at.dataset.page), pages: Number(at.dataset.pages), rows: table.tBodies[0].rows.length,
+                   first: Number(table.tBodies[0].rows[0].dataset.run) }];
+    document.getElementById('page-next').click();
+    log.pages.push({ page: Number(at.dataset.page), rows: table.tBodies[0].rows.length,
+                     first: Number(table.tBodies[0].rows[0].dataset.run) });
+    log.runs = data.length;
+    // Compare: pin the opened run as B, open another of the first page as A, slide, and point
+    // at a pixel.
+    document.getElementById('page-prev').click();
+    document.getElementById('view-pin').click();
+    var other = Array.prototype.filter.call(document.querySelectorAll('button.view'), function (b) {
+      return Number(b.dataset.run) !== log.point;
+    })[0];
+    other.click();
+    document.querySelector('#view-modes button[data-mode=slide]').click();
+    var slider = document.getElementById('view-slider'); slider.value = 25; slider.dispatchEvent(new Event('input'));
+    var base = document.getElementById('view-base'), over = document.getElementById('view-over');
+    var divider = document.getElementById('view-divider');
+    setTimeout(function () {
+      var r = base.getBoundingClientRect();
+      log.compare = { run: Number(viewer.dataset.run), other: Number(other.dataset.run),
+                      pinned: Number(viewer.dataset.compare), base: base.getAttribute('src'), over: over.getAttribute('src'),
+                      want: { a: data[Number(other.dataset.run)].figures, b: data[log.point].figures },
+                      divider: { hidden: divider.hidden, left: divider.style.left, width: base.clientWidth } };
+      document.getElementById('view-stage').dispatchEvent(new MouseEvent('mousemove', {
+        bubbles: true, clientX: Math.ceil(r.left) + 10, clientY: Math.ceil(r.top) + 20 }));
+      setTimeout(function () {
+        var p = document.getElementById('view-pixel');
+        log.pixel = { text: p.textContent, x: Number(p.dataset.x), y: Number(p.dataset.y), a: p.dataset.a, b: p.dataset.b };
+        var pre = document.createElement('pre'); pre.id = 'seen'; pre.textContent = JSON.stringify(log);
+        document.body.appendChild(pre);
+      }, 1000);
+    }, 500);
+  }, 200); });
+})();
+</script>"#;
+
+/// The page as a person sees it at 1280×800: the first screen shows an image and a chart, the
+/// runs table fits the window and is paged, and a chart's point opens its own run in the
+/// viewer. Screenshots of the first screen and of the opened viewer are kept for people.
+#[test]
+fn the_first_screen_shows_the_answer_and_a_chart_point_opens_its_run() {
+    let browser = required_chromium();
+    let dir = tempfile::tempdir().unwrap();
+    let mut report = report_of(dir.path(), true);
+    // Past one page of runs: copies of the runs under other cameras (their figures are not
+    // written, so they have no viewer button and no chart point).
+    let runs = report.runs.clone();
+    for k in 0..25 {
+        report.runs.extend(runs.iter().cloned().map(|mut r| {
+            r.camera = format!("copy{k}");
+            r
+        }));
+    }
+    assert!(report.runs.len() > 200);
+    crate::drawing::write_page(dir.path(), &report).unwrap();
+    let html = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
+    let page = dir.path().join("index-seen.html");
+    std::fs::write(&page, html.replace("</body>", &format!("{FIRST_SCREEN_DRIVER}</body>"))).unwrap();
+    let profile = tempfile::tempdir().unwrap();
+    let seen = |extra: &[&str], page: &Path| {
+        let mut args = chromium_args(profile.path(), page, extra);
+        args.insert(0, "--window-size=1280,800".into());
+        Command::new(&browser).args(args).output().expect("chromium runs")
+    };
+    let out = seen(&["--dump-dom"], &page);
+    let dom = String::from_utf8_lossy(&out.stdout);
+    let at =
+        dom.find("<pre id=\"seen\">").unwrap_or_else(|| panic!("the driver did not finish: {dom:.3000}"));
+    let text = dom[at + 15..].split("</pre>").next().unwrap().replace("&quot;", "\"").replace("&amp;", "&");
+    let log: serde_json::Value = serde_json::from_str(&text).unwrap_or_else(|e| panic!("{e}: {text}"));
+    let image = &log["image"];
+    assert!(image["width"].as_u64().unwrap_or(0) > 0, "the answer's image did not load: {log}");
+    assert!(image["top"].as_f64().unwrap() < 800.0, "the first screen shows no image: {log}");
+    assert!(log["chartTop"].as_f64().unwrap() < 800.0, "the first screen shows no chart: {log}");
+    let table = &log["table"];
+    assert!(
+        table["scroll"].as_f64() <= table["client"].as_f64()
+            && table["right"].as_f64().unwrap() <= table["inner"].as_f64().unwrap(),
+        "the runs table does not fit 1280 px: {log}"
+    );
+    // The point opened its own run.
+    assert_eq!(log["hiddenBefore"], true);
+    let (viewer, run) = (&log["viewer"], log["point"].as_u64().expect("a chart point with a run"));
+    assert_eq!(viewer["hidden"], false);
+    assert_eq!(viewer["run"], run);
+    assert_eq!(viewer["caption"], viewer["want"]["caption"]);
+    assert_eq!(viewer["base"], viewer["want"]["reference"]);
+    let r = &report.runs[run as usize];
+    assert_eq!(
+        viewer["caption"],
+        format!("{}/{}/{}: {} at {}² {}", r.scene, r.camera, r.light, r.label, r.resolution, r.depth_format)
+    );
+    // Paged: 100 rows, then the next 100.
+    assert_eq!(log["runs"], report.runs.len());
+    let pages = &log["pages"];
+    assert_eq!(pages[0]["pages"], report.runs.len().div_ceil(100));
+    assert_eq!(
+        (&pages[0]["page"], &pages[0]["rows"], &pages[0]["first"]),
+        (&1.into(), &100.into(), &0.into())
+    );
+    assert_eq!(
+        (&pages[1]["page"], &pages[1]["rows"], &pages[1]["first"]),
+        (&2.into(), &100.into(), &100.into())
+    );
+    // Two runs compared: B the pinned one, A the one opened after; slid with the divider at 25 %;
+    // the pixel under the cursor (zoom 1) read from both error maps.
+    let compare = &log["compare"];
+    assert_eq!((&compare["run"], &compare["pinned"]), (&compare["other"], &run.into()));
+    assert_eq!(compare["base"], compare["want"]["b"]["technique"], "B's shadows under the divider");
+    assert_eq!(compare["over"], compare["want"]["a"]["technique"], "A's shadows left of it");
+    let divider = &compare["divider"];
+    assert_eq!(divider["hidden"], false);
+    assert_eq!(divider["left"], format!("{}px", divider["width"].as_f64().unwrap() * 0.25));
+    let pixel = &log["pixel"];
+    assert_eq!((&pixel["x"], &pixel["y"]), (&10.into(), &20.into()), "{pixel}");
+    // The class each error map holds there, read here from the PNGs.
+    use crate::drawing::palette::{FALSE_LIT, FALSE_SHADOW, UNCERTAIN};
+    for side in ["a", "b"] {
+        let map = compare["want"][side]["error"].as_str().unwrap();
+        let colour = image::open(dir.path().join(map)).unwrap().into_rgb8().get_pixel(10, 20).0;
+        let class = match colour {
+            c if c == FALSE_SHADOW => "false shadow",
+            c if c == FALSE_LIT => "false lit",
+            c if c == UNCERTAIN => "uncertain",
+            _ => "agrees with the reference",
+        };
+        assert_eq!(pixel[side], class, "pixel readout of {side}: {pixel}");
+    }
+    // Screenshots for people: the first screen, and the viewer opened from a chart point.
+    let shots = std::env::temp_dir();
+    let opened = dir.path().join("index-opened.html");
+    let open_only = format!("<script>var openOnly = true;</script>{FIRST_SCREEN_DRIVER}</body>");
+    std::fs::write(&opened, html.replace("</body>", &open_only)).unwrap();
+    for (name, page) in [("first-screen", dir.path().join("index.html")), ("viewer", opened)] {
+        let shot = shots.join(format!("shadowtruth-page-{name}.png"));
+        let _ = std::fs::remove_file(&shot);
+        let out = seen(&[&format!("--screenshot={}", shot.display())], &page);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let img = image::open(&shot).expect("a screenshot was saved").into_rgb8();
+        assert_eq!((img.width(), img.height()), (1280, 800));
+        let distinct: std::collections::HashSet<[u8; 3]> = img.pixels().map(|p| p.0).collect();
+        assert!(distinct.len() > 50, "the {name} screenshot is nearly blank");
+        eprintln!("screenshot of the {name}: {}", shot.display());
+    }
 }

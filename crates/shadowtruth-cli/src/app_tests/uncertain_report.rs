@@ -98,12 +98,14 @@ fn an_uncertain_pixel_is_counted_and_scored_neither_way_in_every_report_form() {
         header.split("<th").skip(1).map(|h| &h[h.find('>').unwrap() + 1..h.find("</th>").unwrap()]).collect();
     let at = headers.iter().position(|&h| h == "uncertain").expect("an uncertain column");
     assert_eq!(headers[at - 1], "false lit");
-    let body = &table[table.find("<tbody>").unwrap()..];
-    let row = &body[..body.find("</tr>").unwrap()];
-    let cells: Vec<&str> =
-        row.split("<td").skip(1).map(|c| &c[c.find('>').unwrap() + 1..c.find("</td>").unwrap()]).collect();
-    assert_eq!(cells.len(), headers.len());
-    assert_eq!((cells[at], cells[at - 1]), ("1", &*flagged.false_lit.to_string()));
+    // The rows are the page's data (page.js draws them): one cell per column but the last
+    // (the figures').
+    let open = "<script type=\"application/json\" id=\"runs-data\">";
+    let data = &html[html.find(open).unwrap() + open.len()..];
+    let rows: serde_json::Value = serde_json::from_str(&data[..data.find("</script>").unwrap()]).unwrap();
+    let cells = rows[0]["cells"].as_array().unwrap();
+    assert_eq!(cells.len() + 1, headers.len());
+    assert_eq!((&cells[at], &cells[at - 1]), (&1.into(), &flagged.false_lit.into()));
 }
 
 #[test]

@@ -3,12 +3,13 @@
 //! (`point_map_section.rs`), the plots, the
 //! figures, the settings and the tool version. Only relative links; no network.
 
+use super::answer_section::answer_section;
 use super::cascades_section::cascades_section;
 use super::figures::{run_stem, view_stem};
 use super::path_section::{PathAssets, path_assets, path_section};
 use super::plots::charts;
 use super::point_map_section::point_map_section;
-use super::summary::{GroupSummary, per_scene, summaries};
+use super::summary::GroupSummary;
 use crate::escape::escape_html as escape;
 use shadowtruth::record::Report;
 use shadowtruth::scene::ViewKey;
@@ -40,7 +41,13 @@ tr:nth-child(even){background:#fafafa}.plots img,.figs img{max-width:100%;border
 .summary{margin-bottom:1.2em}td.front{color:#070}#filters{margin:.6em 0}#filters label{margin-right:1em}\
 #viewer{border:1px solid #ccc;padding:8px;margin:1em 0;background:#f7f7f7}#view-stage{position:relative;overflow:auto;max-height:80vh;max-width:100%}\
 #view-stage img{display:block;image-rendering:pixelated}#view-over{position:absolute;left:0;top:0}\
-#view-modes button[aria-pressed=true]{font-weight:bold;background:#dde}button.view{font-size:12px}";
+#view-divider{position:absolute;top:0;width:2px;margin-left:-1px;background:#000;box-shadow:0 0 0 1px #fff;pointer-events:none}\
+#view-pixel{font-family:monospace;font-size:12px;min-height:1.2em}\
+#view-modes button[aria-pressed=true]{font-weight:bold;background:#dde}button.view{font-size:12px}\
+body{max-width:1240px}.table-wrap{overflow-x:auto;max-width:100%}#runs{font-size:12px}#runs td.l{max-width:220px;overflow-wrap:anywhere}\
+.scene-answer{margin:0 0 1.5em}.answer-row{display:flex;flex-wrap:wrap;gap:8px;align-items:flex-start}\
+.answer-row figure{margin:0;max-width:370px}.answer-img{width:100%;border:1px solid #ddd;image-rendering:pixelated}\
+.answer-row figcaption{font-size:12px;color:#444}.cost-chart circle.open{cursor:pointer}#pager{margin:.4em 0}";
 
 /// Sorting, filters, the viewer and the images-loaded status line (read by tests).
 const SCRIPT: &str = include_str!("page.js");
@@ -51,11 +58,16 @@ pub fn index_html(report: &Report, assets: &PageAssets) -> String {
     if let Some((tune, plots)) = &assets.tune {
         tune_section(&mut h, tune, plots);
     }
-    summary_section(&mut h, report);
-    scenes_table(&mut h, report);
+    let images = |i: usize| {
+        let (technique, error) = assets.run_figures.get(i)?.as_ref()?;
+        let reference = assets.run_references.get(i)?.as_ref()?;
+        Some((reference.as_str(), technique.as_str(), error.as_str()))
+    };
+    answer_section(&mut h, report, &images);
     viewer_section(&mut h);
     filters_section(&mut h, report);
-    runs_table(&mut h, report, assets);
+    runs_table(&mut h, report, &images);
+    scenes_table(&mut h, report);
     path_section(&mut h, report, &assets.path);
     cascades_section(&mut h, report);
     point_map_section(&mut h, report);
@@ -82,20 +94,7 @@ fn page_header(h: &mut String, report: &Report) {
 
 /// Per scene, at each resolution: the best setting of each technique family with its error
 /// and cost, and whether it is in the Pareto set (no setting both cheaper and better).
-fn summary_section(h: &mut String, report: &Report) {
-    let groups = summaries(report, per_scene);
-    if groups.is_empty() {
-        return;
-    }
-    h.push_str("<h2>Summary</h2><p>Per scene, summed over its views: the best setting of each technique at each \
-                resolution, its error and shading cost; ✓ marks the Pareto set (no other setting is both cheaper \
-                and better).</p>");
-    for g in &groups {
-        scene_summary(h, g);
-    }
-}
-
-fn scene_summary(h: &mut String, g: &GroupSummary) {
+pub(super) fn scene_summary(h: &mut String, g: &GroupSummary) {
     let _ = write!(
         h,
         "<table class=\"summary\"><caption class=\"l\"><b>{}</b></caption><thead><tr><th>resolution</th>\
@@ -149,8 +148,9 @@ fn filters_section(h: &mut String, report: &Report) {
     h.push_str("<span id=\"shown\"></span></div>");
 }
 
-/// The viewer, filled by a run's "view" button: the reference, the run's shadows and its error
-/// map, flipped (buttons or keys 1–3) or slid over each other (4), with zoom.
+/// The viewer, filled by a run's "view" button or a chart's point: run A's shadows and error map
+/// against B, the reference or a run pinned as B; flipped (buttons or keys 1–3) or slid over each
+/// other with a divider (4), with zoom, and the pixel under the cursor read from both.
 fn viewer_section(h: &mut String) {
     h.push_str(
         "<section id=\"viewer\" hidden><h2>Viewer</h2><p id=\"view-caption\"></p><div id=\"view-modes\">\
@@ -158,19 +158,20 @@ fn viewer_section(h: &mut String) {
          <button data-mode=\"error\">3 error map</button><button data-mode=\"slide\">4 slide</button> \
          <input id=\"view-slider\" type=\"range\" min=\"0\" max=\"100\" value=\"50\" hidden \
          aria-label=\"technique shown left of\"> <label>zoom <select id=\"view-zoom\"><option value=\"1\">1×</option>\
-         <option value=\"2\">2×</option><option value=\"4\">4×</option><option value=\"8\">8×</option></select></label>\
-         </div><p>",
+         <option value=\"2\">2×</option><option value=\"4\">4×</option><option value=\"8\">8×</option></select></label> \
+         <button id=\"view-pin\"></button></div><p>",
     );
     h.push_str(&colour_code_legend());
     h.push_str(
-        " over the scene; in slide mode the technique's shadows are left of the slider, the \
-         reference's right.</p><div id=\"view-stage\">\
-         <img id=\"view-base\" alt=\"\"><img id=\"view-over\" alt=\"\" hidden></div></section>",
+        " over the scene. In slide mode run A's shadows are left of the divider, B's (the reference, or \
+         a run pinned as B) right; the zoom and the scrolling are the same for both.</p>\
+         <p id=\"view-pixel\"></p><div id=\"view-stage\"><img id=\"view-base\" alt=\"\">\
+         <img id=\"view-over\" alt=\"\" hidden><div id=\"view-divider\" hidden></div></div></section>",
     );
 }
 
 /// The error map's colours in words and swatches, from the one colour code (palette.rs).
-fn colour_code_legend() -> String {
+pub(super) fn colour_code_legend() -> String {
     use super::palette::{FALSE_LIT, FALSE_SHADOW, UNCERTAIN};
     let swatch = |[r, g, b]: [u8; 3], what: &str| {
         format!("<span style=\"color:#{r:02X}{g:02X}{b:02X}\">&#9632;</span> {what}")
@@ -199,124 +200,142 @@ fn scenes_table(h: &mut String, report: &Report) {
     h.push_str("</tbody></table>");
 }
 
-fn runs_table(h: &mut String, report: &Report, assets: &PageAssets) {
-    h.push_str("<h2>Runs</h2><p>Rates are fractions of the evaluated pixels; click a header to sort. False shadow: lit in truth, shadowed by the technique; false lit: the reverse. Aliasing: within one shadow-map texel of a true shadow boundary. Uncertain: pixels the reference cannot decide beyond doubt, left out of every score (not among the evaluated).</p>");
-    h.push_str("<table id=\"runs\"><thead><tr>");
-    for (name, left) in [
-        ("scene", true),
-        ("camera", true),
-        ("light", true),
-        ("technique", true),
-        ("resolution", false),
-        ("format", true),
-        ("evaluated", false),
-        ("false shadow", false),
-        ("false lit", false),
-        ("uncertain", false),
-        ("aliasing", false),
-        ("seam", false),
-        ("acne", false),
-        ("leak", false),
-        ("bleeding", false),
-        ("error %", false),
-        ("prepare ms", false),
-        ("shade ms", false),
-        ("ns/pixel", false),
-        ("figures", true),
-    ] {
+/// The columns of the runs table: name, and whether it reads left-aligned.
+const RUN_COLUMNS: [(&str, bool); 18] = [
+    ("view", true),
+    ("technique", true),
+    ("res.", false),
+    ("format", true),
+    ("evaluated", false),
+    ("false shadow", false),
+    ("false lit", false),
+    ("uncertain", false),
+    ("aliasing", false),
+    ("seam", false),
+    ("acne", false),
+    ("leak", false),
+    ("bleed", false),
+    ("error %", false),
+    ("prepare ms", false),
+    ("shade ms", false),
+    ("ns/pixel", false),
+    ("", true),
+];
+
+/// The runs table: its header here, its rows as data that page.js draws a page at a time, so
+/// that a report of ten thousand runs stays a light page.
+fn runs_table(h: &mut String, report: &Report, images: &super::answer_section::RunImages) {
+    h.push_str("<h2>Runs</h2><p>Counts of pixels; click a header to sort. False shadow: lit in truth, shadowed by the technique; false lit: the reverse. Aliasing: within one shadow-map texel of a true shadow boundary. Uncertain: pixels the reference cannot decide beyond doubt, left out of every score (not among the evaluated). Error %: false shadow and false lit over the evaluated pixels.</p>");
+    h.push_str("<div class=\"table-wrap\"><table id=\"runs\"><thead><tr>");
+    for (name, left) in RUN_COLUMNS {
         let _ = write!(h, "<th{}>{name}</th>", if left { " class=\"l\"" } else { "" });
     }
-    h.push_str("</tr></thead><tbody>");
-    for (i, r) in report.runs.iter().enumerate() {
-        let c = &r.counts;
-        let figs = run_figure_links(r, assets.run_figures.get(i), assets.run_references.get(i));
-        let _ = write!(
-            h,
-            "<tr data-scene=\"{}\" data-camera=\"{}\" data-light=\"{}\" data-technique=\"{}\" data-resolution=\"{}\">\
-             <td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td>\
-             <td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>\
-             <td data-v=\"{}\">{:.3}</td><td>{:.2}</td><td>{:.2}</td><td>{:.1}</td><td class=\"l\">{figs}</td></tr>",
-            escape(&r.scene),
-            escape(&r.camera),
-            escape(&r.light),
-            escape(&r.technique),
-            r.resolution,
-            escape(&r.scene),
-            escape(&r.camera),
-            escape(&r.light),
-            escape(&r.label),
-            r.resolution,
-            escape(&r.depth_format),
-            c.evaluated,
-            c.false_shadow,
-            c.false_lit,
-            c.uncertain,
-            c.aliasing,
-            c.seam,
-            c.acne,
-            c.leak,
-            c.light_bleeding,
-            r.rates.error,
-            100.0 * r.rates.error,
-            r.timings.prepare,
-            r.timings.shade,
-            r.timings.ns_per_pixel
-        );
-    }
-    h.push_str("</tbody></table>");
+    h.push_str(
+        "</tr></thead><tbody></tbody></table></div><div id=\"pager\"><button id=\"page-prev\">‹ previous</button> \
+         <span id=\"page-at\"></span> <button id=\"page-next\">next ›</button></div>",
+    );
+    let rows: Vec<serde_json::Value> =
+        report.runs.iter().enumerate().map(|(i, r)| run_row(r, images(i))).collect();
+    // `<` written as its JSON escape, so that no text in the data can close the script element.
+    let data = serde_json::Value::Array(rows).to_string().replace('<', "\\u003c");
+    let _ = write!(h, "<script type=\"application/json\" id=\"runs-data\">{data}</script>");
 }
 
-/// A run's figure links, and its viewer button when the reference figure is there too.
-fn run_figure_links(
-    r: &shadowtruth::record::RunRecord,
-    figures: Option<&Option<(String, String)>>,
-    reference: Option<&Option<String>>,
-) -> String {
-    let Some(Some((t, e))) = figures else { return String::new() };
-    let links = format!("<a href=\"{}\">visibility</a> <a href=\"{}\">errors</a>", escape(t), escape(e));
-    match reference {
-        Some(Some(reference)) => format!(
-            "<button class=\"view\" data-reference=\"{}\" data-technique=\"{}\" data-error=\"{}\" \
-             data-caption=\"{}\">view</button> {links}",
-            escape(reference),
-            escape(t),
-            escape(e),
-            escape(&format!(
+/// One run as page.js draws it: the values it filters on, each cell's text (with the exact
+/// value it sorts by, where the text rounds), and its figures for the viewer.
+fn run_row(r: &shadowtruth::record::RunRecord, images: Option<(&str, &str, &str)>) -> serde_json::Value {
+    let c = &r.counts;
+    let figures = images.map(|(reference, technique, error)| {
+        serde_json::json!({
+            "reference": reference,
+            "technique": technique,
+            "error": error,
+            "caption": format!(
                 "{}/{}/{}: {} at {}² {}",
                 r.scene, r.camera, r.light, r.label, r.resolution, r.depth_format
-            ))
-        ),
-        _ => links,
-    }
+            ),
+        })
+    });
+    serde_json::json!({
+        "scene": r.scene, "camera": r.camera, "light": r.light, "technique": r.technique,
+        "resolution": r.resolution.to_string(),
+        "cells": [
+            format!("{}/{}/{}", r.scene, r.camera, r.light), r.label, r.resolution, r.depth_format,
+            c.evaluated, c.false_shadow, c.false_lit, c.uncertain, c.aliasing, c.seam, c.acne, c.leak,
+            c.light_bleeding, [format!("{:.3}", 100.0 * r.rates.error), r.rates.error],
+            format!("{:.2}", r.timings.prepare), format!("{:.2}", r.timings.shade),
+            [format!("{:.1}", r.timings.ns_per_pixel), r.timings.ns_per_pixel],
+        ],
+        "figures": figures,
+    })
 }
 
 fn figures_section(h: &mut String, assets: &PageAssets) {
-    if !assets.figures.is_empty() {
-        h.push_str("<h2>Figures</h2><div class=\"figs\">");
+    if assets.figures.is_empty() {
+        return;
+    }
+    open_list(h, "Figures", assets.figures.len());
+    if assets.figures.len() <= OPEN_UP_TO {
+        h.push_str("<div class=\"figs\">");
         for (path, caption) in &assets.figures {
             let _ = write!(
                 h,
-                "<figure><a href=\"{0}\"><img src=\"{0}\" alt=\"{1}\"></a><figcaption>{1}</figcaption></figure>",
+                "<figure><a href=\"{0}\"><img loading=\"lazy\" src=\"{0}\" alt=\"{1}\"></a>\
+                 <figcaption>{1}</figcaption></figure>",
                 escape(path),
                 escape(caption)
             );
         }
         h.push_str("</div>");
+    } else {
+        h.push_str("<ul class=\"plot-links\">");
+        for (path, caption) in &assets.figures {
+            let _ = write!(h, "<li><a href=\"{0}\">{1}</a></li>", escape(path), escape(caption));
+        }
+        h.push_str("</ul>");
     }
+    h.push_str("</details>");
+}
+
+/// Lists longer than this start folded and are links, not images, so that a report of many
+/// views stays a light page.
+const OPEN_UP_TO: usize = 60;
+
+/// A section's heading, as the summary of a list that is open when short.
+fn open_list(h: &mut String, title: &str, items: usize) {
+    let open = if items <= OPEN_UP_TO { " open" } else { "" };
+    let _ =
+        write!(h, "<details{open}><summary><h2 style=\"display:inline\">{title}</h2> ({items})</summary>");
 }
 
 fn plots_section(h: &mut String, assets: &PageAssets) {
-    if !assets.plots.is_empty() {
-        h.push_str("<h2>Plots</h2><div class=\"plots\">");
+    if assets.plots.is_empty() {
+        return;
+    }
+    open_list(h, "Plots", assets.plots.len());
+    if assets.plots.len() <= OPEN_UP_TO {
+        h.push_str("<div class=\"plots\">");
         for stem in &assets.plots {
             let _ = write!(
                 h,
-                "<p><a href=\"plots/{0}.svg\"><img src=\"plots/{0}.png\" alt=\"{0}\"></a></p>",
+                "<p><a href=\"plots/{0}.svg\"><img loading=\"lazy\" src=\"plots/{0}.png\" alt=\"{0}\"></a></p>",
                 escape(stem)
             );
         }
         h.push_str("</div>");
+    } else {
+        // Many plots: their names, each a link, rather than a thousand images to lay out.
+        h.push_str("<ul class=\"plot-links\">");
+        for stem in &assets.plots {
+            let _ = write!(
+                h,
+                "<li><a href=\"plots/{0}.png\">{0}</a> (<a href=\"plots/{0}.svg\">svg</a>)</li>",
+                escape(stem)
+            );
+        }
+        h.push_str("</ul>");
     }
+    h.push_str("</details>");
 }
 
 /// `index.html`, linking the figures already written under `figures/` and the report's plots.

@@ -2,6 +2,7 @@
 //! image), the plots (SVG and PNG, plotters), the animated error maps and flicker maps of runs
 //! over a path, the summaries and the HTML page (`index.html`, with `page.js`).
 
+mod answer_section;
 mod bundled_font;
 mod cascades_section;
 pub mod figures;
