@@ -9,9 +9,6 @@ use shadowtruth::file_name;
 use shadowtruth::record::{Report, RunRecord};
 use std::path::Path;
 
-/// The lowest error drawn (in %), as in the other plots: error-free frames sit on it.
-const FLOOR_PERCENT: f64 = 1e-4;
-
 /// The per-frame plot of one (view, resolution, depth format).
 #[derive(Clone, Debug)]
 pub struct FramePlot {
@@ -64,7 +61,7 @@ fn frame_plot(report: &Report, stem: String, runs: &[usize]) -> FramePlot {
     let errors = temporal()
         .map(|(label, t)| {
             let points = t.frame_errors.iter().enumerate();
-            (label.clone(), points.map(|(k, &e)| (k as f64, (100.0 * e).max(FLOOR_PERCENT))).collect())
+            (label.clone(), points.map(|(k, &e)| (k as f64, super::plots::percent_on_log_axis(e))).collect())
         })
         .collect();
     // Frame 0 has no frame before it to flicker against.
@@ -79,7 +76,7 @@ fn frame_plot(report: &Report, stem: String, runs: &[usize]) -> FramePlot {
             title: format!("{title}: error per frame"),
             x_label: "frame".into(),
             integer_x: true,
-            y_label: "error (% of evaluated pixels; 0 drawn at 1e-4)".into(),
+            y_label: format!("error (% of evaluated pixels; {})", super::plots::ZERO_NOTE),
             series: errors,
             ..Chart::default()
         },

@@ -83,11 +83,71 @@ fn register_font() {
     });
 }
 
-/// The lowest error drawn (in %): exact zeros sit on this line of the log axis.
-const Y_FLOOR: f64 = 1e-4;
+/// An error (in %) no larger than this is drawn as the least of the log axis' data.
+const Y_FLOOR: f64 = 1e-5;
+/// What a log axis' label adds about its zeros (`ZeroRow`).
+pub(super) const ZERO_NOTE: &str = "0 drawn below the axis break";
+
+/// A rate (a fraction) as a log axis takes it, in %: zeros stay zeros (`ZeroRow` draws them).
+pub(super) fn percent_on_log_axis(fraction: f64) -> f64 {
+    match 100.0 * fraction {
+        0.0 => 0.0,
+        v => v.max(Y_FLOOR),
+    }
+}
+
+/// Where a log axis draws exact zeros: a row of their own, labelled 0, below a break under the
+/// power of ten at or below the least positive value, so that a zero never reads as a small
+/// error and the axis spans only the data's decades.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct ZeroRow {
+    /// The lowest power of ten of the axis proper.
+    floor: f64,
+    /// Whether the chart has zeros at all: without, no row and no break are drawn.
+    zeros: bool,
+}
+
+impl ZeroRow {
+    fn of(c: &Chart) -> Self {
+        let ys = c.series.iter().flat_map(|s| s.1.iter().map(|p| p.1));
+        let ys = ys.chain(c.pareto.iter().flatten().map(|p| p.1));
+        let (lowest, zeros) =
+            ys.fold(
+                (f64::INFINITY, false),
+                |(low, zeros), y| if y > 0.0 { (low.min(y), zeros) } else { (low, true) },
+            );
+        let floor = if lowest.is_finite() { 10f64.powf(lowest.log10().floor()) } else { 0.01 };
+        ZeroRow { floor, zeros }
+    }
+    fn row(self) -> f64 {
+        self.floor / 4.0
+    }
+    /// The break's middle: the axis proper's ticks start above it.
+    fn axis_break(self) -> f64 {
+        self.floor / 2.0
+    }
+    fn bottom(self) -> f64 {
+        if self.zeros { self.floor / 6.0 } else { self.floor * 0.7 }
+    }
+    /// `c` with its zeros moved onto the row.
+    fn place(self, c: &Chart) -> Chart {
+        let at = |(x, y): (f64, f64)| (x, if y == 0.0 { self.row() } else { y });
+        let mut placed = c.clone();
+        for (_, points) in &mut placed.series {
+            points.iter_mut().for_each(|p| *p = at(*p));
+        }
+        for p in placed.pareto.iter_mut().flatten() {
+            *p = at(*p);
+        }
+        for m in placed.marks.iter_mut().flatten() {
+            m.point = at(m.point);
+        }
+        placed
+    }
+}
 
 fn error_percent(r: &RunRecord) -> f64 {
-    (100.0 * r.rates.error).max(Y_FLOOR)
+    percent_on_log_axis(r.rates.error)
 }
 
 /// A number with at most three significant digits, for axis labels.
@@ -135,9 +195,9 @@ pub fn charts(report: &Report) -> Vec<Chart> {
     out
 }
 
-/// The three rates of a run (in %, zeros drawn at the floor): total, false shadow, false lit.
+/// The three rates of a run (in %, zeros on the zero row): total, false shadow, false lit.
 fn rates_percent(r: &RunRecord) -> [f64; 3] {
-    [r.rates.error, r.rates.false_shadow, r.rates.false_lit].map(|v| (100.0 * v).max(Y_FLOOR))
+    [r.rates.error, r.rates.false_shadow, r.rates.false_lit].map(percent_on_log_axis)
 }
 
 /// Error against each numeric parameter that varies while everything else about the run is
@@ -196,7 +256,7 @@ fn parameter_sweeps(report: &Report) -> Vec<Chart> {
                     format
                 ),
                 x_label: param,
-                y_label: "% of evaluated pixels (0 drawn at 1e-4)".into(),
+                y_label: format!("% of evaluated pixels ({ZERO_NOTE})"),
                 log_x: lo > 0.0 && hi / lo > 20.0,
                 points_only,
                 series,
@@ -250,7 +310,7 @@ fn resolution_charts(report: &Report) -> Vec<Chart> {
             stem: chart_stem("resolution", &view, &[&format], &format),
             title: format!("{}: error against shadow-map resolution ({format})", view_title(&view)),
             x_label: "shadow-map resolution (texels per side)".into(),
-            y_label: "error (% of evaluated pixels; 0 drawn at 1e-4)".into(),
+            y_label: format!("error (% of evaluated pixels; {ZERO_NOTE})"),
             // Resolutions double: equal steps on a log2 axis, each labelled.
             integer_x: true,
             x_powers_of_two: true,
@@ -294,7 +354,7 @@ fn cost_charts(report: &Report) -> Vec<Chart> {
                 stem: chart_stem("cost", &view, &[&res.to_string(), &format], &format!("{res}_{format}")),
                 title: format!("{}: cost against error at {res}² ({format})", view_title(&view)),
                 x_label: "shading cost (ns per evaluated pixel)".into(),
-                y_label: "error (% of evaluated pixels; 0 drawn at 1e-4)".into(),
+                y_label: format!("error (% of evaluated pixels; {ZERO_NOTE})"),
                 log_x: false,
                 x_ranges: all.iter().map(|p| p.measured.then_some(p.cost_range)).collect(),
                 series: pts.into_iter().map(|(label, p)| (label, vec![(p.cost, p.error)])).collect(),
@@ -325,7 +385,7 @@ fn y_top(c: &Chart) -> f64 {
     if c.linear_y {
         return if y1 <= 0.0 { 1.0 } else { linear_top_above(y1 * 1.05) };
     }
-    // Errors span orders of magnitude (0.01 % to 50 %): a log axis, with zero drawn at the floor.
+    // Errors span orders of magnitude (0.01 % to 50 %): a log axis, with zeros below its break.
     if y1 <= Y_FLOOR { 1.0 } else { labelled_tick_above(y1 * 1.2) }
 }
 
@@ -403,6 +463,23 @@ fn log_tick(x: f64) -> String {
     } else {
         String::new()
     }
+}
+
+/// The ticks of a log axis over [lo, hi]: 1, 2 and 5 times each power of ten (each power alone
+/// over more than four decades), once each; none
+/// unless 0 < lo < hi are finite (a linear axis asks too, and ignores them).
+fn log_key_points(lo: f64, hi: f64) -> Vec<f64> {
+    if !(lo > 0.0 && lo < hi && hi.is_finite()) {
+        return Vec::new();
+    }
+    // f64 spans 632 decades: the range below is bounded whatever the numbers.
+    let (first, last) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    // Over many decades, 2 and 5 would crowd the labels: powers of ten alone.
+    let steps: &[f64] = if last - first > 4 { &[1.0] } else { &[1.0, 2.0, 5.0] };
+    (first..=last)
+        .flat_map(|p| steps.iter().map(move |m| m * 10f64.powi(p)))
+        .filter(|&t| t >= lo * (1.0 - 1e-9) && t <= hi * (1.0 + 1e-9))
+        .collect()
 }
 
 /// The least of 1, 2 and 5 times a power of ten that is at least `y` (> 0).
@@ -496,9 +573,10 @@ where
 
 /// Draws a panel's grid, series, Pareto front and marks on `$chart` (a chart context over any
 /// of the four pairs of linear and log axes, which are different types): `$c` the panel,
-/// `$band_y` the y extent of its marked band, `$x_tick`/`$y_tick` its tick labels.
+/// `$band_y` the y extent of its marked band, `$x_tick`/`$y_tick` its tick labels, `$zero` the
+/// zero row of a log y axis.
 macro_rules! panel_body {
-    ($chart:expr, $c:expr, $band_y:expr, $x_tick:expr, $y_tick:expr, $err:expr) => {{
+    ($chart:expr, $c:expr, $band_y:expr, $x_tick:expr, $y_tick:expr, $zero:expr, $err:expr) => {{
         let (c, err, (band_bottom, band_top)) = ($c, $err, $band_y);
         let mut chart = $chart;
         chart
@@ -512,6 +590,29 @@ macro_rules! panel_body {
             .label_style(("sans-serif", 13))
             .draw()
             .map_err(err)?;
+        if let Some(zero) = $zero.filter(|z: &ZeroRow| z.zeros) {
+            // The axis break: a white band across the plot, edged with dashes, and the zero row's
+            // label at its left.
+            let (x_lo, x_hi, middle) = (chart.x_range().start, chart.x_range().end, zero.axis_break());
+            let band = [(x_lo, middle * 0.85), (x_hi, middle * 1.15)];
+            chart.draw_series(std::iter::once(Rectangle::new(band, WHITE.filled()))).map_err(err)?;
+            for edge in [middle * 0.85, middle * 1.15] {
+                chart
+                    .draw_series(DashedLineSeries::new(
+                        [(x_lo, edge), (x_hi, edge)],
+                        4,
+                        3,
+                        BLACK.mix(0.5).into(),
+                    ))
+                    .map_err(err)?;
+            }
+            // Just inside the plot, where the series' zeros start.
+            use plotters::style::text_anchor::{HPos, Pos, VPos};
+            let style =
+                TextStyle::from(("sans-serif", 13).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
+            let label = Text::new("0", (x_lo, zero.row()), style);
+            chart.draw_series(std::iter::once(label)).map_err(err)?;
+        }
         if let Some(Some(m)) = c.marks.first() {
             let band = [(m.band.0, band_bottom), (m.band.1, band_top)];
             chart
@@ -558,7 +659,10 @@ where
     let (plot_area, legend_area) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH);
     let mut builder = ChartBuilder::on(&plot_area);
     builder.caption(&c.title, ("sans-serif", 18)).margin(12).x_label_area_size(40).y_label_area_size(56);
-    let y0 = if c.linear_y { 0.0 } else { Y_FLOOR * 0.7 };
+    let zero = (!c.linear_y).then(|| ZeroRow::of(c));
+    let placed = zero.map(|z| z.place(c));
+    let c = placed.as_ref().unwrap_or(c);
+    let y0 = zero.map_or(0.0, ZeroRow::bottom);
     let pad = (x1 - x0) * 0.05;
     let (log_x, linear_x) = (x0 * 0.9..x1 * 1.1, (x0 - pad).max(0.0)..x1 + pad);
     let x_tick = |x: f64| match (c.integer_x && x.fract() != 0.0, c.x_powers_of_two) {
@@ -566,29 +670,41 @@ where
         (false, true) => compact(x.exp2()),
         (false, false) => compact(x),
     };
+    // Log axes get their ticks from us (1, 2 and 5 times each power of ten), each once: left to
+    // itself, the log scale may put two ticks on one round value and print it twice.
+    // Ticks from the axis proper's floor up (with a little room for the floor's rounding).
+    let y_from = zero.filter(|z| z.zeros).map_or(y0, |z| z.floor * (1.0 - 1e-9));
+    let (x_keys, y_keys) = (log_key_points(log_x.start, log_x.end), log_key_points(y_from, y1));
+    // No tick label under the break: the zero row is labelled on its own.
+    let y_tick = |y: f64| if y < y_from { String::new() } else { log_tick(y) };
+    let log_x = || log_x.clone().log_scale().with_key_points(x_keys.clone());
+    let log_y = || (y0..y1).log_scale().with_key_points(y_keys.clone());
     match (c.log_x, c.linear_y) {
         (true, false) => panel_body!(
-            builder.build_cartesian_2d(log_x.log_scale(), (y0..y1).log_scale()).map_err(err)?,
+            builder.build_cartesian_2d(log_x(), log_y()).map_err(err)?,
             c,
             (y0, y1),
             log_tick,
-            log_tick,
+            y_tick,
+            zero,
             err
         ),
         (true, true) => panel_body!(
-            builder.build_cartesian_2d(log_x.log_scale(), y0..y1).map_err(err)?,
+            builder.build_cartesian_2d(log_x(), y0..y1).map_err(err)?,
             c,
             (y0, y1),
             log_tick,
             compact,
+            zero,
             err
         ),
         (false, false) => panel_body!(
-            builder.build_cartesian_2d(linear_x, (y0..y1).log_scale()).map_err(err)?,
+            builder.build_cartesian_2d(linear_x, log_y()).map_err(err)?,
             c,
             (y0, y1),
             x_tick,
-            log_tick,
+            y_tick,
+            zero,
             err
         ),
         (false, true) => panel_body!(
@@ -597,6 +713,7 @@ where
             (y0, y1),
             x_tick,
             compact,
+            zero,
             err
         ),
     }
@@ -887,6 +1004,41 @@ pub(crate) mod tests {
         assert!(chart_svg(c).is_ok());
     }
 
+    /// A zero is drawn as 0: on a row of its own below a break in the log axis, labelled "0",
+    /// never at the axis' least value; the axis starts at the power of ten below the least
+    /// positive value. A chart without zeros has no break.
+    #[test]
+    fn zeros_sit_on_their_own_row_below_the_axis_break() {
+        let mut c = chart(1);
+        c.series[0].1 = vec![(1.0, percent_on_log_axis(0.0)), (2.0, percent_on_log_axis(0.0003))];
+        let zero = ZeroRow::of(&c);
+        assert_eq!(zero, ZeroRow { floor: 0.01, zeros: true });
+        let placed = zero.place(&c);
+        assert_eq!(placed.series[0].1, [(1.0, 0.0025), (2.0, 0.03)]);
+        assert!(
+            zero.row() < zero.axis_break() && zero.axis_break() < zero.floor && zero.bottom() < zero.row()
+        );
+        let svg = chart_svg(&c).unwrap();
+        let doc = roxmltree::Document::parse(&svg).unwrap();
+        let texts: Vec<&str> = doc
+            .descendants()
+            .filter(|n| n.has_tag_name("text"))
+            .filter_map(|n| n.text())
+            .map(str::trim)
+            .collect();
+        assert!(texts.contains(&"0"), "the zero row is labelled: {texts:?}");
+        assert!(
+            !texts.iter().any(|t| t.contains("e-3") || *t == "0.005"),
+            "no tick under the break: {texts:?}"
+        );
+        // The break's dashes: short half-grey segments.
+        let dashed = |svg: &str| svg.matches("opacity=\"0.5\"").count();
+        assert!(dashed(&svg) > 20, "the break is drawn");
+        c.series[0].1[0].1 = 0.02;
+        assert!(!ZeroRow::of(&c).zeros);
+        assert_eq!(dashed(&chart_svg(&c).unwrap()), 0, "no zeros, no break");
+    }
+
     #[test]
     fn log_ticks_are_labelled_only_at_one_two_and_five() {
         let labelled: Vec<f64> = [1e-4, 1.5e-4, 2e-4, 3e-4, 5e-4, 7e-4, 1e-3, 0.02, 0.09, 40.0, 50.0]
@@ -895,6 +1047,8 @@ pub(crate) mod tests {
             .collect();
         assert_eq!(labelled, [1e-4, 2e-4, 5e-4, 1e-3, 0.02, 50.0]);
         assert_eq!(labelled_tick_above(0.07), 0.1);
+        assert_eq!(log_key_points(3e-4, 0.02), [5e-4, 1e-3, 2e-3, 5e-3, 1e-2, 2e-2].map(|v: f64| v));
+        assert!(log_key_points(0.0, 1.0).is_empty() && log_key_points(1.0, f64::INFINITY).is_empty());
         assert_eq!(labelled_tick_above(3.0), 5.0);
         assert_eq!(linear_top_above(210.0), 250.0);
         assert_eq!(linear_top_above(7.0), 8.0);

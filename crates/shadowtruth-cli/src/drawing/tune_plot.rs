@@ -5,9 +5,6 @@
 use super::plots::{Chart, Marks};
 use crate::tune::{TuneRequest, TuneResult};
 
-/// The lowest rate drawn (in %), as in the other plots: zeros sit on it.
-const FLOOR_PERCENT: f64 = 1e-4;
-
 /// The chart of parameter `axis` of the suite's search.
 pub fn tune_chart(result: &TuneResult, request: &TuneRequest, axis: usize) -> Chart {
     let tuned = &result.suite;
@@ -16,7 +13,7 @@ pub fn tune_chart(result: &TuneResult, request: &TuneRequest, axis: usize) -> Ch
         |p: &[f64]| p.iter().enumerate().all(|(k, &v)| k == axis || v.to_bits() == best[k].to_bits());
     let mut points: Vec<_> = tuned.points.iter().filter(|p| on_axis(&p.params)).collect();
     points.sort_by(|a, b| a.params[axis].total_cmp(&b.params[axis]));
-    let percent = |v: f64| (100.0 * v).max(FLOOR_PERCENT);
+    let percent = |v: f64| super::plots::percent_on_log_axis(v);
     let series = |f: fn(&crate::tune::EvaluatedPoint) -> f64| -> Vec<(f64, f64)> {
         points.iter().map(|p| (p.params[axis], percent(f(p)))).collect()
     };
@@ -27,7 +24,7 @@ pub fn tune_chart(result: &TuneResult, request: &TuneRequest, axis: usize) -> Ch
         stem: format!("tune_{}", name.replace(|c: char| !c.is_ascii_alphanumeric(), "_")),
         title: format!("tune {spec}: {}", request.aggregate_description()),
         x_label: name.clone(),
-        y_label: "% of scored pixels (mean over scenes; 0 drawn at 1e-4)".into(),
+        y_label: format!("% of scored pixels (mean over scenes; {})", super::plots::ZERO_NOTE),
         log_x: true,
         series: vec![
             ("false shadow".into(), series(|p| p.false_shadow)),
