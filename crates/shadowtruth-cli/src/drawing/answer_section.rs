@@ -22,7 +22,7 @@ pub fn answer_section(h: &mut String, report: &Report, images: &RunImages) {
          its best run; every setting's error against its shading cost (click a point to open its run in \
          the viewer); the best setting of each technique. ",
     );
-    h.push_str(&super::html::colour_code_legend());
+    h.push_str(&super::palette::colour_code_legend());
     h.push_str(".</p>");
     for g in &groups {
         scene_answer(h, report, g, images);
@@ -63,7 +63,7 @@ fn scene_answer(h: &mut String, report: &Report, g: &GroupSummary, images: &RunI
         h.push_str(&cost_chart(&g.name, resolution, &at, &front, &run_of));
     }
     h.push_str("</div>");
-    super::html::scene_summary(h, g);
+    super::summary_table::scene_summary(h, g);
     h.push_str("</div>");
 }
 

@@ -9,7 +9,6 @@ use super::figures::{run_stem, view_stem};
 use super::path_section::{PathAssets, path_assets, path_section};
 use super::plots::charts;
 use super::point_map_section::point_map_section;
-use super::summary::GroupSummary;
 use crate::escape::escape_html as escape;
 use shadowtruth::record::Report;
 use shadowtruth::scene::ViewKey;
@@ -92,37 +91,6 @@ fn page_header(h: &mut String, report: &Report) {
     );
 }
 
-/// Per scene, at each resolution: the best setting of each technique family with its error
-/// and cost, and whether it is in the Pareto set (no setting both cheaper and better).
-pub(super) fn scene_summary(h: &mut String, g: &GroupSummary) {
-    let _ = write!(
-        h,
-        "<table class=\"summary\"><caption class=\"l\"><b>{}</b></caption><thead><tr><th>resolution</th>\
-         <th class=\"l\">technique</th><th class=\"l\">best setting</th><th>error %</th><th>false shadow %</th>\
-         <th>false lit %</th><th title=\"this tool's CPU shading pass per evaluated pixel: the median of the repeats, their range in brackets\">ns/pixel (range)</th><th>Pareto</th></tr></thead><tbody>",
-        escape(&g.name)
-    );
-    for res in g.resolutions() {
-        let front: Vec<String> = g.pareto(res).iter().map(|s| s.label.clone()).collect();
-        for s in g.best_per_family(res) {
-            let on_front = front.contains(&s.label);
-            let _ = write!(
-                h,
-                "<tr><td>{res}</td><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{:.3}</td><td>{:.3}</td>\
-                 <td>{:.3}</td><td>{}</td><td class=\"front\">{}</td></tr>",
-                escape(&s.technique),
-                escape(&s.label),
-                100.0 * s.error,
-                100.0 * s.false_shadow,
-                100.0 * s.false_lit,
-                s.cost_text(),
-                if on_front { "✓" } else { "" }
-            );
-        }
-    }
-    h.push_str("</tbody></table>");
-}
-
 /// Selects that keep the runs of one scene, camera, light, technique or resolution.
 fn filters_section(h: &mut String, report: &Report) {
     h.push_str("<div id=\"filters\">Show: ");
@@ -161,27 +129,13 @@ fn viewer_section(h: &mut String) {
          <option value=\"2\">2×</option><option value=\"4\">4×</option><option value=\"8\">8×</option></select></label> \
          <button id=\"view-pin\"></button></div><p>",
     );
-    h.push_str(&colour_code_legend());
+    h.push_str(&super::palette::colour_code_legend());
     h.push_str(
         " over the scene. In slide mode run A's shadows are left of the divider, B's (the reference, or \
          a run pinned as B) right; the zoom and the scrolling are the same for both.</p>\
          <p id=\"view-pixel\"></p><div id=\"view-stage\"><img id=\"view-base\" alt=\"\">\
          <img id=\"view-over\" alt=\"\" hidden><div id=\"view-divider\" hidden></div></div></section>",
     );
-}
-
-/// The error map's colours in words and swatches, from the one colour code (palette.rs).
-pub(super) fn colour_code_legend() -> String {
-    use super::palette::{FALSE_LIT, FALSE_SHADOW, UNCERTAIN};
-    let swatch = |[r, g, b]: [u8; 3], what: &str| {
-        format!("<span style=\"color:#{r:02X}{g:02X}{b:02X}\">&#9632;</span> {what}")
-    };
-    format!(
-        "The error map shows {}, {} and {} (pixels the reference cannot decide)",
-        swatch(FALSE_SHADOW, "false shadow"),
-        swatch(FALSE_LIT, "false lit"),
-        swatch(UNCERTAIN, "uncertain")
-    )
 }
 
 fn scenes_table(h: &mut String, report: &Report) {

@@ -17,6 +17,7 @@ mod path_section;
 pub mod plots;
 mod point_map_section;
 pub mod summary;
+mod summary_table;
 pub mod text;
 mod tune_plot;
 

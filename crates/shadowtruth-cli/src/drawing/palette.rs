@@ -39,6 +39,19 @@ pub const SERIES: [[u8; 3]; 6] = [
 /// A sweep's best value and the band of values near it: bluish green, as no rate is drawn.
 pub const BEST: [u8; 3] = [0x00, 0x9E, 0x73];
 
+/// The error map's colours in words and swatches, for the page (HTML).
+pub(super) fn colour_code_legend() -> String {
+    let swatch = |[r, g, b]: [u8; 3], what: &str| {
+        format!("<span style=\"color:#{r:02X}{g:02X}{b:02X}\">&#9632;</span> {what}")
+    };
+    format!(
+        "The error map shows {}, {} and {} (pixels the reference cannot decide)",
+        swatch(FALSE_SHADOW, "false shadow"),
+        swatch(FALSE_LIT, "false lit"),
+        swatch(UNCERTAIN, "uncertain")
+    )
+}
+
 /// The colour of a series named for an error rate ("false shadow", "false lit", or "error",
 /// alone or followed by a space and more words), or `None` for any other series.
 pub fn rate_colour(series: &str) -> Option<[u8; 3]> {
