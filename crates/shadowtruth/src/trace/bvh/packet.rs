@@ -234,29 +234,13 @@ impl Packet {
             let c = met.trailing_zeros() as usize;
             met &= met - 1;
             let child = node.child[c];
-            let hit = if child.is_leaf() { self.lanes_meeting(node, c, tmax_lanes) & lanes } else { lanes };
+            let hit = if child.is_leaf() { self.lane_test(node, c, tmax_lanes).0 & lanes } else { lanes };
             // SAFETY: top < base + 8 ≤ stack.len() (asserted above).
             unsafe { *stack.get_unchecked_mut(top) = (child, hit, keys[c]) };
             top += (hit != 0) as usize;
         }
         *depth = top;
-        if NEAREST {
-            // Insertion sort, farthest first: a node has few met children.
-            for i in base + 1..top {
-                let entry = stack[i];
-                let mut k = i;
-                while k > base && stack[k - 1].2 < entry.2 {
-                    stack[k] = stack[k - 1];
-                    k -= 1;
-                }
-                stack[k] = entry;
-            }
-        }
-        if *depth == base {
-            return None;
-        }
-        *depth -= 1;
-        Some((stack[*depth].0, stack[*depth].1))
+        pop_next::<NEAREST>(stack, base, depth)
     }
 
     /// Pushes the children of `node` that some lane of `lanes` may meet within [0, tmax[lane]]
@@ -275,10 +259,6 @@ impl Packet {
         stack: &mut [(ChildRef, u32, f32)],
         depth: &mut usize,
     ) -> Option<(ChildRef, u32)> {
-        let bytes = node as *const WideNode as *const u8;
-        // SAFETY: `offset` is that of one of the node's plane arrays (`plane_offsets`), and c < 8.
-        let plane =
-            |offset: usize, c: usize| unsafe { _mm256_set1_ps(*(bytes.add(offset) as *const f32).add(c)) };
         // SAFETY: eight f32.
         let tmax = unsafe { _mm256_loadu_ps(tmax.as_ptr()) };
         // The lowest lane's entry distance, moved to lane 0 (`_mm256_cvtss_f32`).
@@ -289,16 +269,8 @@ impl Packet {
         // beneath it, and the stack holds 7·depth + 1 (`SceneBvh::scratch`).
         assert!(stack.len() >= base + 8, "the packet stack is sized to the tree");
         for c in 0..8 {
-            let (mut enter, mut exit) = (_mm256_setzero_ps(), tmax);
-            for axis in 0..3 {
-                let near = plane(self.near_offset[axis], c);
-                let far = plane(self.far_offset[axis], c);
-                let t_near = _mm256_mul_ps(_mm256_sub_ps(near, self.origin[axis]), self.inv_near[axis]);
-                let t_far = _mm256_mul_ps(_mm256_sub_ps(far, self.origin[axis]), self.inv_far[axis]);
-                enter = _mm256_max_ps(enter, t_near);
-                exit = _mm256_min_ps(exit, t_far);
-            }
-            let hit = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit)) as u32 & lanes;
+            let (met, enter) = self.lane_test(node, c, tmax);
+            let hit = met & lanes;
             let key = if NEAREST { _mm256_cvtss_f32(_mm256_permutevar8x32_ps(enter, lowest)) } else { 0.0 };
             // Written whether met or not, kept only if met: no branch on a coin toss.
             // SAFETY: top < base + 8 ≤ stack.len() (asserted above).
@@ -306,30 +278,14 @@ impl Packet {
             top += (hit != 0) as usize;
         }
         *depth = top;
-        if NEAREST {
-            // Insertion sort, farthest first: a node has few met children.
-            for i in base + 1..top {
-                let entry = stack[i];
-                let mut k = i;
-                while k > base && stack[k - 1].2 < entry.2 {
-                    stack[k] = stack[k - 1];
-                    k -= 1;
-                }
-                stack[k] = entry;
-            }
-        }
-        if *depth == base {
-            return None;
-        }
-        *depth -= 1;
-        Some((stack[*depth].0, stack[*depth].1))
+        pop_next::<NEAREST>(stack, base, depth)
     }
 
-    /// The lanes whose own node test meets child `c` of `node` within [0, tmax[lane]]: the
-    /// single-ray test's operations, lane by lane.
+    /// The lanes whose own node test meets child `c` of `node` within [0, tmax[lane]], and each
+    /// lane's entry distance: the single-ray test's operations, lane by lane.
     #[target_feature(enable = "avx2")]
     #[inline]
-    fn lanes_meeting(&self, node: &WideNode, c: usize, tmax: __m256) -> u32 {
+    fn lane_test(&self, node: &WideNode, c: usize, tmax: __m256) -> (u32, __m256) {
         let bytes = node as *const WideNode as *const u8;
         // SAFETY: `offset` is that of one of the node's plane arrays (`plane_offsets`), and c < 8.
         let plane = |offset: usize| unsafe { _mm256_set1_ps(*(bytes.add(offset) as *const f32).add(c)) };
@@ -342,7 +298,7 @@ impl Packet {
             enter = _mm256_max_ps(enter, t_near);
             exit = _mm256_min_ps(exit, t_far);
         }
-        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit)) as u32
+        (_mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit)) as u32, enter)
     }
 
     /// The lanes of `lanes` whose ray the watertight test might not reject for `triangle`: all
@@ -411,6 +367,33 @@ impl Packet {
         let sound = _mm256_cmp_ps::<_CMP_GE_OQ>(reach, _mm256_set1_ps(2f32.powi(-40)));
         lanes & !(_mm256_movemask_ps(_mm256_and_ps(clearly_mixed, sound)) as u32)
     }
+}
+
+/// Pops the entry to visit next of those pushed onto `stack[base..*depth]`; nearest first,
+/// they are sorted farthest first (by their key) before, so that the nearest comes next.
+#[inline(always)]
+fn pop_next<const NEAREST: bool>(
+    stack: &mut [(ChildRef, u32, f32)],
+    base: usize,
+    depth: &mut usize,
+) -> Option<(ChildRef, u32)> {
+    if NEAREST {
+        // Insertion sort: a node has few met children.
+        for i in base + 1..*depth {
+            let entry = stack[i];
+            let mut k = i;
+            while k > base && stack[k - 1].2 < entry.2 {
+                stack[k] = stack[k - 1];
+                k -= 1;
+            }
+            stack[k] = entry;
+        }
+    }
+    if *depth == base {
+        return None;
+    }
+    *depth -= 1;
+    Some((stack[*depth].0, stack[*depth].1))
 }
 
 /// Walks `nodes` with the packet, for the lanes in `*active`, and calls `leaf(i, lane, tmax)`
