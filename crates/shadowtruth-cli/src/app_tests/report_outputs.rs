@@ -468,3 +468,53 @@ fn the_first_screen_shows_the_answer_and_a_chart_point_opens_its_run() {
         eprintln!("screenshot of the {name}: {}", shot.display());
     }
 }
+
+/// What a plot shows, as read from its SVG: every text that is not a number (title, axis
+/// names, legend), and the colour of every series line (width 2) in drawing order.
+fn plot_structure(svg: &str) -> serde_json::Value {
+    let doc = roxmltree::Document::parse(svg).expect("plotters writes valid SVG");
+    let texts: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter_map(|n| n.text())
+        .map(str::trim)
+        .filter(|t| !t.is_empty() && t.parse::<f64>().is_err())
+        .collect();
+    let lines: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("polyline") && n.attribute("stroke-width") == Some("2"))
+        .filter_map(|n| n.attribute("stroke"))
+        .collect();
+    serde_json::json!({ "texts": texts, "line_colours": lines })
+}
+
+/// The stored expectation of one plot of each kind the report draws (a sweep, error against
+/// resolution, cost against error), in structure: its texts and its series' colours. A change
+/// to what the plots say or how they colour it fails here until the expectation is written
+/// again (`SHADOWTRUTH_WRITE_PLOT_STRUCTURE=1`) and the difference read.
+#[test]
+fn each_plot_kind_keeps_its_stored_structure() {
+    let dir = tempfile::tempdir().unwrap();
+    let report = small_report(dir.path());
+    let charts = crate::drawing::plots::charts(&report);
+    let mut seen = serde_json::Map::new();
+    for kind in ["sweep_", "resolution_", "cost_"] {
+        let chart = charts
+            .iter()
+            .filter(|c| c.stem.starts_with(kind))
+            .min_by(|a, b| a.stem.cmp(&b.stem))
+            .unwrap_or_else(|| panic!("no {kind} plot"));
+        let svg = crate::drawing::plots::stacked_svg(std::slice::from_ref(chart)).unwrap();
+        seen.insert(kind.trim_end_matches('_').to_string(), plot_structure(&svg));
+    }
+    let seen = serde_json::Value::Object(seen);
+    let stored = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/app_tests/plot_structure.json");
+    if std::env::var_os("SHADOWTRUTH_WRITE_PLOT_STRUCTURE").is_some() {
+        std::fs::write(&stored, serde_json::to_string_pretty(&seen).unwrap() + "\n").unwrap();
+    }
+    let text = std::fs::read_to_string(&stored).unwrap_or_else(|e| panic!("{}: {e}", stored.display()));
+    let want: serde_json::Value = serde_json::from_str(&text).unwrap();
+    for kind in ["sweep", "resolution", "cost"] {
+        assert_eq!(seen[kind], want[kind], "the {kind} plot's structure changed");
+    }
+}
