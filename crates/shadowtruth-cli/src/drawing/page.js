@@ -6,6 +6,7 @@
   'use strict';
   var runs = document.getElementById('runs');
   var body = runs.tBodies[0];
+  var headers = runs.tHead.rows[0].cells;
   // The runs, drawn a page at a time (a report may hold ten thousand).
   var data = JSON.parse(document.getElementById('runs-data').textContent);
   var PAGE = 100;
@@ -39,7 +40,7 @@
       tr.dataset.run = i;
       run.cells.forEach(function (c, col) {
         var td = document.createElement('td');
-        if (col === 0 || col === 1 || col === 3) td.className = 'l';
+        td.className = headers[col].className; // left-aligned where its header is
         td.textContent = cellText(c);
         tr.appendChild(td);
       });
@@ -73,8 +74,8 @@
   document.getElementById('page-next').addEventListener('click', function () { page += 1; render(); });
 
   // Sorting: click a header; numbers sort as numbers (exact values, not the rounded text).
-  Array.prototype.forEach.call(runs.tHead.rows[0].cells, function (th, col) {
-    if (col >= 17) return; // the figures column
+  Array.prototype.forEach.call(headers, function (th, col) {
+    if (col === headers.length - 1) return; // the figures column: nothing to sort by
     th.addEventListener('click', function () {
       var dir = th.dataset.dir === 'asc' ? -1 : 1;
       th.dataset.dir = dir === 1 ? 'asc' : 'desc';

@@ -74,19 +74,7 @@ impl Frustum {
     #[target_feature(enable = "avx2")]
     #[inline]
     fn new(origin: &[__m256; 3], inv_near: &[__m256; 3], inv_far: &[__m256; 3], negative: [bool; 3]) -> Self {
-        // The least and the greatest lane, each in every lane.
-        let extremes = |v: __m256| {
-            let swapped = _mm256_permute2f128_ps::<1>(v, v);
-            let (lo, hi) = (_mm256_min_ps(v, swapped), _mm256_max_ps(v, swapped));
-            let (lo, hi) = (
-                _mm256_min_ps(lo, _mm256_permute_ps::<0b01_00_11_10>(lo)),
-                _mm256_max_ps(hi, _mm256_permute_ps::<0b01_00_11_10>(hi)),
-            );
-            [
-                _mm256_min_ps(lo, _mm256_permute_ps::<0b10_11_00_01>(lo)),
-                _mm256_max_ps(hi, _mm256_permute_ps::<0b10_11_00_01>(hi)),
-            ]
-        };
+        let extremes = |v| lane_extremes(v);
         let origin = origin.map(extremes);
         Frustum {
             near_origin: std::array::from_fn(|axis| origin[axis][!negative[axis] as usize]),
@@ -193,23 +181,16 @@ impl Packet {
         let planes = |offset: usize| unsafe { _mm256_loadu_ps(bytes.add(offset) as *const f32) };
         // SAFETY: eight f32.
         let tmax_lanes = unsafe { _mm256_loadu_ps(tmax.as_ptr()) };
-        let reach = {
-            // The largest tmax of the lanes walking: the others are −∞.
-            let walking = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
-                _mm256_and_si256(
-                    _mm256_set1_epi32(lanes as i32),
-                    _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128),
-                ),
-                _mm256_setzero_si256(),
-            ));
-            let t = _mm256_blendv_ps(_mm256_set1_ps(f32::NEG_INFINITY), tmax_lanes, walking);
-            let t = _mm256_max_ps(t, _mm256_permute2f128_ps::<1>(t, t));
-            let t = _mm256_max_ps(t, _mm256_permute_ps::<0b01_00_11_10>(t));
-            _mm256_max_ps(t, _mm256_permute_ps::<0b10_11_00_01>(t))
-        };
         let Some(f) = &self.frustum else {
             return self.push_children_lane_by_lane::<NEAREST>(node, tmax, lanes, stack, depth);
         };
+        // The largest tmax of the lanes walking: the others count as −∞.
+        let walking = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
+            _mm256_and_si256(_mm256_set1_epi32(lanes as i32), _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128)),
+            _mm256_setzero_si256(),
+        ));
+        let [_, reach] =
+            lane_extremes(_mm256_blendv_ps(_mm256_set1_ps(f32::NEG_INFINITY), tmax_lanes, walking));
         let (mut enter, mut exit) = (_mm256_setzero_ps(), reach);
         for axis in 0..3 {
             let near = _mm256_sub_ps(planes(self.near_offset[axis]), f.near_origin[axis]);
@@ -367,6 +348,22 @@ impl Packet {
         let sound = _mm256_cmp_ps::<_CMP_GE_OQ>(reach, _mm256_set1_ps(2f32.powi(-40)));
         lanes & !(_mm256_movemask_ps(_mm256_and_ps(clearly_mixed, sound)) as u32)
     }
+}
+
+/// The least and the greatest of the eight lanes of `v`, each in every lane.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn lane_extremes(v: __m256) -> [__m256; 2] {
+    let swapped = _mm256_permute2f128_ps::<1>(v, v);
+    let (lo, hi) = (_mm256_min_ps(v, swapped), _mm256_max_ps(v, swapped));
+    let (lo, hi) = (
+        _mm256_min_ps(lo, _mm256_permute_ps::<0b01_00_11_10>(lo)),
+        _mm256_max_ps(hi, _mm256_permute_ps::<0b01_00_11_10>(hi)),
+    );
+    [
+        _mm256_min_ps(lo, _mm256_permute_ps::<0b10_11_00_01>(lo)),
+        _mm256_max_ps(hi, _mm256_permute_ps::<0b10_11_00_01>(hi)),
+    ]
 }
 
 /// Pops the entry to visit next of those pushed onto `stack[base..*depth]`; nearest first,
