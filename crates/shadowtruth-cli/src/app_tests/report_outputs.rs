@@ -488,25 +488,35 @@ fn plot_structure(svg: &str) -> serde_json::Value {
     serde_json::json!({ "texts": texts, "line_colours": lines })
 }
 
-/// The stored expectation of one plot of each kind the report draws (a sweep, error against
-/// resolution, cost against error), in structure: its texts and its series' colours. A change
-/// to what the plots say or how they colour it fails here until the expectation is written
-/// again (`SHADOWTRUTH_WRITE_PLOT_STRUCTURE=1`) and the difference read.
+/// The stored expectation of one plot of each kind the tool draws (a sweep, error against
+/// resolution, cost against error, the frames of a moving view, a `tune` search), in structure:
+/// its texts and its series' colours. A change to what the plots say or how they colour it
+/// fails here until the expectation is written again (`SHADOWTRUTH_WRITE_PLOT_STRUCTURE=1`) and
+/// the difference read.
 #[test]
 fn each_plot_kind_keeps_its_stored_structure() {
     let dir = tempfile::tempdir().unwrap();
     let report = small_report(dir.path());
     let charts = crate::drawing::plots::charts(&report);
     let mut seen = serde_json::Map::new();
-    for kind in ["sweep_", "resolution_", "cost_"] {
+    let mut keep = |kind: &str, charts: &[crate::drawing::plots::Chart]| {
+        let svg = crate::drawing::plots::stacked_svg(charts).unwrap();
+        seen.insert(kind.to_string(), plot_structure(&svg));
+    };
+    for kind in ["sweep", "resolution", "cost"] {
         let chart = charts
             .iter()
-            .filter(|c| c.stem.starts_with(kind))
+            .filter(|c| c.stem.starts_with(&format!("{kind}_")))
             .min_by(|a, b| a.stem.cmp(&b.stem))
             .unwrap_or_else(|| panic!("no {kind} plot"));
-        let svg = crate::drawing::plots::stacked_svg(std::slice::from_ref(chart)).unwrap();
-        seen.insert(kind.trim_end_matches('_').to_string(), plot_structure(&svg));
+        keep(kind, std::slice::from_ref(chart));
     }
+    let temporal = |label| crate::drawing::frame_plots::tests::temporal_run(label, 512, 6);
+    let moving =
+        Report { runs: vec![temporal("none"), temporal("constant(bias_depth=0.002)")], ..Report::new() };
+    keep("frames", &crate::drawing::frame_plots::frame_plots(&moving)[0].charts);
+    keep("tune", std::slice::from_ref(&synthetic_tune_chart()));
+
     let seen = serde_json::Value::Object(seen);
     let stored = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/app_tests/plot_structure.json");
     if std::env::var_os("SHADOWTRUTH_WRITE_PLOT_STRUCTURE").is_some() {
@@ -514,7 +524,34 @@ fn each_plot_kind_keeps_its_stored_structure() {
     }
     let text = std::fs::read_to_string(&stored).unwrap_or_else(|e| panic!("{}: {e}", stored.display()));
     let want: serde_json::Value = serde_json::from_str(&text).unwrap();
-    for kind in ["sweep", "resolution", "cost"] {
+    for kind in ["sweep", "resolution", "cost", "frames", "tune"] {
         assert_eq!(seen[kind], want[kind], "the {kind} plot's structure changed");
     }
+}
+
+/// The plot of a `tune` search of the constant bias on one synthetic scene: acne (false shadow)
+/// falls to zero as the bias grows past 0.01 and a leak (false lit) rises from 0.001.
+fn synthetic_tune_chart() -> crate::drawing::plots::Chart {
+    use crate::tune::{LogRange, Objective, SuiteAggregate, TuneRequest, tune_with};
+    let base = serde_json::json!({ "technique": "constant" }).as_object().unwrap().clone();
+    let request = TuneRequest {
+        base,
+        params: vec![("bias_depth".into(), LogRange { lo: 1e-4, hi: 0.1 })],
+        objective: Objective::Total,
+        aggregate: SuiteAggregate::Mean,
+    };
+    let mut shade = |_: usize, spec: &shadowtruth::technique::TechniqueSpec| {
+        let bias = spec.parameters()["bias_depth"].as_f64().unwrap();
+        let false_shadow = (1000.0 * (0.01 - bias).max(0.0)) as u64;
+        let false_lit = (1000.0 * (bias - 0.001).max(0.0)) as u64;
+        shadowtruth::metrics::Counts {
+            pixels: 1000,
+            evaluated: 1000,
+            false_shadow,
+            false_lit,
+            ..Default::default()
+        }
+    };
+    let result = tune_with(&request, &["s".to_string()], &mut shade);
+    crate::drawing::tune_chart(&result, &request, 0)
 }

@@ -2,6 +2,7 @@
 //! the false shadow / false lit of every setting at every resolution, then the best setting of
 //! each technique family and the Pareto set at the highest resolution.
 
+use crate::drawing::palette::{FALSE_LIT, FALSE_SHADOW, terminal_colour};
 use crate::drawing::summary::{GroupSummary, SettingSummary, per_scene, per_view, summaries};
 use shadowtruth::record::{Report, RunRecord};
 use std::path::Path;
@@ -29,9 +30,12 @@ pub(super) fn print_tables(report: &Report, layout: TableLayout) {
     };
     let groups = summaries(report, key);
     if !groups.is_empty() {
-        println!(
-            "\nshd/lit %: false shadow % / false lit %, of the evaluated pixels of the views a table \
-             pools (named under its title)"
+        // anstream leaves the colour out where stdout is no terminal or NO_COLOR is set.
+        anstream::println!(
+            "\nshd/lit %: {} / {}, of the evaluated pixels of the views a table pools (named under \
+             its title)",
+            coloured(FALSE_SHADOW, "false shadow %"),
+            coloured(FALSE_LIT, "false lit %")
         );
     }
     for g in &groups {
@@ -88,6 +92,20 @@ fn row_name(s: &SettingSummary) -> String {
     if s.depth_format == "f32" { s.label.clone() } else { format!("{} [{}]", s.label, s.depth_format) }
 }
 
+/// `text` in the terminal's nearest colour to `rgb`.
+fn coloured(rgb: [u8; 3], text: &str) -> String {
+    let style = anstyle::Style::new().fg_color(Some(anstyle::Ansi256Color(terminal_colour(rgb)).into()));
+    format!("{style}{text}{style:#}")
+}
+
+/// False shadow / false lit (fractions) in % in the colour code, right-aligned in `width`
+/// characters (the colour's escapes take no room on screen).
+fn rate_cell(false_shadow: f64, false_lit: f64, width: usize) -> String {
+    let (shadow, lit) = (format!("{:.2}", 100.0 * false_shadow), format!("{:.2}", 100.0 * false_lit));
+    let pad = width.saturating_sub(shadow.len() + 1 + lit.len());
+    format!("{}{}/{}", " ".repeat(pad), coloured(FALSE_SHADOW, &shadow), coloured(FALSE_LIT, &lit))
+}
+
 fn print_group(g: &GroupSummary, views: &[String]) {
     let resolutions = g.resolutions();
     let mut unique: Vec<String> = Vec::new();
@@ -111,9 +129,7 @@ fn print_group(g: &GroupSummary, views: &[String]) {
         print!("{row:width$}");
         for res in &resolutions {
             match g.settings.iter().find(|s| s.resolution == *res && row_name(s) == *row) {
-                Some(s) => {
-                    print!("  {:>15}", format!("{:.2}/{:.2}", 100.0 * s.false_shadow, 100.0 * s.false_lit))
-                }
+                Some(s) => anstream::print!("  {}", rate_cell(s.false_shadow, s.false_lit, 15)),
                 None => print!("  {:>15}", "-"),
             }
         }
@@ -149,6 +165,14 @@ mod tests {
         report.runs = vec![run("a", "x", 0), run("rocks", "x", 3), run("rocks", "y", 3), run("spot", "x", 1)];
         let line = uncertain_line(&report).expect("two views have uncertain pixels");
         assert!(line.ends_with(": rocks/main/sun 3, spot/main/sun 1"), "{line}");
+    }
+
+    #[test]
+    fn a_cell_is_aligned_as_its_plain_text_and_coloured_in_the_code() {
+        let cell = rate_cell(0.0123, 0.5, 15);
+        assert_eq!(anstream::adapter::strip_str(&cell).to_string(), format!("{:>15}", "1.23/50.00"));
+        // xterm's 256 colours: 166 vermillion (false shadow), 25 blue (false lit).
+        assert!(cell.contains("\x1b[38;5;166m1.23\x1b[0m/\x1b[38;5;25m50.00"), "{cell:?}");
     }
 
     #[test]

@@ -76,7 +76,7 @@ fn frame_plot(report: &Report, stem: String, runs: &[usize]) -> FramePlot {
             title: format!("{title}: error per frame"),
             x_label: "frame".into(),
             integer_x: true,
-            y_label: format!("error (% of evaluated pixels; {})", super::plots::ZERO_NOTE),
+            y_label: "error (% of evaluated pixels)".into(),
             series: errors,
             ..Chart::default()
         },
@@ -110,14 +110,15 @@ impl crate::export::Export for FramePlotsExport {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::drawing::plots::tests::line_colours;
     use crate::export::Export;
     use shadowtruth::metrics::Counts;
     use shadowtruth::record::TemporalRecord;
 
-    fn run(label: &str, resolution: u32, frames: usize) -> RunRecord {
+    /// A run over `frames` frames whose error grows by 1 % a frame from 0.
+    pub(crate) fn temporal_run(label: &str, resolution: u32, frames: usize) -> RunRecord {
         let counts = Counts { pixels: 100, evaluated: 100, ..Counts::default() };
         let mut r = crate::gate::test_run("s", "none", serde_json::json!({}), label, counts);
         r.resolution = resolution;
@@ -138,10 +139,15 @@ mod tests {
 
     #[test]
     fn one_plot_per_map_with_a_series_per_technique_in_each_chart() {
-        let mut single_frame = run("none", 1024, 1);
+        let mut single_frame = temporal_run("none", 1024, 1);
         single_frame.temporal = None;
-        let runs =
-            vec![run("a", 1024, 6), run("b", 1024, 6), run("c", 1024, 6), run("a", 2048, 6), single_frame];
+        let runs = vec![
+            temporal_run("a", 1024, 6),
+            temporal_run("b", 1024, 6),
+            temporal_run("c", 1024, 6),
+            temporal_run("a", 2048, 6),
+            single_frame,
+        ];
         let report = Report { runs, ..Report::new() };
         let groups = frame_plot_groups(&report);
         assert_eq!(groups.iter().map(|g| g.1.clone()).collect::<Vec<_>>(), [vec![0, 1, 2], vec![3]]);

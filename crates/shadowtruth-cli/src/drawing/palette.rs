@@ -52,6 +52,15 @@ pub(super) fn colour_code_legend() -> String {
     )
 }
 
+/// The nearest colour of the xterm 256-colour cube (indices 16–231), which terminals without
+/// 24-bit colour show too. By hand: six levels a channel, too small for a crate.
+pub fn terminal_colour(rgb: [u8; 3]) -> u8 {
+    const LEVELS: [u8; 6] = [0, 95, 135, 175, 215, 255];
+    let level = |c: u8| (0..6).min_by_key(|&k| LEVELS[k].abs_diff(c)).expect("six levels") as u8;
+    let [r, g, b] = rgb.map(level);
+    16 + 36 * r + 6 * g + b
+}
+
 /// The colour of a series named for an error rate ("false shadow", "false lit", or "error",
 /// alone or followed by a space and more words), or `None` for any other series.
 pub fn rate_colour(series: &str) -> Option<[u8; 3]> {
@@ -91,6 +100,15 @@ pub fn grey(level: f32) -> u8 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// xterm's cube: vermillion #D55E00 is nearest #D75F00 (166), blue #0072B2 nearest #005FAF (25).
+    #[test]
+    fn the_error_colours_keep_their_hue_in_a_256_colour_terminal() {
+        assert_eq!(terminal_colour(FALSE_SHADOW), 166);
+        assert_eq!(terminal_colour(FALSE_LIT), 25);
+        assert_eq!(terminal_colour([0, 0, 0]), 16);
+        assert_eq!(terminal_colour([255, 255, 255]), 231);
+    }
 
     #[test]
     fn palette_holds_the_greys_and_three_colours() {

@@ -85,8 +85,8 @@ fn register_font() {
 
 /// An error (in %) no larger than this is drawn as the least of the log axis' data.
 const Y_FLOOR: f64 = 1e-5;
-/// What a log axis' label adds about its zeros (`ZeroRow`).
-pub(super) const ZERO_NOTE: &str = "0 drawn below the axis break";
+/// What a log axis' label adds when it draws zeros (`ZeroRow`).
+const ZERO_NOTE: &str = "0 drawn below the axis break";
 
 /// A rate (a fraction) as a log axis takes it, in %: zeros stay zeros (`ZeroRow` draws them).
 pub(super) fn percent_on_log_axis(fraction: f64) -> f64 {
@@ -129,10 +129,13 @@ impl ZeroRow {
     fn bottom(self) -> f64 {
         if self.zeros { self.floor / 6.0 } else { self.floor * 0.7 }
     }
-    /// `c` with its zeros moved onto the row.
+    /// `c` with its zeros moved onto the row, and its y label saying so when it has zeros.
     fn place(self, c: &Chart) -> Chart {
         let at = |(x, y): (f64, f64)| (x, if y == 0.0 { self.row() } else { y });
         let mut placed = c.clone();
+        if self.zeros {
+            placed.y_label = format!("{}; {ZERO_NOTE}", c.y_label);
+        }
         for (_, points) in &mut placed.series {
             points.iter_mut().for_each(|p| *p = at(*p));
         }
@@ -256,7 +259,7 @@ fn parameter_sweeps(report: &Report) -> Vec<Chart> {
                     format
                 ),
                 x_label: param,
-                y_label: format!("% of evaluated pixels ({ZERO_NOTE})"),
+                y_label: "% of evaluated pixels".into(),
                 log_x: lo > 0.0 && hi / lo > 20.0,
                 points_only,
                 series,
@@ -310,7 +313,7 @@ fn resolution_charts(report: &Report) -> Vec<Chart> {
             stem: chart_stem("resolution", &view, &[&format], &format),
             title: format!("{}: error against shadow-map resolution ({format})", view_title(&view)),
             x_label: "shadow-map resolution (texels per side)".into(),
-            y_label: format!("error (% of evaluated pixels; {ZERO_NOTE})"),
+            y_label: "error (% of evaluated pixels)".into(),
             // Resolutions double: equal steps on a log2 axis, each labelled.
             integer_x: true,
             x_powers_of_two: true,
@@ -354,7 +357,7 @@ fn cost_charts(report: &Report) -> Vec<Chart> {
                 stem: chart_stem("cost", &view, &[&res.to_string(), &format], &format!("{res}_{format}")),
                 title: format!("{}: cost against error at {res}² ({format})", view_title(&view)),
                 x_label: "shading cost (ns per evaluated pixel)".into(),
-                y_label: format!("error (% of evaluated pixels; {ZERO_NOTE})"),
+                y_label: "error (% of evaluated pixels)".into(),
                 log_x: false,
                 x_ranges: all.iter().map(|p| p.measured.then_some(p.cost_range)).collect(),
                 series: pts.into_iter().map(|(label, p)| (label, vec![(p.cost, p.error)])).collect(),
@@ -1027,6 +1030,7 @@ pub(crate) mod tests {
             .map(str::trim)
             .collect();
         assert!(texts.contains(&"0"), "the zero row is labelled: {texts:?}");
+        assert!(texts.iter().any(|t| t.ends_with(ZERO_NOTE)), "the y label says where zeros are: {texts:?}");
         assert!(
             !texts.iter().any(|t| t.contains("e-3") || *t == "0.005"),
             "no tick under the break: {texts:?}"
@@ -1036,7 +1040,9 @@ pub(crate) mod tests {
         assert!(dashed(&svg) > 20, "the break is drawn");
         c.series[0].1[0].1 = 0.02;
         assert!(!ZeroRow::of(&c).zeros);
-        assert_eq!(dashed(&chart_svg(&c).unwrap()), 0, "no zeros, no break");
+        let svg = chart_svg(&c).unwrap();
+        assert_eq!(dashed(&svg), 0, "no zeros, no break");
+        assert!(!svg.contains(ZERO_NOTE), "no zeros, no word of them");
     }
 
     #[test]

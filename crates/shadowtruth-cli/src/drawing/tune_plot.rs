@@ -24,7 +24,7 @@ pub fn tune_chart(result: &TuneResult, request: &TuneRequest, axis: usize) -> Ch
         stem: format!("tune_{}", name.replace(|c: char| !c.is_ascii_alphanumeric(), "_")),
         title: format!("tune {spec}: {}", request.aggregate_description()),
         x_label: name.clone(),
-        y_label: format!("% of scored pixels (mean over scenes; {})", super::plots::ZERO_NOTE),
+        y_label: "% of scored pixels (mean over scenes)".into(),
         log_x: true,
         series: vec![
             ("false shadow".into(), series(|p| p.false_shadow)),
