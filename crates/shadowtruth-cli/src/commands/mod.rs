@@ -128,8 +128,9 @@ enum Command {
     /// scenes/papers/casters.json, Weiskopf & Ertl's Fig. 5 on scenes/papers/l_above.json.
     ///
     /// Writes the usual report (the papers' set-ups) into OUT_DIR, plus claims.json (per claim:
-    /// id, paper, statement, set-up, rule, our numbers, verdict holds / partly / does_not_hold,
-    /// and the same rule over other set-ups: sensitivity, sensitivity_summary) and claims.html.
+    /// id, paper, statement, set-up, rule, our numbers, verdict holds / fragile / partly /
+    /// does_not_hold, the margin of the test nearest to changing it, and the same rule over
+    /// other set-ups: sensitivity, sensitivity_summary) and claims.html.
     #[command(after_help = examples::PAPERS)]
     Papers(papers::PapersArgs),
     /// Generate the island of Ehm et al. (WSCG 2015, Figure 12) from a seed: DIR/island.json

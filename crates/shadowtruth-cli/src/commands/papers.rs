@@ -71,6 +71,9 @@ pub(super) fn papers(a: PapersArgs) -> Result<u8> {
     if !a.quiet {
         for c in &claims {
             println!("{:<28} {:<14} {}", c.id, c.verdict.name(), c.sensitivity_summary);
+            if !c.margin.is_empty() {
+                println!("{:<28} {:<14} margin: {}", "", "", c.margin);
+            }
         }
         println!(
             "{} claims from {} runs in {:.1} s; open {}",

@@ -139,7 +139,9 @@ pub(super) fn claims(suite: &mut Suite) -> Result<Vec<Claim>, PlanError> {
                 paper: PAGOT,
                 statement: "PCF(k, n) over k taps of an n-depth map takes at most n·k + 1 distinct values.",
                 setup,
-                rule: "every configuration within n·k + 1 and reaching it: holds; within but not reaching: partly",
+                rule: "each configuration reaches n·k + 1 distinct values (it cannot exceed them by construction: \
+                       the mean of k taps of n + 1 levels is one of n·k + 1 fractions); exceeding them would not \
+                       hold. Two configurations are measured (3-SM 3×3, 1-SM 4×4), not the table's every cell.",
             },
             table1,
             vec![],
