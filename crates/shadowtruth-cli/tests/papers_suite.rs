@@ -8,7 +8,7 @@ use serde_json::Value;
 use std::collections::BTreeSet;
 use std::process::Command;
 
-const IDS: [&str; 10] = [
+const IDS: [&str; 14] = [
     "ehm2015-fig12-a",
     "ehm2015-fig12-d",
     "ehm2015-fig12-g",
@@ -17,8 +17,12 @@ const IDS: [&str; 10] = [
     "ehm2015-table1",
     "pagot2004-table1",
     "pagot2004-fig6",
-    "weiskopf2003-fig5-r64",
-    "weiskopf2003-fig5-r128",
+    "weiskopf2003-fig5-dual-r64",
+    "weiskopf2003-fig5-b-midpoint-r64",
+    "weiskopf2003-fig5-d-constant-r64",
+    "weiskopf2003-fig5-dual-r128",
+    "weiskopf2003-fig5-b-midpoint-r128",
+    "weiskopf2003-fig5-d-constant-r128",
 ];
 const VERDICTS: [&str; 3] = ["holds", "partly", "does_not_hold"];
 

@@ -70,9 +70,9 @@ pub(super) fn papers(a: PapersArgs) -> Result<u8> {
     bar.finish_and_clear();
     if !a.quiet {
         for c in &claims {
-            println!("{:<28} {:<14} {}", c.id, c.verdict.name(), c.sensitivity_summary);
+            println!("{:<34} {:<14} {}", c.id, c.verdict.name(), c.sensitivity_summary);
             if !c.margin.is_empty() {
-                println!("{:<28} {:<14} margin: {}", "", "", c.margin);
+                println!("{:<34} {:<14} margin: {}", "", "", c.margin);
             }
         }
         println!(
