@@ -109,7 +109,10 @@ fn measure(scene: &Scene, bvh: &SceneBvh, setup: &PcfSetup) -> Result<[SetupResu
 pub(super) fn claims(suite: &mut Suite) -> Result<Vec<Claim>, PlanError> {
     let path = suite.scene("casters.json");
     let techniques = ["receiver_plane", "adaptive", "adaptive_delta"].map(|b| spec(&pcf(b, K))).to_vec();
-    suite.report(&plan_of(&path, &["main"], "spot", techniques, &[RESOLUTION]))?;
+    let runs = suite.report(&plan_of(&path, &["main"], "spot", techniques.clone(), &[RESOLUTION]))?;
+    let error_maps = |k: [usize; 2]| {
+        k.iter().filter_map(|&k| runs.error_map("main", &techniques[k], RESOLUTION)).collect()
+    };
     suite.stage("Ehm et al. Fig. 4 and Table 1 set-ups")?;
     let scene = load_scene(&path)?;
     let bvh = SceneBvh::build(&scene);
@@ -129,11 +132,11 @@ pub(super) fn claims(suite: &mut Suite) -> Result<Vec<Claim>, PlanError> {
     let fig4_rule = "plane pixels whose visibilities differ by more than 1e-6: ≤ 0.01 % (\"no differences in the \
                      shadows cast on the plane\"); casters' pixels that differ: at least one, and ≤ 1 % of them \
                      (\"small differences in the self shadow\")";
-    let fig4 = |id: &str, statement, results| {
+    let fig4 = |id: &str, statement, results, figures| {
         Claim::judged(
             ClaimText { id: id.into(), paper: EHM, statement, setup, rule: fig4_rule },
             results,
-            vec![],
+            figures,
         )
     };
     Ok(vec![
@@ -142,12 +145,14 @@ pub(super) fn claims(suite: &mut Suite) -> Result<Vec<Claim>, PlanError> {
             "Receiver-plane depth bias against the adaptive bias per tap, 11×11 PCF: \"small differences in the self \
              shadow, however no differences in the shadows cast on the plane\".",
             fig4_adaptive,
+            error_maps([0, 1]),
         ),
         fig4(
             "ehm2015-fig4-delta",
             "Receiver-plane depth bias against the adaptive bias with the Δbias optimisation, 11×11 PCF: small \
              differences in the self shadow, no differences in the shadows cast on the plane.",
             fig4_delta,
+            error_maps([0, 2]),
         ),
         Claim::judged(
             ClaimText {

@@ -120,7 +120,8 @@ pub(super) fn claims(suite: &mut Suite) -> Result<Vec<Claim>, PlanError> {
     let bvh = SceneBvh::build(&scene);
     let sun = View::trace(&scene, &bvh, "main", light_of(&scene, "sun")?)?;
     let techniques = filters(&scene, &LightMap::new(&sun, RESOLUTION)).to_vec();
-    suite.report(&plan_of(&path, &["main"], "sun", techniques, &[RESOLUTION]))?;
+    let runs = suite.report(&plan_of(&path, &["main"], "sun", techniques.clone(), &[RESOLUTION]))?;
+    let error_maps = techniques.iter().filter_map(|t| runs.error_map("main", t, RESOLUTION)).collect();
     suite.stage("Pagot et al. set-ups")?;
     let (mut table1, mut fig6) = (Vec::new(), Vec::new());
     for setup in suite.grid(setups()) {
@@ -158,7 +159,7 @@ pub(super) fn claims(suite: &mut Suite) -> Result<Vec<Claim>, PlanError> {
                        MAE against pixel coverage reported, not judged",
             },
             fig6,
-            vec![],
+            error_maps,
         ),
     ])
 }

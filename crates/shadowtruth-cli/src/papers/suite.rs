@@ -3,6 +3,7 @@
 //! their figures), the reference cache, and the plan of a set-up. `run.rs` runs them in turn.
 
 use crate::plan::{Event, Plan, PlanError, Sink, emit, execute};
+use shadowtruth::record::RunRecord;
 use shadowtruth::technique::TechniqueSpec;
 use shadowtruth::trace::ReferenceCache;
 use std::path::{Path, PathBuf};
@@ -30,9 +31,15 @@ pub(super) struct Suite<'a, 's> {
 }
 
 impl Suite<'_, '_> {
-    /// Runs the paper's set-up into the report: its records and figures.
-    pub fn report(&mut self, plan: &Plan) -> Result<(), PlanError> {
-        execute(plan, Some(self.cache), self.sinks)
+    /// Runs the paper's set-up into the report (its records and figures), and returns its
+    /// runs' records, so that a claim can name the figures of the runs it judges.
+    pub fn report(&mut self, plan: &Plan) -> Result<SetupRuns, PlanError> {
+        let mut runs = SetupRuns(Vec::new());
+        let mut sinks: Vec<&mut dyn Sink> =
+            self.sinks.iter_mut().map(|s| &mut **s as &mut dyn Sink).collect();
+        sinks.push(&mut runs);
+        execute(plan, Some(self.cache), &mut sinks)?;
+        Ok(runs)
     }
 
     pub fn stage(&mut self, what: &str) -> Result<(), PlanError> {
@@ -49,6 +56,30 @@ impl Suite<'_, '_> {
 
     pub fn scene(&self, file: &str) -> PathBuf {
         self.scenes_dir.join("papers").join(file)
+    }
+}
+
+/// The records of the runs of a paper's set-up, as the report holds them.
+pub(super) struct SetupRuns(Vec<RunRecord>);
+
+impl Sink for SetupRuns {
+    fn on_event(&mut self, event: &Event) -> Result<(), PlanError> {
+        if let Event::RunDone { record, .. } = event {
+            self.0.push((*record).clone());
+        }
+        Ok(())
+    }
+}
+
+impl SetupRuns {
+    /// The error map (`figures/<run stem>.error.png`, drawn by the report's figures) of the run
+    /// of `technique` on `camera` at `resolution`, if the set-up ran it.
+    pub fn error_map(&self, camera: &str, technique: &TechniqueSpec, resolution: u32) -> Option<String> {
+        let label = technique.label();
+        self.0
+            .iter()
+            .find(|r| r.camera == camera && r.label == label && r.resolution == resolution)
+            .map(|r| format!("figures/{}.error.png", crate::drawing::figures::run_stem(r)))
     }
 }
 

@@ -99,7 +99,7 @@ const SETUP: &str = "scenes/papers/l_above.json: the L above the ground, lit fro
 /// Fig. 5's panels as claims at one resolution, from each set-up's measurements (the paper's
 /// first): dual depth layers with back-face culling (the paper's), midpoint without culling
 /// (b) and the constant bias (d).
-fn panels(resolution: u32, measured: &[Measured]) -> [Claim; 3] {
+fn panels(resolution: u32, measured: &[Measured], error_map: impl Fn(usize) -> Vec<String>) -> [Claim; 3] {
     let judged = |rule: &dyn Fn(&[LArtefacts]) -> claims::Judgement| {
         measured.iter().map(|m| SetupResult::new(m.setup, m.numbers.clone(), rule(&m.classes))).collect()
     };
@@ -120,7 +120,7 @@ fn panels(resolution: u32, measured: &[Measured]) -> [Claim; 3] {
                  outline aliasing reported)",
             ),
             judged(&|c| claims::weiskopf_fig5_dual(&c[5])),
-            vec![],
+            error_map(5),
         ),
         Claim::judged(
             text(
@@ -129,7 +129,7 @@ fn panels(resolution: u32, measured: &[Measured]) -> [Claim; 3] {
                 "midpoint without culling: leak on the L ≥ 0.5 % of its pixels",
             ),
             judged(&|c| claims::weiskopf_fig5_unshadows("midpoint", &c[2])),
-            vec![],
+            error_map(2),
         ),
         Claim::judged(
             text(
@@ -138,7 +138,7 @@ fn panels(resolution: u32, measured: &[Measured]) -> [Claim; 3] {
                 "constant bias: leak on the L ≥ 0.5 % of its pixels",
             ),
             judged(&|c| claims::weiskopf_fig5_unshadows("constant bias", &c[0])),
-            vec![],
+            error_map(0),
         ),
     ]
 }
@@ -149,7 +149,9 @@ pub(super) fn claims(suite: &mut Suite) -> Result<Vec<Claim>, PlanError> {
     let scene = load_scene(&path)?;
     let paper = &setups()[0];
     let view = LightView::new(&light_of(&scene, paper.light)?, scene.bounds(), L_RESOLUTIONS[0]);
-    suite.report(&plan_of(&path, &["main"], paper.light, six(paper, &view).to_vec(), &L_RESOLUTIONS))?;
+    let paper_techniques = six(paper, &view);
+    let runs =
+        suite.report(&plan_of(&path, &["main"], paper.light, paper_techniques.to_vec(), &L_RESOLUTIONS))?;
     suite.stage("Weiskopf & Ertl Fig. 5 set-ups")?;
     let bvh = SceneBvh::build(&scene);
     let setups = suite.grid(setups());
@@ -160,9 +162,11 @@ pub(super) fn claims(suite: &mut Suite) -> Result<Vec<Claim>, PlanError> {
             results.push(measure(&view, setup, resolution));
         }
     }
+    let error_map =
+        |k: usize, resolution| runs.error_map("main", &paper_techniques[k], resolution).into_iter().collect();
     Ok(per_resolution
         .iter()
         .zip(L_RESOLUTIONS)
-        .flat_map(|(measured, resolution)| panels(resolution, measured))
+        .flat_map(|(measured, resolution)| panels(resolution, measured, |k| error_map(k, resolution)))
         .collect())
 }
