@@ -8,7 +8,7 @@ use serde_json::Value;
 use std::collections::BTreeSet;
 use std::process::Command;
 
-const IDS: [&str; 14] = [
+const IDS: [&str; 15] = [
     "ehm2015-fig12-a",
     "ehm2015-fig12-d",
     "ehm2015-fig12-g",
@@ -17,6 +17,7 @@ const IDS: [&str; 14] = [
     "ehm2015-table1",
     "pagot2004-table1",
     "pagot2004-fig6",
+    "pagot2004-fig6-2x2",
     "weiskopf2003-fig5-dual-r64",
     "weiskopf2003-fig5-b-midpoint-r64",
     "weiskopf2003-fig5-d-constant-r64",
@@ -140,8 +141,8 @@ fn papers_writes_every_claim_with_its_sensitivity_its_page_and_figure_12() {
     assert!(grid.width() > 1000 && grid.height() > 1000);
     let report: Value =
         serde_json::from_str(&std::fs::read_to_string(out.path().join("report.json")).unwrap()).unwrap();
-    // Island: 3 settings × 2 cameras; casters: 3 PCF under the spot, 2 n-SM under the sun;
+    // Island: 3 settings × 2 cameras; casters: 3 PCF under the spot, 4 n-SM under the sun;
     // L above the ground: 6 techniques × 2 resolutions.
-    assert_eq!(report["runs"].as_array().unwrap().len(), 3 * 2 + 3 + 2 + 6 * 2);
+    assert_eq!(report["runs"].as_array().unwrap().len(), 3 * 2 + 3 + 4 + 6 * 2);
     check_against_report(claims, &report);
 }
