@@ -4,13 +4,14 @@
 //! and shadow rays on an outdoor scene of 200K triangles (`generate forest`: terrain and trees
 //! with thin trunks, under the sun), the rays `reference --timing` times (primary rays prepared
 //! before the clock, as it times them), with the G-buffer and the coverage and area-light
-//! references per sample beside them.
+//! references per sample beside them; and each way the tracer walks those rays, on one thread:
+//! single rays against packets of eight neighbours, primary and shadow alike.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use shadowtruth::scene::{LightKind, load_scene};
 use shadowtruth::trace::{
-    GBuffer, SceneBvh, primary_directions, primary_hits, trace_area_light_reference,
-    trace_coverage_reference, trace_hard_reference,
+    GBuffer, SceneBvh, ShadowRay, hard_shadow_ray, primary_directions, primary_hits,
+    trace_area_light_reference, trace_coverage_reference, trace_hard_reference,
 };
 use std::path::Path;
 use std::process::Command;
@@ -83,5 +84,56 @@ fn trace_outdoor(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, trace, trace_outdoor);
+/// The forest's rays walked each way the tracer can, on one thread: one ray at a time, or eight
+/// neighbours at a time (packets where the processor has AVX2). The answers are the same; only
+/// the walk differs.
+fn trace_modes(c: &mut Criterion) {
+    let scene = forest_scene();
+    let camera = &scene.cameras[0];
+    let sun = scene.lights.iter().find(|l| l.name == "sun").expect("the forest has a sun");
+    let bvh = SceneBvh::build(&scene);
+    let gbuffer = GBuffer::trace(&scene, &bvh, camera, sun);
+    let directions = primary_directions(camera);
+    let shadow_rays: Vec<ShadowRay> = gbuffer
+        .evaluated
+        .iter()
+        .map(|&i| hard_shadow_ray(&gbuffer.surface_point(&scene, i as usize), sun))
+        .collect();
+    let mut scratch = bvh.scratch();
+    let mut hits = vec![None; 8];
+
+    let mut g = c.benchmark_group("trace/forest200k/one_thread");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(directions.len() as u64));
+    g.bench_function("primary_single_rays", |b| {
+        b.iter(|| {
+            let mut hit = |d| bvh.closest_hit(&mut scratch, camera.position, d, 0.0, f32::INFINITY).is_some();
+            directions.iter().filter(|&&d| hit(d)).count()
+        })
+    });
+    g.bench_function("primary_packets_of_8", |b| {
+        b.iter(|| {
+            let mut count = 0;
+            for eight in directions.chunks(8) {
+                bvh.closest_hits(&mut scratch, camera.position, eight, &mut hits[..eight.len()]);
+                count += hits[..eight.len()].iter().filter(|h| h.is_some()).count();
+            }
+            count
+        })
+    });
+    g.throughput(Throughput::Elements(shadow_rays.len() as u64));
+    g.bench_function("shadow_single_rays", |b| {
+        b.iter(|| shadow_rays.iter().filter(|r| bvh.shadow_answer(&mut scratch, r).shadowed()).count())
+    });
+    g.bench_function("shadow_packets_of_8", |b| {
+        b.iter(|| {
+            let occluded =
+                |eight: &[ShadowRay]| bvh.shadow_occluded(&mut scratch, eight).count_ones() as usize;
+            shadow_rays.chunks(8).map(occluded).sum::<usize>()
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, trace, trace_outdoor, trace_modes);
 criterion_main!(benches);
