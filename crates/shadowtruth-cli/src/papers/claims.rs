@@ -1,7 +1,8 @@
 //! The papers' claims as numbers: each claim has an id, its paper, its statement, the set-up that
-//! follows the paper, the rule that decides it, the numbers we measured, a verdict, and the same
-//! rule over a few other set-ups the paper leaves open (its sensitivity). A claim that does not
-//! hold is a finding, reported as such.
+//! follows the paper, the rule that decides it (a list of tests: a measured number against a
+//! threshold), the numbers we measured, a verdict with its margin (the test nearest to changing
+//! it), and the same rule over a few other set-ups the paper leaves open (its sensitivity, which
+//! makes a narrow verdict `fragile`). A claim that does not hold is a finding, reported as such.
 //!
 //! Rules count the artefact classes the papers name: acne (false shadow away from any true shadow
 //! edge), leak and detachment (false lit away from any true shadow edge), as
@@ -102,7 +103,7 @@ impl Test {
         }
     }
 
-    /// "what 0.0031 ≤ 0.005 (38 % inside)".
+    /// "what 0.003100 ≤ 0.005000 (38.0 % inside)".
     pub fn describe(&self) -> String {
         let side = if self.passes() { "inside" } else { "outside" };
         format!(
@@ -204,8 +205,8 @@ pub struct Claim {
     /// ("what measured ≤ threshold (m % inside)"); empty for a rule without tests.
     pub margin: String,
     /// That test's margin as a fraction of the larger of its two numbers (positive on the
-    /// passing side), and
-    /// the most it moves across the other set-ups: a verdict that holds by less is `fragile`.
+    /// passing side), and the most it moves across the other set-ups: a verdict that holds by
+    /// less is `fragile`.
     pub margin_fraction: Option<f64>,
     pub margin_spread: Option<f64>,
     /// Figure files (relative to the report folder) that show the claim.
@@ -213,8 +214,7 @@ pub struct Claim {
 }
 
 impl Claim {
-    /// The claim judged on `setups`, the paper's set-up first.
-    /// A verdict that holds on the paper's set-up is `fragile` when its deciding test's margin
+    /// The claim judged on `setups`, the paper's set-up first. A verdict that holds on the paper's set-up is `fragile` when its deciding test's margin
     /// is smaller than the most that margin moves across the other set-ups (the noise of the
     /// choices the paper leaves open).
     pub fn judged(text: ClaimText, setups: Vec<SetupResult>, figures: Vec<String>) -> Claim {
