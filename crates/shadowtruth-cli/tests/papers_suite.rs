@@ -8,10 +8,14 @@ use serde_json::Value;
 use std::collections::BTreeSet;
 use std::process::Command;
 
-const IDS: [&str; 15] = [
-    "ehm2015-fig12-a",
-    "ehm2015-fig12-d",
-    "ehm2015-fig12-g",
+const IDS: [&str; 19] = [
+    "ehm2015-fig12-a-front",
+    "ehm2015-fig12-c-back",
+    "ehm2015-fig12-e-trunks",
+    "ehm2015-fig12-f-back",
+    "ehm2015-fig12-g-front",
+    "ehm2015-fig12-h-trunks",
+    "ehm2015-fig12-i-back",
     "ehm2015-fig4-adaptive",
     "ehm2015-fig4-delta",
     "ehm2015-table1",
@@ -92,7 +96,7 @@ fn check_claim(c: &Value, out: &std::path::Path) {
 /// executor: both must count the same. The papers' leaks are every false lit away from a
 /// boundary: the report's leaks and light bleeding together.
 fn check_against_report(claims: &[Value], report: &Value) {
-    let fig12a = claims.iter().find(|c| c["id"] == "ehm2015-fig12-a").unwrap();
+    let fig12a = claims.iter().find(|c| c["id"] == "ehm2015-fig12-a-front").unwrap();
     for camera in ["front", "back"] {
         let run = report["runs"]
             .as_array()
