@@ -82,22 +82,20 @@ fn trace_outdoor(c: &mut Criterion) {
         b.iter(|| trace_area_light_reference(&scene, &bvh, &gbuffer, sun, grid).expect("the sun has a size"))
     });
     g.finish();
+    trace_modes(c, &scene, &bvh, &gbuffer);
 }
 
 /// The forest's rays walked each way the tracer can, on one thread: one ray at a time, or eight
 /// neighbours at a time (packets where the processor has AVX2). The answers are the same; only
 /// the walk differs.
-fn trace_modes(c: &mut Criterion) {
-    let scene = forest_scene();
+fn trace_modes(c: &mut Criterion, scene: &shadowtruth::Scene, bvh: &SceneBvh, gbuffer: &GBuffer) {
     let camera = &scene.cameras[0];
     let sun = scene.lights.iter().find(|l| l.name == "sun").expect("the forest has a sun");
-    let bvh = SceneBvh::build(&scene);
-    let gbuffer = GBuffer::trace(&scene, &bvh, camera, sun);
     let directions = primary_directions(camera);
     let shadow_rays: Vec<ShadowRay> = gbuffer
         .evaluated
         .iter()
-        .map(|&i| hard_shadow_ray(&gbuffer.surface_point(&scene, i as usize), sun))
+        .map(|&i| hard_shadow_ray(&gbuffer.surface_point(scene, i as usize), sun))
         .collect();
     let mut scratch = bvh.scratch();
     let mut hits = vec![None; 8];
@@ -135,5 +133,5 @@ fn trace_modes(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, trace, trace_outdoor, trace_modes);
+criterion_group!(benches, trace, trace_outdoor);
 criterion_main!(benches);
