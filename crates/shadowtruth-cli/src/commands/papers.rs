@@ -17,11 +17,13 @@ pub(super) struct PapersArgs {
     /// Output folder.
     #[arg(short, long, default_value = "reports/papers")]
     out: PathBuf,
-    /// Folder holding papers/island.json, papers/casters.json and papers/l_above.json.
+    /// Folder holding papers/island.json, papers/casters.json, papers/curved.json and
+    /// papers/l_above.json.
     #[arg(long, default_value = "scenes")]
     scenes: PathBuf,
-    /// The papers' set-ups, but only one other set-up per claim in the sensitivity grid (for
-    /// tests).
+    /// The papers' set-ups, but only one other set-up per claim in the sensitivity grid, one
+    /// timing pass, Pagot's Table 1 on Fig. 6's four filters and Ehm's Table 1 at 3×3 and 11×11
+    /// (for tests).
     #[arg(long)]
     quick: bool,
     /// Reference cache folder.
@@ -69,10 +71,11 @@ pub(super) fn papers(a: PapersArgs) -> Result<u8> {
     .with_context(|| format!("writing {}", a.out.join("claims.html").display()))?;
     bar.finish_and_clear();
     if !a.quiet {
+        let width = claims.iter().map(|c| c.id.chars().count()).max().unwrap_or(0);
         for c in &claims {
-            println!("{:<34} {:<14} {}", c.id, c.verdict.name(), c.sensitivity_summary);
+            println!("{:<width$} {:<14} {}", c.id, c.verdict.name(), c.sensitivity_summary);
             if !c.margin.is_empty() {
-                println!("{:<34} {:<14} margin: {}", "", "", c.margin);
+                println!("{:<width$} {:<14} margin: {}", "", "", c.margin);
             }
         }
         println!(

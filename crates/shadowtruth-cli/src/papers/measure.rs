@@ -163,16 +163,45 @@ pub(super) fn artefacts_in(v: &View, map: &LightMap, visibility: &[f32], region:
     Artefacts { evaluated, acne: a.acne, leak: a.leak, aliasing: a.aliasing }
 }
 
-/// Distinct values, up to summation rounding (filtered values are multiples of 1/(n·k), far
-/// coarser than the 1e-5 key).
+/// Two filtered values closer than this are one level. PCF's values are multiples of 1/(n·k),
+/// at least 1/401 apart for the papers' filters (k ≤ 100 taps, n ≤ 4 depths), summed in f32
+/// with an error under k·2⁻²⁴ < 1e-5: a gap of 1e-4 lies between the two. (Rounding to a fixed
+/// grid instead would split a level that straddles a grid line: 1e-5 steps did for k ≥ 36.)
+const LEVEL_GAP: f64 = 1e-4;
+
+/// Distinct values: the sorted values, a new level wherever one lies more than [`LEVEL_GAP`]
+/// above the one before.
 pub(super) fn distinct_levels<'v>(values: impl Iterator<Item = &'v f32>) -> usize {
-    let mut keys: Vec<i64> = values.map(|&x| (x as f64 * 1e5).round() as i64).collect();
-    keys.sort_unstable();
-    keys.dedup();
-    keys.len()
+    let mut sorted: Vec<f64> = values.map(|&x| x as f64).collect();
+    sorted.sort_unstable_by(f64::total_cmp);
+    let gaps = sorted.windows(2).filter(|w| w[1] - w[0] > LEVEL_GAP).count();
+    if sorted.is_empty() { 0 } else { gaps + 1 }
 }
 
 /// Distinct values strictly between 0 and 1.
 pub(super) fn interior_levels<'v>(values: impl Iterator<Item = &'v f32>) -> usize {
     distinct_levels(values.filter(|&&x| x > 0.0 && x < 1.0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Sums of 81 taps of 1/81 · (0 or ½) in f32, in two orders, are one level per count of
+    /// halves, however the rounding of each falls; levels 1/162 apart stay apart.
+    #[test]
+    fn levels_merge_summation_rounding_and_keep_the_fractions() {
+        let sum = |j: usize, reversed: bool| {
+            let mut taps: Vec<f32> = (0..81).map(|t| if t < j { 0.5 } else { 0.0 }).collect();
+            if reversed {
+                taps.reverse();
+            }
+            taps.iter().fold(0.0f32, |a, &p| a + p / 81.0)
+        };
+        let values: Vec<f32> = (0..=81).flat_map(|j| [sum(j, false), sum(j, true)]).collect();
+        assert_eq!(distinct_levels(values.iter()), 82);
+        assert_eq!(distinct_levels([0.0f32, 1.0 / 162.0, 2.0 / 162.0].iter()), 3);
+        assert_eq!(distinct_levels([].iter()), 0);
+        assert_eq!(interior_levels([0.0f32, 0.5, 0.5, 1.0].iter()), 1);
+    }
 }

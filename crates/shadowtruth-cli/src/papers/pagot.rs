@@ -10,7 +10,8 @@
 //! every depth either reads. Each pair is judged on the difference between its two filters
 //! along the edges; their distinct levels (the smoothness, which Table 1's bounds decide) and
 //! MAE against pixel coverage are reported beside.
-//! Table 1: PCF(k, n) takes at most n·k + 1 values, checked on the four filters.
+//! Table 1: PCF(k, n) takes at most n·k + 1 values, checked on every cell of n = 1 to 4 depths
+//! and box kernels 1×1 to 10×10.
 
 use super::claims::{self, Claim, ClaimText, EdgeNumbers, SetupResult};
 use super::measure::{LightMap, View, distinct_levels, interior_levels, light_of, shade, spec};
@@ -49,20 +50,38 @@ fn setups() -> Vec<PagotSetup> {
 /// Fig. 6's pairs (an n-SM's kernel side and depths, then the single map's kernel side).
 const PAIRS: [(u32, u32); 2] = [(3, 4), (2, 3)];
 
-/// The four filters, with the bias that covers the extra depths of the plane in `map`: each
-/// pair's 3-SM, then its 1-SM.
-fn filters(scene: &Scene, map: &LightMap) -> [TechniqueSpec; 4] {
+/// An n-SM (`depths`, min and max over 3×3 texels) filtered by a `side`² box, with a constant
+/// bias of `reach_texels` depth steps of the plane in `map`.
+fn mdsm(scene: &Scene, map: &LightMap, depths: u32, side: u32, reach_texels: f64) -> TechniqueSpec {
     let plane = scene.objects.iter().find(|o| o.name == PLANE).expect("casters.json has its plane");
     let tri = &scene.triangle(plane.first_triangle);
     let (z_u, z_v) = receiver_plane_slope(&map.view, tri).unwrap_or((0.0, 0.0));
-    let bias = REACH_TEXELS * (z_u.abs() + z_v.abs()) / map.view.resolution as f64;
-    let mdsm = |depths, size| {
-        spec(&format!(
-            r#"{{ "technique": "mdsm", "depths": {depths}, "neighbourhood": 3, "select": "min_max",
-                 "kernel": "box", "size": {size}, "bias": "constant", "bias_depth": {bias:e} }}"#
-        ))
-    };
-    [mdsm(3, PAIRS[0].0), mdsm(1, PAIRS[0].1), mdsm(3, PAIRS[1].0), mdsm(1, PAIRS[1].1)]
+    let bias = reach_texels * (z_u.abs() + z_v.abs()) / map.view.resolution as f64;
+    spec(&format!(
+        r#"{{ "technique": "mdsm", "depths": {depths}, "neighbourhood": 3, "select": "min_max",
+             "kernel": "box", "size": {side}, "bias": "constant", "bias_depth": {bias:e} }}"#
+    ))
+}
+
+/// The four filters of Fig. 6: each pair's 3-SM, then its 1-SM.
+fn filters(scene: &Scene, map: &LightMap) -> [TechniqueSpec; 4] {
+    let f = |depths, side| mdsm(scene, map, depths, side, REACH_TEXELS);
+    [f(3, PAIRS[0].0), f(1, PAIRS[0].1), f(3, PAIRS[1].0), f(1, PAIRS[1].1)]
+}
+
+/// Table 1's cells as (kernel side, depths): n = 1 to 4 depths, box kernels 1×1 to 10×10 (40
+/// cells); quick runs measure Fig. 6's four filters only.
+fn table1_cells(quick: bool) -> Vec<(u32, u32)> {
+    if quick {
+        return vec![(PAIRS[0].0, 3), (PAIRS[0].1, 1), (PAIRS[1].0, 3), (PAIRS[1].1, 1)];
+    }
+    (1..=4).flat_map(|depths| (1..=10).map(move |side| (side, depths))).collect()
+}
+
+/// The bias of a Table 1 cell, in depth steps of the plane: the farthest tap (half the kernel,
+/// rounded up) plus the neighbourhood's texel, and never less than Fig. 6's.
+fn cell_reach_texels(side: u32) -> f64 {
+    ((side.div_ceil(2) + 1) as f64).max(REACH_TEXELS)
 }
 
 fn edges(v_multi: &[f32], v_single: &[f32], on_plane: &[bool]) -> EdgeNumbers {
@@ -101,18 +120,20 @@ fn measure(
         .map_err(|source| PlanError::Io { path: suite.cache.dir().to_path_buf(), source })?
         .0;
     let mae = |v: &[f32]| score_soft(&view.gbuffer, &coverage.visibility, v).mae;
-    let configs: Vec<(u32, u32, usize)> = PAIRS
+    let cells: Vec<(TechniqueSpec, u32, u32)> = table1_cells(suite.options.quick)
+        .into_iter()
+        .map(|(side, n)| (mdsm(scene, &map, n, side, cell_reach_texels(side)), side * side, n))
+        .collect();
+    let configs: Vec<(u32, u32, usize)> = cells
         .iter()
-        .flat_map(|&(multi, single)| [(multi * multi, 3), (single * single, 1)])
-        .zip(&v)
-        .map(|((k, n), v)| (k, n, distinct_levels(v.iter())))
+        .map(|(t, k, n)| (*k, *n, distinct_levels(shade(&view, &map, t, None, 1).visibility.iter())))
         .collect();
     let about = json!({ "light": setup.light, "resolution": setup.resolution });
     let mut table1 = about.clone();
     table1["configurations"] = configs
         .iter()
-        .zip(&techniques)
-        .map(|(&(k, n, d), t)| json!({ "technique": t.label(), "k": k, "n": n, "bound": n * k + 1, "distinct": d }))
+        .zip(&cells)
+        .map(|(&(k, n, d), (t, ..))| json!({ "technique": t.label(), "k": k, "n": n, "bound": n * k + 1, "distinct": d }))
         .collect();
     let on_plane = view.on_objects(|name| name == PLANE);
     let fig6 = |pair: usize| {
@@ -166,8 +187,9 @@ pub(super) fn claims(suite: &mut Suite) -> Result<Vec<Claim>, PlanError> {
                 setup,
                 rule: "each configuration reaches n·k + 1 distinct values (it cannot exceed them by construction: \
                        the mean of k taps of n + 1 levels is one of n·k + 1 fractions); exceeding them would not \
-                       hold. Four configurations are measured (Fig. 6's filters: 3-SM 3×3 and 2×2, 1-SM 4×4 and \
-                       3×3), not the table's every cell.",
+                       hold. Every cell n = 1 to 4 depths × box kernels 1×1 to 10×10 (k = 1 to 100) is measured, \
+                       each a part, with a constant bias of the farthest tap's reach plus one texel in depth steps of \
+                       the plane (at least 3); quick runs measure Fig. 6's four filters only.",
             },
             table1,
             vec![],

@@ -4,14 +4,14 @@
 
 use super::claims::Claim;
 use super::suite::{PapersOptions, Suite};
-use super::{ehm_fig12, ehm_pcf, pagot, weiskopf};
+use super::{ehm_cost, ehm_fig12, ehm_pcf, pagot, pagot_curved, weiskopf};
 use crate::plan::{PlanError, Sink};
 use shadowtruth::trace::ReferenceCache;
 use std::path::Path;
 
 /// Runs the whole suite into the report folder `dir` through `sinks` (report.json, figures,
 /// progress) and returns the claims (written by the caller as `claims.json`). `scenes_dir`
-/// holds `papers/island.json`, `papers/casters.json` and `papers/l_above.json`.
+/// holds `papers/island.json`, `papers/casters.json`, `papers/curved.json` and `papers/l_above.json`.
 pub fn run_papers(
     scenes_dir: &Path,
     dir: &Path,
@@ -29,7 +29,9 @@ pub fn run_papers(
         Suite { scenes_dir: scenes_dir.to_path_buf(), dir: dir.to_path_buf(), cache, sinks, options };
     let mut claims = ehm_fig12::claims(&mut suite)?;
     claims.extend(ehm_pcf::claims(&mut suite)?);
+    claims.extend(ehm_cost::claims(&mut suite)?);
     claims.extend(pagot::claims(&mut suite)?);
+    claims.extend(pagot_curved::claims(&mut suite)?);
     claims.extend(weiskopf::claims(&mut suite)?);
     Ok(claims)
 }

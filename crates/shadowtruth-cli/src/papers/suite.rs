@@ -12,7 +12,8 @@ use std::path::{Path, PathBuf};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct PapersOptions {
     /// The paper's set-ups at their resolutions, but a smaller sensitivity grid (one other
-    /// set-up per claim): for tests.
+    /// set-up per claim), one timing pass and fewer table cells (`pagot.rs`, `ehm_cost.rs`):
+    /// for tests.
     pub quick: bool,
 }
 
