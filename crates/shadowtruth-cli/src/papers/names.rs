@@ -7,3 +7,7 @@ pub(super) const EHM: &str =
 
 /// The plane the casters' shadows fall on (scenes/papers/casters.json).
 pub(super) const PLANE: &str = "plane";
+
+/// Pagot et al.'s paper, cited by its Table 1 and Fig. 6 (`pagot.rs`) and its Fig. 7
+/// (`pagot_curved.rs`).
+pub(super) const PAGOT: &str = "Pagot, Comba & Oliveira, Multiple-depth shadow maps (SIBGRAPI 2004)";

@@ -15,7 +15,7 @@
 
 use super::claims::{self, Claim, ClaimText, EdgeNumbers, SetupResult};
 use super::measure::{LightMap, View, distinct_levels, interior_levels, light_of, shade, spec};
-use super::names::PLANE;
+use super::names::{PAGOT, PLANE};
 use super::suite::{Suite, plan_of};
 use crate::plan::{DEFAULT_COVERAGE_GRID, PlanError};
 use serde_json::json;
@@ -29,21 +29,22 @@ const RESOLUTION: u32 = 512;
 /// out reads a neighbourhood one more texel out, plus the receiver's offset within its texel;
 /// the 4×4 taps reach no further.
 const REACH_TEXELS: f64 = 3.0;
-const PAGOT: &str = "Pagot, Comba & Oliveira, Multiple-depth shadow maps (SIBGRAPI 2004)";
-
-struct PagotSetup {
-    name: &'static str,
-    light: &'static str,
-    resolution: u32,
+/// A set-up of Pagot et al.'s experiments: a light of the scene and a map resolution.
+pub(super) struct PagotSetup {
+    pub name: &'static str,
+    pub light: &'static str,
+    pub resolution: u32,
 }
 
-fn setups() -> Vec<PagotSetup> {
+/// The paper's set-up (the directional light `sun` at 512²), the same light at 256² and 1024²,
+/// and `other` (its name in the grid, and the light) at 512².
+pub(super) fn setups_with(other: (&'static str, &'static str)) -> Vec<PagotSetup> {
     let s = |name, light, resolution| PagotSetup { name, light, resolution };
     vec![
         s("paper: directional light, 512²", "sun", RESOLUTION),
         s("256² map", "sun", 256),
         s("1024² map", "sun", 1024),
-        s("spot light, 512²", "spot", RESOLUTION),
+        s(other.0, other.1, RESOLUTION),
     ]
 }
 
@@ -164,7 +165,7 @@ pub(super) fn claims(suite: &mut Suite) -> Result<Vec<Claim>, PlanError> {
     };
     suite.stage("Pagot et al. set-ups")?;
     let (mut table1, mut fig6, mut fig6_small) = (Vec::new(), Vec::new(), Vec::new());
-    for setup in suite.grid(setups()) {
+    for setup in suite.grid(setups_with(("spot light, 512²", "spot"))) {
         let [t, f, g] = measure(suite, &scene, &bvh, &setup)?;
         table1.push(t);
         fig6.push(f);

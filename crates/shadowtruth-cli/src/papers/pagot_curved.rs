@@ -13,6 +13,8 @@
 
 use super::claims::{self, Claim, ClaimText, SetupResult};
 use super::measure::{LightMap, View, artefacts_in, light_of, shade, spec};
+use super::names::PAGOT;
+use super::pagot::{PagotSetup, setups_with};
 use super::suite::{Suite, plan_of};
 use crate::plan::PlanError;
 use serde_json::json;
@@ -23,22 +25,9 @@ use shadowtruth::trace::SceneBvh;
 
 const RESOLUTION: u32 = 512;
 const RECEIVER: &str = "receiver";
-const PAGOT: &str = "Pagot, Comba & Oliveira, Multiple-depth shadow maps (SIBGRAPI 2004)";
 
-struct CurvedSetup {
-    name: &'static str,
-    light: &'static str,
-    resolution: u32,
-}
-
-fn setups() -> Vec<CurvedSetup> {
-    let s = |name, light, resolution| CurvedSetup { name, light, resolution };
-    vec![
-        s("paper: directional light, 512²", "sun", RESOLUTION),
-        s("256² map", "sun", 256),
-        s("1024² map", "sun", 1024),
-        s("lower light", "low_sun", RESOLUTION),
-    ]
+fn setups() -> Vec<PagotSetup> {
+    setups_with(("lower light", "low_sun"))
 }
 
 /// The bias's reach: texels of depth at [`BIAS_SLOPE_DEG`] from the light.
@@ -59,7 +48,7 @@ fn n_sms(scene: &Scene, view: &LightView) -> [TechniqueSpec; 2] {
 }
 
 /// The 2-SM's and the 3-SM's transitions on the receiver, on one set-up.
-fn measure(scene: &Scene, bvh: &SceneBvh, setup: &CurvedSetup) -> Result<SetupResult, PlanError> {
+fn measure(scene: &Scene, bvh: &SceneBvh, setup: &PagotSetup) -> Result<SetupResult, PlanError> {
     let view = View::trace(scene, bvh, "main", light_of(scene, setup.light)?)?;
     let map = LightMap::new(&view, setup.resolution);
     let on_receiver = view.on_objects(|name| name == RECEIVER);
