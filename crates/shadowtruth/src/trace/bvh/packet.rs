@@ -505,6 +505,10 @@ mod tests {
             let mut certainties = vec![PrimaryCertainty::Uncertain; n];
             let mut certified = hits.clone();
             bvh.certify_primaries(&mut scratch, origin, &dirs, &mut certified, &mut certainties);
+            // One packet for both walks gives the same answers as a packet for each.
+            let (mut fused, mut fused_certainties) = (vec![None; n], vec![PrimaryCertainty::Certain; n]);
+            bvh.certified_closest_hits(&mut scratch, origin, &dirs, &mut fused, &mut fused_certainties);
+            assert_eq!((&fused, &fused_certainties), (&certified, &certainties), "round {round}");
             for (k, d) in dirs.iter().enumerate() {
                 let single = bvh.closest_hit(&mut scratch, origin, *d, 0.0, f32::INFINITY);
                 assert_eq!(

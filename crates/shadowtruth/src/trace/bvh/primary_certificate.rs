@@ -11,7 +11,7 @@ use super::certified::{CertifiedRay, Crossing, Verdict, in_one_plane};
 use super::hit::Hit;
 use super::node_test::NodeRay;
 #[cfg(target_arch = "x86_64")]
-use super::packet::LANES;
+use super::packet::{LANES, Packet};
 #[cfg(target_arch = "x86_64")]
 use super::scene_bvh::primary_packet;
 use super::scene_bvh::{RAYS_PER_BATCH, SceneBvh};
@@ -235,10 +235,25 @@ impl SceneBvh {
         hits: &mut [Option<Hit>],
         out: &mut [PrimaryCertainty],
     ) -> bool {
-        let Some((watertight, mut packet)) = primary_packet(origin, directions) else {
+        let Some((watertight, packet)) = primary_packet(origin, directions) else {
             return false;
         };
-        let lane = |k: usize| k.min(directions.len() - 1);
+        self.certify_packet(scratch, &watertight, packet, hits, out);
+        true
+    }
+
+    /// `certify_primaries` for the rays of `packet` (`watertight`, as `primary_packet` makes
+    /// them), whose closest hits are `hits`.
+    #[cfg(target_arch = "x86_64")]
+    fn certify_packet(
+        &self,
+        scratch: &mut TraversalScratch,
+        watertight: &[WatertightRay; LANES],
+        mut packet: Packet,
+        hits: &mut [Option<Hit>],
+        out: &mut [PrimaryCertainty],
+    ) {
+        let lane = |k: usize| k.min(hits.len() - 1);
         let own: [Option<Hit>; LANES] = std::array::from_fn(|k| hits[lane(k)]);
         let mut searches: [PrimarySearch; LANES] =
             std::array::from_fn(|k| PrimarySearch::new(&watertight[k], own[k].as_ref()));
@@ -258,7 +273,30 @@ impl SceneBvh {
             }
             *out = search.finish(walk_ray, hit);
         }
-        true
+    }
+
+    /// The closest hits of the rays from `origin` along `directions`, certified as
+    /// `certify_primaries` certifies them: `closest_hits` then `certify_primaries`, the two walks
+    /// of each `RAYS_PER_BATCH` rays sharing one packet.
+    pub(in crate::trace) fn certified_closest_hits(
+        &self,
+        scratch: &mut TraversalScratch,
+        origin: Vec3,
+        directions: &[Vec3],
+        hits: &mut [Option<Hit>],
+        certainties: &mut [PrimaryCertainty],
+    ) {
+        let chunks = directions.chunks(RAYS_PER_BATCH).zip(hits.chunks_mut(RAYS_PER_BATCH));
+        for ((directions, hits), out) in chunks.zip(certainties.chunks_mut(RAYS_PER_BATCH)) {
+            #[cfg(target_arch = "x86_64")]
+            if let Some((watertight, packet)) = primary_packet(origin, directions) {
+                self.closest_hits_of_packet(scratch, &watertight, &packet, hits);
+                self.certify_packet(scratch, &watertight, packet, hits, out);
+                continue;
+            }
+            self.closest_hits(scratch, origin, directions, hits);
+            self.certify_primaries(scratch, origin, directions, hits, out);
+        }
     }
 }
 

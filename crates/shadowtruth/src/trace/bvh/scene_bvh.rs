@@ -336,11 +336,25 @@ impl SceneBvh {
         let Some((watertight, packet)) = primary_packet(origin, directions) else {
             return false;
         };
+        self.closest_hits_of_packet(scratch, &watertight, &packet, hits);
+        true
+    }
+
+    /// The closest hits of `packet`'s rays (`watertight`, as `primary_packet` makes them) into
+    /// `hits`, one per ray.
+    #[cfg(target_arch = "x86_64")]
+    pub(in crate::trace) fn closest_hits_of_packet(
+        &self,
+        scratch: &mut TraversalScratch,
+        watertight: &[WatertightRay; LANES],
+        packet: &Packet,
+        hits: &mut [Option<Hit>],
+    ) {
         let mut best = [None; LANES];
         let mut tmax = [f32::INFINITY; LANES];
         // SAFETY: as above.
         unsafe {
-            self.walk_flat::<NEAREST_FIRST>(scratch, &packet, &mut tmax, |i, k, tmax| {
+            self.walk_flat::<NEAREST_FIRST>(scratch, packet, &mut tmax, |i, k, tmax| {
                 let [v0, v1, v2] = self.triangles[i];
                 if let Some(h) = watertight[k].intersect(v0, v1, v2, 0.0, tmax[k]) {
                     let hit = Hit {
@@ -357,13 +371,12 @@ impl SceneBvh {
                 false
             })
         };
-        for (k, hit) in hits.iter_mut().enumerate().take(directions.len()) {
+        for (k, hit) in hits.iter_mut().enumerate() {
             if let Some(instances) = &self.instances {
                 instances.closest_hit(scratch, &watertight[k], 0.0, tmax[k], &mut best[k]);
             }
             *hit = best[k];
         }
-        true
     }
 }
 

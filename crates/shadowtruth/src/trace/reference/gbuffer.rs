@@ -218,8 +218,7 @@ impl GBuffer {
                 },
                 |(scratch, dirs, hits, certainties), (y, (((((cls, pos), bary), nrm), tri), obj))| {
                     row_directions(&film, &columns, y, dirs);
-                    bvh.closest_hits(scratch, camera.position, dirs, hits);
-                    bvh.certify_primaries(scratch, camera.position, dirs, hits, certainties);
+                    bvh.certified_closest_hits(scratch, camera.position, dirs, hits, certainties);
                     for (x, hit) in hits.iter().enumerate() {
                         let uncertain = certainties[x] == PrimaryCertainty::Uncertain;
                         let Some(hit) = hit else {
