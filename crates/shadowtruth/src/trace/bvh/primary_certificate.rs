@@ -257,10 +257,10 @@ impl SceneBvh {
         let own: [Option<Hit>; LANES] = std::array::from_fn(|k| hits[lane(k)]);
         let mut searches: [PrimarySearch; LANES] =
             std::array::from_fn(|k| PrimarySearch::new(&watertight[k], own[k].as_ref()));
-        // SAFETY: as above.
+        // SAFETY: a `Packet` is only made where the processor has AVX2 (`Packet::new`).
         unsafe { packet.certify(&searches.each_ref().map(|s| s.fast.sheared_error_coefficients())) };
         let mut tmax = searches.each_ref().map(|s| s.tmax);
-        // SAFETY: as above.
+        // SAFETY: as for `certify`.
         let active = unsafe {
             self.walk_flat::<ANY_ORDER>(scratch, &packet, &mut tmax, |i, k, _| {
                 searches[k].test(&watertight[k], self.scene_ids[i], &self.triangles[i])

@@ -352,7 +352,7 @@ impl SceneBvh {
     ) {
         let mut best = [None; LANES];
         let mut tmax = [f32::INFINITY; LANES];
-        // SAFETY: as above.
+        // SAFETY: a `Packet` is only made where the processor has AVX2 (`Packet::new`).
         unsafe {
             self.walk_flat::<NEAREST_FIRST>(scratch, packet, &mut tmax, |i, k, tmax| {
                 let [v0, v1, v2] = self.triangles[i];
