@@ -124,8 +124,9 @@ enum Command {
     #[command(after_help = examples::MERGE)]
     Merge(merge::MergeArgs),
     /// Reproduce the papers' results and judge each claim: Ehm et al.'s Figure 12 on the island
-    /// (scenes/papers/island.json), Fig. 4 and Table 1 and Pagot et al.'s Table 1 and Fig. 6 on
-    /// scenes/papers/casters.json, Weiskopf & Ertl's Fig. 5 on scenes/papers/l_above.json.
+    /// (scenes/papers/island.json); their Fig. 4, Table 1, §3.3 and Table 2 and Pagot et al.'s
+    /// Table 1 and Fig. 6 on scenes/papers/casters.json; Pagot et al.'s Fig. 7 on
+    /// scenes/papers/curved.json; Weiskopf & Ertl's Fig. 5 to 7 on scenes/papers/l_above.json.
     ///
     /// Writes the usual report (the papers' set-ups) into OUT_DIR, plus claims.json (per claim:
     /// id, paper, statement, set-up, rule, our numbers, verdict holds / fragile / partly /
