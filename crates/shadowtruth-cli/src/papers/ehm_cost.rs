@@ -10,6 +10,7 @@
 //! numbers; "about" in the paper's words is read as within half the stated overhead again.
 
 use super::claims::{self, Claim, ClaimText, SetupResult};
+use super::ehm_pcf::pcf;
 use super::measure::{LightMap, View, light_of, shade_on_one_thread, spec};
 use super::names::EHM;
 use super::suite::Suite;
@@ -46,17 +47,6 @@ fn setups() -> Vec<CostSetup> {
     ]
 }
 
-fn pcf(bias: &str, side: u32) -> String {
-    match bias {
-        "receiver_plane" => format!(
-            r#"{{ "technique": "pcf", "kernel": "box", "size": {side}, "bias": "receiver_plane", "bias_depth": 0.00001 }}"#
-        ),
-        _ => format!(
-            r#"{{ "technique": "pcf", "kernel": "box", "size": {side}, "bias": "{bias}", "k": {K} }}"#
-        ),
-    }
-}
-
 fn pcss(bias: &str) -> String {
     match bias {
         "receiver_plane" => {
@@ -66,10 +56,9 @@ fn pcss(bias: &str) -> String {
     }
 }
 
-/// The shading time per pixel (ns) of each technique on `view` at `resolution`, by its JSON.
-fn times(view: &View, resolution: u32, repeats: usize, techniques: &[String]) -> Vec<f64> {
-    let map = LightMap::new(view, resolution);
-    techniques.iter().map(|t| shade_on_one_thread(view, &map, &spec(t), repeats).ns_per_pixel).collect()
+/// The shading time per pixel (ns) of each technique on `view` through `map`, by its JSON.
+fn times(view: &View, map: &LightMap, repeats: usize, techniques: &[String]) -> Vec<f64> {
+    techniques.iter().map(|t| shade_on_one_thread(view, map, &spec(t), repeats).ns_per_pixel).collect()
 }
 
 /// Table 1 (at `sides`), §3.3 and Table 2 on one set-up.
@@ -80,14 +69,15 @@ fn measure(
     sides: &[u32],
 ) -> Result<[SetupResult; 3], PlanError> {
     let view = View::trace(scene, bvh, "main", light_of(scene, setup.light)?)?;
+    let map = LightMap::new(&view, setup.resolution);
     let about = json!({ "light": setup.light, "resolution": setup.resolution, "k": K, "timing_passes": setup.repeats });
 
     let mut rows = Vec::new();
     let mut table1 = about.clone();
     let mut per_side = Map::new();
     for &side in sides {
-        let specs = ["receiver_plane", "adaptive", "adaptive_delta"].map(|b| pcf(b, side));
-        let ns = times(&view, setup.resolution, setup.repeats, &specs);
+        let specs = ["receiver_plane", "adaptive", "adaptive_delta"].map(|b| pcf(b, side, K));
+        let ns = times(&view, &map, setup.repeats, &specs);
         let ratios = (ns[1] / ns[0], ns[2] / ns[0]);
         per_side.insert(
             format!("{side}x{side}"),
@@ -104,7 +94,7 @@ fn measure(
         r#"{ "technique": "slope_scaled", "factor": 1.0, "units": 1.0 }"#.to_string(),
         format!(r#"{{ "technique": "adaptive", "k": {K}, "epsilon": "ehm" }}"#),
     ];
-    let ns = times(&view, setup.resolution, setup.repeats, &one_tap);
+    let ns = times(&view, &map, setup.repeats, &one_tap);
     let mut offset = about.clone();
     offset["ns_per_pixel"] = json!({ "slope_scaled": ns[0], "adaptive": ns[1] });
     offset["adaptive_over_slope_scaled"] = json!(ns[1] / ns[0]);
@@ -112,8 +102,8 @@ fn measure(
 
     let both = [pcss("receiver_plane"), pcss("adaptive_delta")];
     let large = setup.resolution * PCSS_LARGE_FACTOR;
-    let (small_ns, large_ns) =
-        (times(&view, setup.resolution, setup.repeats, &both), times(&view, large, setup.repeats, &both));
+    let small_ns = times(&view, &map, setup.repeats, &both);
+    let large_ns = times(&view, &LightMap::new(&view, large), setup.repeats, &both);
     let pcss_ratios = (small_ns[1] / small_ns[0], large_ns[1] / large_ns[0]);
     let mut table2 = about;
     table2["ns_per_pixel"] = json!({

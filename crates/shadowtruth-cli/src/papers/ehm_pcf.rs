@@ -23,6 +23,8 @@ use shadowtruth::trace::SceneBvh;
 /// The paper's filter: 11×11 PCF; its K; the map resolution.
 const RESOLUTION: u32 = 2048;
 const K: f32 = 0.0001;
+/// The paper's 11×11 PCF.
+const SIDE: u32 = 11;
 
 struct PcfSetup {
     name: &'static str,
@@ -41,13 +43,17 @@ fn setups() -> Vec<PcfSetup> {
     ]
 }
 
-fn pcf(bias: &str, k: f32) -> String {
+/// Box PCF of `side`² taps with the per-tap `bias` (`receiver_plane` with the set-up's depth bias
+/// of 1e-5, or `adaptive` / `adaptive_delta` with `k`), as JSON. Fig. 4 filters 11×11; the cost
+/// claims (`ehm_cost.rs`) every odd side up to it.
+pub(super) fn pcf(bias: &str, side: u32, k: f32) -> String {
     match bias {
-        "receiver_plane" => {
-            r#"{ "technique": "pcf", "kernel": "box", "size": 11, "bias": "receiver_plane", "bias_depth": 0.00001 }"#
-                .to_string()
-        }
-        _ => format!(r#"{{ "technique": "pcf", "kernel": "box", "size": 11, "bias": "{bias}", "k": {k} }}"#),
+        "receiver_plane" => format!(
+            r#"{{ "technique": "pcf", "kernel": "box", "size": {side}, "bias": "receiver_plane", "bias_depth": 0.00001 }}"#
+        ),
+        _ => format!(
+            r#"{{ "technique": "pcf", "kernel": "box", "size": {side}, "bias": "{bias}", "k": {k} }}"#
+        ),
     }
 }
 
@@ -71,7 +77,7 @@ fn agreement(a: &[f32], b: &[f32], on_plane: &[bool]) -> Agreement {
 fn measure(scene: &Scene, bvh: &SceneBvh, setup: &PcfSetup) -> Result<[SetupResult; 2], PlanError> {
     let view = View::trace(scene, bvh, "main", light_of(scene, setup.light)?)?;
     let map = LightMap::new(&view, setup.resolution);
-    let run = |bias| shade(&view, &map, &spec(&pcf(bias, setup.k)), None, 1);
+    let run = |bias| shade(&view, &map, &spec(&pcf(bias, SIDE, setup.k)), None, 1);
     let (rp, adaptive, delta) = (run("receiver_plane"), run("adaptive"), run("adaptive_delta"));
     let on_plane = view.on_objects(|name| name == PLANE);
     let against_rp = |other: &[f32]| agreement(&rp.visibility, other, &on_plane);
@@ -94,7 +100,8 @@ fn measure(scene: &Scene, bvh: &SceneBvh, setup: &PcfSetup) -> Result<[SetupResu
 /// Fig. 4.
 pub(super) fn claims(suite: &mut Suite) -> Result<Vec<Claim>, PlanError> {
     let path = suite.scene("casters.json");
-    let techniques = ["receiver_plane", "adaptive", "adaptive_delta"].map(|b| spec(&pcf(b, K))).to_vec();
+    let techniques =
+        ["receiver_plane", "adaptive", "adaptive_delta"].map(|b| spec(&pcf(b, SIDE, K))).to_vec();
     let runs = suite.report(&plan_of(&path, &["main"], "spot", techniques.clone(), &[RESOLUTION]))?;
     let error_maps = |k: [usize; 2]| {
         k.iter().filter_map(|&k| runs.error_map("main", &techniques[k], RESOLUTION)).collect()

@@ -201,6 +201,8 @@ mod tests {
         let values: Vec<f32> = (0..=81).flat_map(|j| [sum(j, false), sum(j, true)]).collect();
         assert_eq!(distinct_levels(values.iter()), 82);
         assert_eq!(distinct_levels([0.0f32, 1.0 / 162.0, 2.0 / 162.0].iter()), 3);
+        // Two roundings of one level either side of a line of a 1e-5 grid are one level.
+        assert_eq!(distinct_levels([0.123_454_9f32, 0.123_455_1].iter()), 1);
         assert_eq!(distinct_levels([].iter()), 0);
         assert_eq!(interior_levels([0.0f32, 0.5, 0.5, 1.0].iter()), 1);
     }

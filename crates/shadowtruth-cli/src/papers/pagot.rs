@@ -125,10 +125,12 @@ fn measure(
         .into_iter()
         .map(|(side, n)| (mdsm(scene, &map, n, side, cell_reach_texels(side)), side * side, n))
         .collect();
-    let configs: Vec<(u32, u32, usize)> = cells
-        .iter()
-        .map(|(t, k, n)| (*k, *n, distinct_levels(shade(&view, &map, t, None, 1).visibility.iter())))
-        .collect();
+    // A cell that is one of Fig. 6's filters reads its visibility, shaded above.
+    let levels = |t: &TechniqueSpec| match techniques.iter().position(|f| f == t) {
+        Some(f) => distinct_levels(v[f].iter()),
+        None => distinct_levels(shade(&view, &map, t, None, 1).visibility.iter()),
+    };
+    let configs: Vec<(u32, u32, usize)> = cells.iter().map(|(t, k, n)| (*k, *n, levels(t))).collect();
     let about = json!({ "light": setup.light, "resolution": setup.resolution });
     let mut table1 = about.clone();
     table1["configurations"] = configs

@@ -95,17 +95,21 @@ fn dual(z_offset: f64) -> TechniqueSpec {
 /// these factors around the set-up's values, two octaves either way.
 const OFFSET_FACTORS: [f64; 5] = [0.25, 0.5, 1.0, 2.0, 4.0];
 
-/// The L's acne + leak rate of the constant bias and of dual at each of [`OFFSET_FACTORS`].
-fn offset_sweep(view: &View, map: &LightMap, setup: &LSetup, on_l: &[bool]) -> OffsetSweep {
+/// The L's acne + leak rate of the constant bias and of dual at each of [`OFFSET_FACTORS`];
+/// at factor 1 they are `at_one`'s (the set-up's own techniques, already shaded).
+fn offset_sweep(view: &View, map: &LightMap, setup: &LSetup, on_l: &[bool], at_one: [f64; 2]) -> OffsetSweep {
     let z = setup.z_offset_world / (map.view.far - map.view.near) as f64;
-    let rate = |t: &TechniqueSpec| {
-        let v = shade(view, map, t, None, 1).visibility;
+    let rate = |t: TechniqueSpec| {
+        let v = shade(view, map, &t, None, 1).visibility;
         artefacts_in(view, map, &v, on_l).error_rate()
+    };
+    let sweep = |one: f64, at: &dyn Fn(f64) -> TechniqueSpec| {
+        OFFSET_FACTORS.iter().map(|&f| if f == 1.0 { one } else { rate(at(f)) }).collect()
     };
     OffsetSweep {
         factors: OFFSET_FACTORS.to_vec(),
-        constant: OFFSET_FACTORS.iter().map(|f| rate(&constant(f * setup.bias_world))).collect(),
-        dual: OFFSET_FACTORS.iter().map(|f| rate(&dual(f * z))).collect(),
+        constant: sweep(at_one[0], &|f| constant(f * setup.bias_world)),
+        dual: sweep(at_one[1], &|f| dual(f * z)),
     }
 }
 
@@ -125,7 +129,8 @@ fn measure(view: &View, setup: &LSetup, resolution: u32) -> Measured {
         techniques.insert(t.label(), json!({ "l": c.l.json(), "ground": c.ground.json() }));
         classes.push(c);
     }
-    let sweep = offset_sweep(view, &map, setup, &on_l);
+    let at_one = [classes[CONSTANT].l.error_rate(), classes[DUAL].l.error_rate()];
+    let sweep = offset_sweep(view, &map, setup, &on_l, at_one);
     let numbers = json!({ "light": setup.light, "resolution": resolution, "bias_world": setup.bias_world,
                           "z_offset_world": setup.z_offset_world, "techniques": techniques,
                           "offset_sweep_l_error_rate": sweep });
