@@ -57,7 +57,8 @@ pub(in crate::trace) struct Packet {
 /// extreme origins and the extremes of their shrunk and grown reciprocals. A lane computes
 /// fl(fl(plane − o)·inv); both roundings are monotone, so over o and inv in those ranges the
 /// value is bounded by its value at a corner. Entry distances take the lowest corner, exit
-/// distances the highest: a child that some lane's own test keeps is kept here too.
+/// distances the highest: a child that some lane's own test keeps is kept here too. Each value
+/// is in every lane, so that the node test reads it as an operand.
 struct Frustum {
     /// The origin that gives the lowest entry distance (the largest where the ray moves up the
     /// axis, the smallest where it moves down).
@@ -74,14 +75,54 @@ impl Frustum {
     #[target_feature(enable = "avx2")]
     #[inline]
     fn new(origin: &[__m256; 3], inv_near: &[__m256; 3], inv_far: &[__m256; 3], negative: [bool; 3]) -> Self {
-        let extremes = |v| lane_extremes(v);
-        let origin = origin.map(extremes);
-        Frustum {
-            near_origin: std::array::from_fn(|axis| origin[axis][!negative[axis] as usize]),
-            far_origin: std::array::from_fn(|axis| origin[axis][negative[axis] as usize]),
-            inv_near: inv_near.map(extremes),
-            inv_far: inv_far.map(extremes),
+        // Plain loops: `array::map` is not compiled with AVX2, so its closure would call
+        // `lane_extremes` instead of inlining it.
+        let zero = _mm256_setzero_ps();
+        let mut f = Frustum {
+            near_origin: [zero; 3],
+            far_origin: [zero; 3],
+            inv_near: [[zero; 2]; 3],
+            inv_far: [[zero; 2]; 3],
+        };
+        for axis in 0..3 {
+            let origin = lane_extremes(origin[axis]);
+            f.near_origin[axis] = origin[!negative[axis] as usize];
+            f.far_origin[axis] = origin[negative[axis] as usize];
+            f.inv_near[axis] = lane_extremes(inv_near[axis]);
+            f.inv_far[axis] = lane_extremes(inv_far[axis]);
         }
+        f
+    }
+}
+
+/// A packet's rays component by component, lane by lane (lanes past the last ray repeat it).
+struct Lanes {
+    origin: [[f32; LANES]; 3],
+    direction: [[f32; LANES]; 3],
+    shear: [[f32; LANES]; 2],
+}
+
+impl Lanes {
+    /// The lanes of `rays` (one to eight), or `None` where they do not share the watertight
+    /// test's axis order.
+    #[inline(always)]
+    fn of(rays: &[WatertightRay]) -> Option<Lanes> {
+        let first = rays.first()?;
+        let mut lanes =
+            Lanes { origin: [[0.0; LANES]; 3], direction: [[0.0; LANES]; 3], shear: [[0.0; LANES]; 2] };
+        let mut same_axes = rays.len() <= LANES;
+        for k in 0..LANES {
+            let ray = &rays[k.min(rays.len() - 1)];
+            same_axes &= (ray.kx, ray.ky, ray.kz) == (first.kx, first.ky, first.kz);
+            let (origin, direction) = (ray.origin.to_array(), ray.direction.to_array());
+            for axis in 0..3 {
+                lanes.origin[axis][k] = origin[axis];
+                lanes.direction[axis][k] = direction[axis];
+            }
+            lanes.shear[0][k] = ray.sx;
+            lanes.shear[1][k] = ray.sy;
+        }
+        same_axes.then_some(lanes)
     }
 }
 
@@ -92,19 +133,13 @@ impl Packet {
     #[target_feature(enable = "avx2")]
     #[inline]
     pub(in crate::trace) fn new(rays: &[WatertightRay]) -> Option<Packet> {
-        let first = rays.first()?;
-        if rays.len() > LANES || rays.iter().any(|r| (r.kx, r.ky, r.kz) != (first.kx, first.ky, first.kz)) {
-            return None;
-        }
-        let ray = |k: usize| &rays[k.min(rays.len() - 1)];
-        let load = |v: [f32; LANES]| {
-            // SAFETY: eight f32.
-            unsafe { _mm256_loadu_ps(v.as_ptr()) }
-        };
+        let lanes = Lanes::of(rays)?;
+        // SAFETY: eight f32.
+        let load = |v: &[f32; LANES]| unsafe { _mm256_loadu_ps(v.as_ptr()) };
         let (mut inv_near, mut inv_far, mut negative) =
             ([_mm256_setzero_ps(); 3], [_mm256_setzero_ps(); 3], [false; 3]);
         for axis in 0..3 {
-            let d = load(std::array::from_fn(|k| ray(k).direction[axis]));
+            let d = load(&lanes.direction[axis]);
             let inv = _mm256_div_ps(_mm256_set1_ps(1.0), d);
             inv_near[axis] = _mm256_mul_ps(inv, _mm256_set1_ps(1.0 - SLACK));
             inv_far[axis] = _mm256_mul_ps(inv, _mm256_set1_ps(1.0 + SLACK));
@@ -119,10 +154,11 @@ impl Packet {
             negative[axis] = below == 0xff;
         }
         let (near_offset, far_offset) = plane_offsets(negative);
-        let origin = std::array::from_fn(|axis| load(std::array::from_fn(|k| ray(k).origin[axis])));
+        let origin = [load(&lanes.origin[0]), load(&lanes.origin[1]), load(&lanes.origin[2])];
         // Rays from one point (a camera's) only: rays from scattered points (the shadow rays of
         // neighbouring pixels) can start far apart across a silhouette, and a frustum around
         // them keeps far more than any lane meets.
+        let first = &rays[0];
         let one_origin = rays.iter().all(|r| r.origin == first.origin);
         let frustum = one_origin.then(|| Frustum::new(&origin, &inv_near, &inv_far, negative));
         Some(Packet {
@@ -132,7 +168,7 @@ impl Packet {
             near_offset,
             far_offset,
             axes: [first.kx, first.ky, first.kz],
-            shear: [load(std::array::from_fn(|k| ray(k).sx)), load(std::array::from_fn(|k| ray(k).sy))],
+            shear: [load(&lanes.shear[0]), load(&lanes.shear[1])],
             lanes: (1u32 << rays.len()) - 1,
             slack: None,
             frustum,

@@ -235,7 +235,8 @@ impl SceneBvh {
         hits: &mut [Option<Hit>],
         out: &mut [PrimaryCertainty],
     ) -> bool {
-        let Some((watertight, packet)) = primary_packet(origin, directions) else {
+        let mut watertight = [WatertightRay::UNUSED; LANES];
+        let Some(packet) = primary_packet(origin, directions, &mut watertight) else {
             return false;
         };
         self.certify_packet(scratch, &watertight, packet, hits, out);
@@ -289,7 +290,8 @@ impl SceneBvh {
         let chunks = directions.chunks(RAYS_PER_BATCH).zip(hits.chunks_mut(RAYS_PER_BATCH));
         for ((directions, hits), out) in chunks.zip(certainties.chunks_mut(RAYS_PER_BATCH)) {
             #[cfg(target_arch = "x86_64")]
-            if let Some((watertight, packet)) = primary_packet(origin, directions) {
+            let mut watertight = [WatertightRay::UNUSED; LANES];
+            if let Some(packet) = primary_packet(origin, directions, &mut watertight) {
                 self.closest_hits_of_packet(scratch, &watertight, &packet, hits);
                 self.certify_packet(scratch, &watertight, packet, hits, out);
                 continue;

@@ -48,6 +48,18 @@ const fn gamma(n: i32) -> f64 {
 }
 
 impl WatertightRay {
+    /// A placeholder for storage that rays are written into before use.
+    pub(in crate::trace) const UNUSED: WatertightRay = WatertightRay {
+        origin: Vec3A::ZERO,
+        direction: Vec3A::Z,
+        kx: 0,
+        ky: 1,
+        kz: 2,
+        sx: 0.0,
+        sy: 0.0,
+        sz: 1.0,
+    };
+
     pub fn new(origin: Vec3A, direction: Vec3A) -> Self {
         let abs = direction.abs();
         let kz = if abs.x > abs.y {
