@@ -42,6 +42,8 @@ pub(in crate::trace) struct Packet {
     axes: [usize; 3],
     /// Its shear factors, lane by lane.
     shear: [__m256; 2],
+    /// Its scale of the main axis (1/d along it), lane by lane.
+    scale: __m256,
     /// Lanes that hold a ray (the others repeat the last).
     pub(in crate::trace) lanes: u32,
     /// For shadow rays (`certify`), lane by lane, the certified test's bound on the sheared
@@ -100,6 +102,7 @@ struct Lanes {
     origin: [[f32; LANES]; 3],
     direction: [[f32; LANES]; 3],
     shear: [[f32; LANES]; 2],
+    scale: [f32; LANES],
 }
 
 impl Lanes {
@@ -108,8 +111,12 @@ impl Lanes {
     #[inline(always)]
     fn of(rays: &[WatertightRay]) -> Option<Lanes> {
         let first = rays.first()?;
-        let mut lanes =
-            Lanes { origin: [[0.0; LANES]; 3], direction: [[0.0; LANES]; 3], shear: [[0.0; LANES]; 2] };
+        let mut lanes = Lanes {
+            origin: [[0.0; LANES]; 3],
+            direction: [[0.0; LANES]; 3],
+            shear: [[0.0; LANES]; 2],
+            scale: [0.0; LANES],
+        };
         let mut same_axes = rays.len() <= LANES;
         for k in 0..LANES {
             let ray = &rays[k.min(rays.len() - 1)];
@@ -121,6 +128,7 @@ impl Lanes {
             }
             lanes.shear[0][k] = ray.sx;
             lanes.shear[1][k] = ray.sy;
+            lanes.scale[k] = ray.sz;
         }
         same_axes.then_some(lanes)
     }
@@ -169,6 +177,7 @@ impl Packet {
             far_offset,
             axes: [first.kx, first.ky, first.kz],
             shear: [load(&lanes.shear[0]), load(&lanes.shear[1])],
+            scale: load(&lanes.scale),
             lanes: (1u32 << rays.len()) - 1,
             slack: None,
             frustum,
@@ -319,10 +328,11 @@ impl Packet {
     }
 
     /// The lanes of `lanes` whose ray the watertight test might not reject for `triangle`: all
-    /// but those whose three edge functions are non-zero and of mixed signs.
+    /// but those whose three edge functions are non-zero and of mixed signs. And the triangle
+    /// as each lane's test sees it (`LaneTriangle`).
     #[target_feature(enable = "avx2")]
     #[inline]
-    fn candidates(&self, triangle: &[Vec3A; 3], lanes: u32) -> u32 {
+    fn candidates(&self, triangle: &[Vec3A; 3], lanes: u32) -> (u32, LaneTriangle) {
         let [kx, ky, kz] = self.axes;
         let [sx, sy] = self.shear;
         // `WatertightRay::shear`, lane by lane: translate to the origin, then shear.
@@ -339,6 +349,7 @@ impl Packet {
             _mm256_sub_ps(_mm256_mul_ps(px, qy), _mm256_mul_ps(py, qx))
         };
         let e = [edge(cx, cy, bx, by), edge(ax, ay, cx, cy), edge(bx, by, ax, ay)];
+        let seen = LaneTriangle { edges: e, z_unscaled: dz };
         let zero = _mm256_setzero_ps();
         let Some([fixed, per_reach]) = self.slack else {
             let any = |cmp: &dyn Fn(__m256) -> __m256| {
@@ -347,7 +358,7 @@ impl Packet {
             let some_zero = any(&|x| _mm256_cmp_ps::<_CMP_EQ_OQ>(x, zero));
             let some_negative = any(&|x| _mm256_cmp_ps::<_CMP_LT_OQ>(x, zero));
             let some_positive = any(&|x| _mm256_cmp_ps::<_CMP_GT_OQ>(x, zero));
-            return lanes & (some_zero | !(some_negative & some_positive));
+            return (lanes & (some_zero | !(some_negative & some_positive)), seen);
         };
         // Only lanes whose edge functions have strictly mixed signs can be rejected; the others
         // go to the scalar test whatever the bound.
@@ -358,7 +369,7 @@ impl Packet {
             _mm256_or_ps(_mm256_or_ps(gt(e[0]), gt(e[1])), gt(e[2])),
         );
         if _mm256_movemask_ps(mixed) as u32 & lanes == 0 {
-            return lanes;
+            return (lanes, seen);
         }
         // `CertifiedRay::classify`'s bound, lane by lane: reach is the largest |x|, |y| and
         // translated main-axis coordinate, σ = fixed + per_reach·reach, and the edge functions'
@@ -382,8 +393,87 @@ impl Packet {
             _mm256_and_ps(_mm256_or_ps(_mm256_or_ps(n0, n1), n2), _mm256_or_ps(_mm256_or_ps(p0, p1), p2));
         // Below 2⁻⁴⁰ the f32 bound may underflow: such lanes go to the scalar test.
         let sound = _mm256_cmp_ps::<_CMP_GE_OQ>(reach, _mm256_set1_ps(2f32.powi(-40)));
-        lanes & !(_mm256_movemask_ps(_mm256_and_ps(clearly_mixed, sound)) as u32)
+        (lanes & !(_mm256_movemask_ps(_mm256_and_ps(clearly_mixed, sound)) as u32), seen)
     }
+
+    /// `WatertightRay::intersect` over [0, tmax] for each lane of `lanes`, with the triangle as
+    /// `candidates` saw it: the same operations in the same order, lane by lane, so the same
+    /// distances and barycentrics. Lanes with an edge function exactly zero are left to the
+    /// scalar test (`LaneHits::scalar`), which settles them in f64.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    pub(in crate::trace) fn intersect(
+        &self,
+        seen: &LaneTriangle,
+        lanes: u32,
+        tmax: &[f32; LANES],
+    ) -> LaneHits {
+        // SAFETY: eight f32.
+        let tmax = unsafe { _mm256_loadu_ps(tmax.as_ptr()) };
+        let zero = _mm256_setzero_ps();
+        let [u, v, w] = seen.edges;
+        let any = |cmp: &dyn Fn(__m256) -> __m256| _mm256_or_ps(_mm256_or_ps(cmp(u), cmp(v)), cmp(w));
+        let some_zero = any(&|x| _mm256_cmp_ps::<_CMP_EQ_OQ>(x, zero));
+        let mixed = _mm256_and_ps(
+            any(&|x| _mm256_cmp_ps::<_CMP_LT_OQ>(x, zero)),
+            any(&|x| _mm256_cmp_ps::<_CMP_GT_OQ>(x, zero)),
+        );
+        let det = _mm256_add_ps(_mm256_add_ps(u, v), w);
+        let z = seen.z_unscaled.map(|z| _mm256_mul_ps(self.scale, z));
+        let t_scaled = _mm256_add_ps(
+            _mm256_add_ps(_mm256_mul_ps(u, z[0]), _mm256_mul_ps(v, z[1])),
+            _mm256_mul_ps(w, z[2]),
+        );
+        let t = _mm256_div_ps(t_scaled, det);
+        let inv_det = _mm256_div_ps(_mm256_set1_ps(1.0), det);
+        let within =
+            _mm256_and_ps(_mm256_cmp_ps::<_CMP_GE_OQ>(t, zero), _mm256_cmp_ps::<_CMP_LE_OQ>(t, tmax));
+        let solved = _mm256_andnot_ps(_mm256_or_ps(mixed, _mm256_cmp_ps::<_CMP_EQ_OQ>(det, zero)), within);
+        let scalar = _mm256_movemask_ps(some_zero) as u32 & lanes;
+        let mut hits = LaneHits {
+            hit: _mm256_movemask_ps(solved) as u32 & lanes & !scalar,
+            scalar,
+            t: [0.0; LANES],
+            barycentric: [[0.0; LANES]; 3],
+        };
+        // SAFETY: eight f32 each.
+        unsafe {
+            _mm256_storeu_ps(hits.t.as_mut_ptr(), t);
+            for (b, edge) in hits.barycentric.iter_mut().zip([u, v, w]) {
+                _mm256_storeu_ps(b.as_mut_ptr(), _mm256_mul_ps(edge, inv_det));
+            }
+        }
+        hits
+    }
+}
+
+/// A triangle as each lane's watertight test sees it: the edge functions and the vertices' main
+/// axis coordinates, translated to the lane's origin and not yet scaled.
+pub(in crate::trace) struct LaneTriangle {
+    edges: [__m256; 3],
+    z_unscaled: [__m256; 3],
+}
+
+/// What `Packet::intersect` found: the lanes that hit, with their distances and barycentrics,
+/// and the lanes the scalar test must settle.
+pub(in crate::trace) struct LaneHits {
+    pub(in crate::trace) hit: u32,
+    pub(in crate::trace) scalar: u32,
+    pub(in crate::trace) t: [f32; LANES],
+    pub(in crate::trace) barycentric: [[f32; LANES]; 3],
+}
+
+/// Calls `f(lane)` for each lane of `lanes`, lowest first, and returns those for which it said
+/// the lane is finished.
+#[inline(always)]
+pub(in crate::trace) fn each_lane(mut lanes: u32, mut f: impl FnMut(usize) -> bool) -> u32 {
+    let mut finished = 0;
+    while lanes != 0 {
+        let lane = lanes.trailing_zeros() as usize;
+        lanes &= lanes - 1;
+        finished |= (f(lane) as u32) << lane;
+    }
+    finished
 }
 
 /// The least and the greatest of the eight lanes of `v`, each in every lane.
@@ -429,11 +519,12 @@ fn pop_next<const NEAREST: bool>(
     Some((stack[*depth].0, stack[*depth].1))
 }
 
-/// Walks `nodes` with the packet, for the lanes in `*active`, and calls `leaf(i, lane, tmax)`
-/// for each primitive `i` (in tree order) of the leaves it reaches and each lane that may hit
-/// it (`triangles[i]` is its triangle). `leaf` may shrink `tmax[lane]` (closest hits), and
-/// returns true when the lane is finished (any hit), which drops it from `*active`. Nearest
-/// first, children go in the order the lowest lane enters them.
+/// Walks `nodes` with the packet, for the lanes in `*active`, and calls
+/// `leaf(i, candidates, seen, tmax)` for each primitive `i` (in tree order) of the leaves it
+/// reaches, with the lanes that may hit it (`triangles[i]` is its triangle, `seen` as they see
+/// it). `leaf` may shrink `tmax[lane]` (closest hits), and returns the lanes it finished (any
+/// hit), which leave `*active`. Nearest first, children go in the order the lowest lane enters
+/// them.
 #[target_feature(enable = "avx2")]
 #[allow(clippy::too_many_arguments)]
 pub(in crate::trace) fn walk_packet<const NEAREST: bool>(
@@ -443,7 +534,7 @@ pub(in crate::trace) fn walk_packet<const NEAREST: bool>(
     packet: &Packet,
     active: &mut u32,
     tmax: &mut [f32; LANES],
-    mut leaf: impl FnMut(usize, usize, &mut [f32; LANES]) -> bool,
+    mut leaf: impl FnMut(usize, u32, &LaneTriangle, &mut [f32; LANES]) -> u32,
 ) {
     if nodes.is_empty() {
         return;
@@ -454,13 +545,9 @@ pub(in crate::trace) fn walk_packet<const NEAREST: bool>(
         let (child, lanes) = (current.0, current.1 & *active);
         if lanes != 0 && child.is_leaf() {
             for i in child.primitives() {
-                let mut candidates = packet.candidates(&triangles[i], lanes & *active);
-                while candidates != 0 {
-                    let lane = candidates.trailing_zeros() as usize;
-                    candidates &= candidates - 1;
-                    if leaf(i, lane, tmax) {
-                        *active &= !(1 << lane);
-                    }
+                let (candidates, seen) = packet.candidates(&triangles[i], lanes & *active);
+                if candidates != 0 {
+                    *active &= !leaf(i, candidates, &seen, tmax);
                 }
             }
             if *active == 0 {
@@ -484,6 +571,7 @@ pub(in crate::trace) fn walk_packet<const NEAREST: bool>(
 #[cfg(test)]
 mod tests {
     use super::Packet;
+    use crate::trace::bvh::hit::Hit;
     use crate::trace::bvh::primary_certificate::PrimaryCertainty;
     use crate::trace::splitmix::SplitMix64;
     use crate::trace::{SceneBvh, ShadowRay, WatertightRay};
@@ -502,6 +590,42 @@ mod tests {
         tris.push([vec3(-5.0, -1.0, -5.0), vec3(5.0, -1.0, -5.0), vec3(5.0, -1.0, 5.0)]);
         tris.push([vec3(-5.0, -1.0, -5.0), vec3(5.0, -1.0, 5.0), vec3(-5.0, -1.0, 5.0)]);
         tris
+    }
+
+    /// Rays through the shared vertices and edges of a grid, where edge functions are exactly
+    /// zero and a packet's lanes go to the scalar test, get the single-ray closest hits bit for
+    /// bit, and so do the lanes between them that the packet solves itself. The directions'
+    /// main component is −8, so every shear is exact and the sheared vertices are exactly 0.
+    #[test]
+    fn rays_through_shared_edges_and_vertices_hit_as_single_rays() {
+        if !super::super::node_test::wide_form_testable() {
+            return;
+        }
+        let mut tris = Vec::new();
+        for (i, j) in (0..8).flat_map(|i| (0..8).map(move |j| (i as f32, j as f32))) {
+            let [a, b, c, d] =
+                [vec3(i, j, 0.0), vec3(i + 1.0, j, 0.0), vec3(i + 1.0, j + 1.0, 0.0), vec3(i, j + 1.0, 0.0)];
+            tris.extend([[a, b, c], [a, c, d]]);
+        }
+        let bvh = SceneBvh::build_from_triangles(&tris);
+        let mut scratch = bvh.scratch();
+        let origin = vec3(0.0, 0.0, 8.0);
+        // Vertices, edge midpoints and the centres between them, eight to a packet.
+        let directions: Vec<Vec3> =
+            (2..14).flat_map(|x| (2..14).map(move |y| vec3(x as f32 * 0.5, y as f32 * 0.5, -8.0))).collect();
+        let mut hits = vec![None; directions.len()];
+        bvh.closest_hits(&mut scratch, origin, &directions, &mut hits);
+        for (hit, &d) in hits.iter().zip(&directions) {
+            let single = bvh.closest_hit(&mut scratch, origin, d, 0.0, f32::INFINITY);
+            let bits =
+                |h: &Option<Hit>| h.map(|h| (h.triangle, h.t.to_bits(), h.barycentric.map(f32::to_bits)));
+            assert_eq!(bits(hit), bits(&single), "direction {d}");
+            assert!(single.is_some(), "every ray meets the grid");
+        }
+        let rays: Vec<WatertightRay> =
+            directions[..8].iter().map(|d| WatertightRay::new(origin.into(), (*d).into())).collect();
+        // SAFETY: AVX2 checked above.
+        assert!(unsafe { Packet::new(&rays) }.is_some(), "the rays must walk as packets");
     }
 
     /// Packets give the single-ray answers bit for bit: closest hits (triangle, distance,

@@ -11,7 +11,7 @@ use super::certified::{CertifiedRay, Crossing, Verdict, in_one_plane};
 use super::hit::Hit;
 use super::node_test::NodeRay;
 #[cfg(target_arch = "x86_64")]
-use super::packet::{LANES, Packet};
+use super::packet::{LANES, Packet, each_lane};
 #[cfg(target_arch = "x86_64")]
 use super::scene_bvh::primary_packet;
 use super::scene_bvh::{RAYS_PER_BATCH, SceneBvh};
@@ -239,13 +239,16 @@ impl SceneBvh {
         let Some(packet) = primary_packet(origin, directions, &mut watertight) else {
             return false;
         };
-        self.certify_packet(scratch, &watertight, packet, hits, out);
+        // SAFETY: a `Packet` is only made where the processor has AVX2 (`Packet::new`).
+        unsafe { self.certify_packet(scratch, &watertight, packet, hits, out) };
         true
     }
 
     /// `certify_primaries` for the rays of `packet` (`watertight`, as `primary_packet` makes
-    /// them), whose closest hits are `hits`.
+    /// them), whose closest hits are `hits`. Compiled with AVX2 (which a `Packet` proves the
+    /// processor has), so that the walk's closure inlines.
     #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
     fn certify_packet(
         &self,
         scratch: &mut TraversalScratch,
@@ -258,15 +261,11 @@ impl SceneBvh {
         let own: [Option<Hit>; LANES] = std::array::from_fn(|k| hits[lane(k)]);
         let mut searches: [PrimarySearch; LANES] =
             std::array::from_fn(|k| PrimarySearch::new(&watertight[k], own[k].as_ref()));
-        // SAFETY: a `Packet` is only made where the processor has AVX2 (`Packet::new`).
-        unsafe { packet.certify(&searches.each_ref().map(|s| s.fast.sheared_error_coefficients())) };
+        packet.certify(&searches.each_ref().map(|s| s.fast.sheared_error_coefficients()));
         let mut tmax = searches.each_ref().map(|s| s.tmax);
-        // SAFETY: as for `certify`.
-        let active = unsafe {
-            self.walk_flat::<ANY_ORDER>(scratch, &packet, &mut tmax, |i, k, _| {
-                searches[k].test(&watertight[k], self.scene_ids[i], &self.triangles[i])
-            })
-        };
+        let active = self.walk_flat::<ANY_ORDER>(scratch, &packet, &mut tmax, |i, candidates, _, _| {
+            each_lane(candidates, |k| searches[k].test(&watertight[k], self.scene_ids[i], &self.triangles[i]))
+        });
         for (k, (out, hit)) in out.iter_mut().zip(hits.iter_mut()).enumerate() {
             let (search, walk_ray) = (&mut searches[k], &watertight[k]);
             if let (Some(instances), true) = (&self.instances, active & (1 << k) != 0) {
@@ -290,11 +289,16 @@ impl SceneBvh {
         let chunks = directions.chunks(RAYS_PER_BATCH).zip(hits.chunks_mut(RAYS_PER_BATCH));
         for ((directions, hits), out) in chunks.zip(certainties.chunks_mut(RAYS_PER_BATCH)) {
             #[cfg(target_arch = "x86_64")]
-            let mut watertight = [WatertightRay::UNUSED; LANES];
-            if let Some(packet) = primary_packet(origin, directions, &mut watertight) {
-                self.closest_hits_of_packet(scratch, &watertight, &packet, hits);
-                self.certify_packet(scratch, &watertight, packet, hits, out);
-                continue;
+            {
+                let mut watertight = [WatertightRay::UNUSED; LANES];
+                if let Some(packet) = primary_packet(origin, directions, &mut watertight) {
+                    // SAFETY: a `Packet` is only made where the processor has AVX2 (`Packet::new`).
+                    unsafe {
+                        self.closest_hits_of_packet(scratch, &watertight, &packet, hits);
+                        self.certify_packet(scratch, &watertight, packet, hits, out);
+                    }
+                    continue;
+                }
             }
             self.closest_hits(scratch, origin, directions, hits);
             self.certify_primaries(scratch, origin, directions, hits, out);

@@ -20,11 +20,13 @@ use super::instances::InstanceLevel;
 use super::node_test;
 use super::node_test::NodeRay;
 #[cfg(target_arch = "x86_64")]
-use super::packet::{LANES, Packet, walk_packet};
+use super::packet::{LANES, LaneTriangle, Packet, each_lane, walk_packet};
 use super::scratch::TraversalScratch;
 use super::shadow_ray::ShadowRay;
 use super::shadow_search::{ShadowAnswer, ShadowSearch};
 use super::walk::{ANY_ORDER, NEAREST_FIRST, WalkState, walk};
+#[cfg(target_arch = "x86_64")]
+use super::watertight::RayTriangleHit;
 use super::watertight::WatertightRay;
 use super::wide_bvh::{ChildRef, WideBvh};
 use crate::scene::Scene;
@@ -273,23 +275,27 @@ impl SceneBvh {
         if rays.len() < 2 || rays.len() > LANES || !node_test::wide_available() {
             return None;
         }
+        // SAFETY: the processor has AVX2 (`wide_available`).
+        unsafe { self.shadow_answers_wide(scratch, rays) }
+    }
+
+    /// `shadow_answers_packet` once the processor is known to have AVX2: compiled with it, so
+    /// that the walk's closures inline the packet's code.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn shadow_answers_wide(&self, scratch: &mut TraversalScratch, rays: &[ShadowRay]) -> Option<ShadowBits> {
         let lane = |k: usize| k.min(rays.len() - 1);
         let walks: [(WatertightRay, f32); LANES] =
             std::array::from_fn(|k| ShadowSearch::walk_ray(&rays[lane(k)]));
         let watertight = walks.map(|w| w.0);
-        // SAFETY: the processor has AVX2 (`wide_available`).
-        let mut packet = unsafe { Packet::new(&watertight[..rays.len()]) }?;
+        let mut packet = Packet::new(&watertight[..rays.len()])?;
         let mut searches: [ShadowSearch; LANES] =
             std::array::from_fn(|k| ShadowSearch::new(&rays[lane(k)], &watertight[k]));
-        // SAFETY: as above.
-        unsafe { packet.certify(&std::array::from_fn(|k| searches[k].edge_slack())) };
+        packet.certify(&std::array::from_fn(|k| searches[k].edge_slack()));
         let mut tmax = walks.map(|w| w.1);
-        // SAFETY: as above.
-        let active = unsafe {
-            self.walk_flat::<ANY_ORDER>(scratch, &packet, &mut tmax, |i, k, _| {
-                searches[k].test(self.scene_ids[i], &self.triangles[i])
-            })
-        };
+        let active = self.walk_flat::<ANY_ORDER>(scratch, &packet, &mut tmax, |i, candidates, _, _| {
+            each_lane(candidates, |k| searches[k].test(self.scene_ids[i], &self.triangles[i]))
+        });
         if let Some(instances) = &self.instances {
             for k in 0..rays.len() {
                 if active & (1 << k) != 0 {
@@ -310,7 +316,7 @@ impl SceneBvh {
         scratch: &mut TraversalScratch,
         packet: &Packet,
         tmax: &mut [f32; LANES],
-        leaf: impl FnMut(usize, usize, &mut [f32; LANES]) -> bool,
+        leaf: impl FnMut(usize, u32, &LaneTriangle, &mut [f32; LANES]) -> u32,
     ) -> u32 {
         let mut active = packet.lanes;
         walk_packet::<NEAREST>(
@@ -337,13 +343,16 @@ impl SceneBvh {
         let Some(packet) = primary_packet(origin, directions, &mut watertight) else {
             return false;
         };
-        self.closest_hits_of_packet(scratch, &watertight, &packet, hits);
+        // SAFETY: a `Packet` is only made where the processor has AVX2 (`Packet::new`).
+        unsafe { self.closest_hits_of_packet(scratch, &watertight, &packet, hits) };
         true
     }
 
     /// The closest hits of `packet`'s rays (`watertight`, as `primary_packet` makes them) into
-    /// `hits`, one per ray.
+    /// `hits`, one per ray. Compiled with AVX2 (which a `Packet` proves the processor has), so
+    /// that the leaf's closure inlines the packet's intersection.
     #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
     pub(in crate::trace) fn closest_hits_of_packet(
         &self,
         scratch: &mut TraversalScratch,
@@ -353,25 +362,41 @@ impl SceneBvh {
     ) {
         let mut best = [None; LANES];
         let mut tmax = [f32::INFINITY; LANES];
-        // SAFETY: a `Packet` is only made where the processor has AVX2 (`Packet::new`).
-        unsafe {
-            self.walk_flat::<NEAREST_FIRST>(scratch, packet, &mut tmax, |i, k, tmax| {
-                let [v0, v1, v2] = self.triangles[i];
-                if let Some(h) = watertight[k].intersect(v0, v1, v2, 0.0, tmax[k]) {
-                    let hit = Hit {
-                        triangle: self.scene_ids[i],
-                        t: h.t,
-                        barycentric: h.barycentric,
-                        vertices: [v0, v1, v2].map(Vec3::from),
-                    };
-                    if hit.beats(&best[k]) {
-                        best[k] = Some(hit);
-                        tmax[k] = h.t;
-                    }
-                }
-                false
-            })
+        let mut keep = |i: usize, k: usize, h: RayTriangleHit, tmax: &mut [f32; LANES]| {
+            let [v0, v1, v2] = self.triangles[i];
+            let hit = Hit {
+                triangle: self.scene_ids[i],
+                t: h.t,
+                barycentric: h.barycentric,
+                vertices: [v0, v1, v2].map(Vec3::from),
+            };
+            if hit.beats(&best[k]) {
+                best[k] = Some(hit);
+                tmax[k] = h.t;
+            }
         };
+        self.walk_flat::<NEAREST_FIRST>(
+            scratch,
+            packet,
+            &mut tmax,
+            #[inline(always)]
+            |i, candidates, seen, tmax| {
+                // Eight lanes solved at once; those the f64 test must settle, one by one.
+                let solved = packet.intersect(seen, candidates, tmax);
+                each_lane(solved.hit, |k| {
+                    let h = RayTriangleHit { t: solved.t[k], barycentric: solved.barycentric.map(|b| b[k]) };
+                    keep(i, k, h, tmax);
+                    false
+                });
+                each_lane(solved.scalar, |k| {
+                    let [v0, v1, v2] = self.triangles[i];
+                    if let Some(h) = watertight[k].intersect(v0, v1, v2, 0.0, tmax[k]) {
+                        keep(i, k, h, tmax);
+                    }
+                    false
+                })
+            },
+        );
         for (k, hit) in hits.iter_mut().enumerate() {
             if let Some(instances) = &self.instances {
                 instances.closest_hit(scratch, &watertight[k], 0.0, tmax[k], &mut best[k]);
