@@ -12,6 +12,8 @@ pub(in crate::trace) mod hit;
 pub(in crate::trace) mod instances;
 pub(in crate::trace) mod node_test;
 pub(in crate::trace) mod packet;
+#[cfg(target_arch = "x86_64")]
+pub(in crate::trace) mod packet_isa;
 pub(in crate::trace) mod primary_certificate;
 pub(in crate::trace) mod scene_bvh;
 pub(in crate::trace) mod scratch;

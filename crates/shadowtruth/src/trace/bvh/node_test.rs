@@ -122,8 +122,12 @@ pub(in crate::trace) fn intersect_node<const WIDEN: bool>(
 /// The node test the walks use on this machine, in words (`reference --timing` prints it).
 pub fn node_test_name() -> &'static str {
     #[cfg(target_arch = "x86_64")]
-    if wide_available() {
-        return "8 children at a time (AVX2)";
+    match super::packet_isa::packet_isa() {
+        Some(super::packet_isa::PacketIsa::Avx512) => {
+            return "8 children at a time (AVX2; packets of rays compiled for AVX-512)";
+        }
+        Some(super::packet_isa::PacketIsa::Avx2) => return "8 children at a time (AVX2)",
+        None => {}
     }
     "4 children at a time (portable)"
 }

@@ -1,5 +1,7 @@
 //! Eight rays walked down the tree together, with AVX2: neighbouring pixels' primary rays, or
-//! their shadow rays towards a directional light (parallel, so as coherent as rays get).
+//! their shadow rays towards a directional light (parallel, so as coherent as rays get). Every
+//! function here is `#[inline(always)]` and runs inside `packet_isa::in_packet_isa`, which
+//! compiles it for AVX2 or for AVX-512, whichever the processor has.
 //!
 //! A packet visits a node when any of its rays may meet it, so one walk's branches and node
 //! loads serve eight rays. The answers are those of eight single-ray walks (bvh.rs), bit for
@@ -10,7 +12,10 @@
 //! - at a leaf, a vectorised copy of the watertight test's first steps (the shear and the edge
 //!   functions, operation for operation as `WatertightRay::shear`) rejects only the rays whose
 //!   edge functions are all non-zero and of mixed signs, which the scalar test rejects too;
-//!   every other ray gets the scalar test itself (`leaf`), which decides;
+//!   a closest-hit walk then finishes the test for all eight lanes at once, operation for
+//!   operation as `WatertightRay::intersect` (`Packet::intersect`), and leaves to the scalar
+//!   test only the lanes with an edge function exactly zero, which it settles in f64; a shadow
+//!   ray or a certificate gets its own scalar test (`leaf`), which decides;
 //! - the closest hit is the least (distance, scene id) over every triangle reached, and the
 //!   any-hit answer whether one occludes, neither of which depends on the order of the visits.
 //!
@@ -74,26 +79,33 @@ struct Frustum {
 }
 
 impl Frustum {
-    #[target_feature(enable = "avx2")]
-    #[inline]
-    fn new(origin: &[__m256; 3], inv_near: &[__m256; 3], inv_far: &[__m256; 3], negative: [bool; 3]) -> Self {
-        // Plain loops: `array::map` is not compiled with AVX2, so its closure would call
-        // `lane_extremes` instead of inlining it.
-        let zero = _mm256_setzero_ps();
-        let mut f = Frustum {
-            near_origin: [zero; 3],
-            far_origin: [zero; 3],
-            inv_near: [[zero; 2]; 3],
-            inv_far: [[zero; 2]; 3],
-        };
-        for axis in 0..3 {
-            let origin = lane_extremes(origin[axis]);
-            f.near_origin[axis] = origin[!negative[axis] as usize];
-            f.far_origin[axis] = origin[negative[axis] as usize];
-            f.inv_near[axis] = lane_extremes(inv_near[axis]);
-            f.inv_far[axis] = lane_extremes(inv_far[axis]);
+    #[inline(always)]
+    unsafe fn new(
+        origin: &[__m256; 3],
+        inv_near: &[__m256; 3],
+        inv_far: &[__m256; 3],
+        negative: [bool; 3],
+    ) -> Self {
+        // SAFETY: the caller runs where the processor has AVX2, in code compiled for it.
+        unsafe {
+            // Plain loops: `array::map` is not compiled with AVX2, so its closure would call
+            // `lane_extremes` instead of inlining it.
+            let zero = _mm256_setzero_ps();
+            let mut f = Frustum {
+                near_origin: [zero; 3],
+                far_origin: [zero; 3],
+                inv_near: [[zero; 2]; 3],
+                inv_far: [[zero; 2]; 3],
+            };
+            for axis in 0..3 {
+                let origin = lane_extremes(origin[axis]);
+                f.near_origin[axis] = origin[!negative[axis] as usize];
+                f.far_origin[axis] = origin[negative[axis] as usize];
+                f.inv_near[axis] = lane_extremes(inv_near[axis]);
+                f.inv_far[axis] = lane_extremes(inv_far[axis]);
+            }
+            f
         }
-        f
     }
 }
 
@@ -138,66 +150,71 @@ impl Packet {
     /// The packet of `rays` (one to eight), or `None` if they cannot share a walk. Each lane's
     /// numbers are those `NodeRay::new` computes for its ray (the same operations, eight at a
     /// time); lanes past the last ray repeat it.
-    #[target_feature(enable = "avx2")]
-    #[inline]
-    pub(in crate::trace) fn new(rays: &[WatertightRay]) -> Option<Packet> {
-        let lanes = Lanes::of(rays)?;
-        // SAFETY: eight f32.
-        let load = |v: &[f32; LANES]| unsafe { _mm256_loadu_ps(v.as_ptr()) };
-        let (mut inv_near, mut inv_far, mut negative) =
-            ([_mm256_setzero_ps(); 3], [_mm256_setzero_ps(); 3], [false; 3]);
-        for axis in 0..3 {
-            let d = load(&lanes.direction[axis]);
-            let inv = _mm256_div_ps(_mm256_set1_ps(1.0), d);
-            inv_near[axis] = _mm256_mul_ps(inv, _mm256_set1_ps(1.0 - SLACK));
-            inv_far[axis] = _mm256_mul_ps(inv, _mm256_set1_ps(1.0 + SLACK));
-            let below = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LT_OQ>(d, _mm256_setzero_ps()));
-            let abs_far = _mm256_andnot_ps(_mm256_set1_ps(-0.0), inv_far[axis]);
-            let finite =
-                _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LT_OQ>(abs_far, _mm256_set1_ps(f32::INFINITY)));
-            // Every lane moves along the axis, and in the same direction.
-            if finite != 0xff || (below != 0 && below != 0xff) {
-                return None;
+    #[inline(always)]
+    pub(in crate::trace) unsafe fn new(rays: &[WatertightRay]) -> Option<Packet> {
+        // SAFETY: the caller runs where the processor has AVX2, in code compiled for it.
+        unsafe {
+            let lanes = Lanes::of(rays)?;
+            // SAFETY: eight f32.
+            let load = |v: &[f32; LANES]| _mm256_loadu_ps(v.as_ptr());
+            let (mut inv_near, mut inv_far, mut negative) =
+                ([_mm256_setzero_ps(); 3], [_mm256_setzero_ps(); 3], [false; 3]);
+            for axis in 0..3 {
+                let d = load(&lanes.direction[axis]);
+                let inv = _mm256_div_ps(_mm256_set1_ps(1.0), d);
+                inv_near[axis] = _mm256_mul_ps(inv, _mm256_set1_ps(1.0 - SLACK));
+                inv_far[axis] = _mm256_mul_ps(inv, _mm256_set1_ps(1.0 + SLACK));
+                let below = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LT_OQ>(d, _mm256_setzero_ps()));
+                let abs_far = _mm256_andnot_ps(_mm256_set1_ps(-0.0), inv_far[axis]);
+                let finite =
+                    _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LT_OQ>(abs_far, _mm256_set1_ps(f32::INFINITY)));
+                // Every lane moves along the axis, and in the same direction.
+                if finite != 0xff || (below != 0 && below != 0xff) {
+                    return None;
+                }
+                negative[axis] = below == 0xff;
             }
-            negative[axis] = below == 0xff;
+            let (near_offset, far_offset) = plane_offsets(negative);
+            let origin = [load(&lanes.origin[0]), load(&lanes.origin[1]), load(&lanes.origin[2])];
+            // Rays from one point (a camera's) only: rays from scattered points (the shadow rays of
+            // neighbouring pixels) can start far apart across a silhouette, and a frustum around
+            // them keeps far more than any lane meets.
+            let first = &rays[0];
+            let one_origin = rays.iter().all(|r| r.origin == first.origin);
+            let frustum = one_origin.then(|| Frustum::new(&origin, &inv_near, &inv_far, negative));
+            Some(Packet {
+                origin,
+                inv_near,
+                inv_far,
+                near_offset,
+                far_offset,
+                axes: [first.kx, first.ky, first.kz],
+                shear: [load(&lanes.shear[0]), load(&lanes.shear[1])],
+                scale: load(&lanes.scale),
+                lanes: (1u32 << rays.len()) - 1,
+                slack: None,
+                frustum,
+            })
         }
-        let (near_offset, far_offset) = plane_offsets(negative);
-        let origin = [load(&lanes.origin[0]), load(&lanes.origin[1]), load(&lanes.origin[2])];
-        // Rays from one point (a camera's) only: rays from scattered points (the shadow rays of
-        // neighbouring pixels) can start far apart across a silhouette, and a frustum around
-        // them keeps far more than any lane meets.
-        let first = &rays[0];
-        let one_origin = rays.iter().all(|r| r.origin == first.origin);
-        let frustum = one_origin.then(|| Frustum::new(&origin, &inv_near, &inv_far, negative));
-        Some(Packet {
-            origin,
-            inv_near,
-            inv_far,
-            near_offset,
-            far_offset,
-            axes: [first.kx, first.ky, first.kz],
-            shear: [load(&lanes.shear[0]), load(&lanes.shear[1])],
-            scale: load(&lanes.scale),
-            lanes: (1u32 << rays.len()) - 1,
-            slack: None,
-            frustum,
-        })
     }
 
     /// Makes the leaf rejection that of the certified shadow test, with each lane's
     /// (fixed, per unit of reach) coefficients of the sheared coordinates' error bound. They are
     /// rounded to f32 upwards (a factor 1 + 2⁻¹⁰ covers that and the f32 evaluation of the
     /// bound in `candidates`).
-    #[target_feature(enable = "avx2")]
-    #[inline]
+    #[inline(always)]
     pub(in crate::trace) fn certify(&mut self, coefficients: &[(f64, f64); LANES]) {
-        let up = |v: f64| (v * (1.0 + 2f64.powi(-10))) as f32;
-        // SAFETY: eight f32.
-        let load = |v: [f32; LANES]| unsafe { _mm256_loadu_ps(v.as_ptr()) };
-        self.slack = Some([
-            load(std::array::from_fn(|k| up(coefficients[k].0))),
-            load(std::array::from_fn(|k| up(coefficients[k].1))),
-        ]);
+        // SAFETY: a `Packet` exists only where the processor has AVX2 (`Packet::new`), and
+        // its walk is compiled for it (`packet_isa.rs`).
+        {
+            let up = |v: f64| (v * (1.0 + 2f64.powi(-10))) as f32;
+            // SAFETY: eight f32.
+            let load = |v: [f32; LANES]| unsafe { _mm256_loadu_ps(v.as_ptr()) };
+            self.slack = Some([
+                load(std::array::from_fn(|k| up(coefficients[k].0))),
+                load(std::array::from_fn(|k| up(coefficients[k].1))),
+            ]);
+        }
     }
 
     /// Pushes the children of `node` that some lane of `lanes` may meet within [0, tmax[lane]]
@@ -211,8 +228,7 @@ impl Packet {
     /// whatever a lane keeps. Nearest first, children are sorted by the frustum's entry
     /// distance; otherwise they go in node order. Every slot is tested: an empty one's inverted
     /// box is missed.
-    #[target_feature(enable = "avx2")]
-    #[inline]
+    #[inline(always)]
     fn push_children<const NEAREST: bool>(
         &self,
         node: &WideNode,
@@ -221,52 +237,59 @@ impl Packet {
         stack: &mut [(ChildRef, u32, f32)],
         depth: &mut usize,
     ) -> Option<(ChildRef, u32)> {
-        let bytes = node as *const WideNode as *const u8;
-        // SAFETY: `offset` is that of one of the node's plane arrays (`plane_offsets`).
-        let planes = |offset: usize| unsafe { _mm256_loadu_ps(bytes.add(offset) as *const f32) };
-        // SAFETY: eight f32.
-        let tmax_lanes = unsafe { _mm256_loadu_ps(tmax.as_ptr()) };
-        let Some(f) = &self.frustum else {
-            return self.push_children_lane_by_lane::<NEAREST>(node, tmax, lanes, stack, depth);
-        };
-        // The largest tmax of the lanes walking: the others count as −∞.
-        let walking = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
-            _mm256_and_si256(_mm256_set1_epi32(lanes as i32), _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128)),
-            _mm256_setzero_si256(),
-        ));
-        let [_, reach] =
-            lane_extremes(_mm256_blendv_ps(_mm256_set1_ps(f32::NEG_INFINITY), tmax_lanes, walking));
-        let (mut enter, mut exit) = (_mm256_setzero_ps(), reach);
-        for axis in 0..3 {
-            let near = _mm256_sub_ps(planes(self.near_offset[axis]), f.near_origin[axis]);
-            let [lo, hi] = f.inv_near[axis];
-            enter = _mm256_max_ps(enter, _mm256_min_ps(_mm256_mul_ps(near, lo), _mm256_mul_ps(near, hi)));
-            let far = _mm256_sub_ps(planes(self.far_offset[axis]), f.far_origin[axis]);
-            let [lo, hi] = f.inv_far[axis];
-            exit = _mm256_min_ps(exit, _mm256_max_ps(_mm256_mul_ps(far, lo), _mm256_mul_ps(far, hi)));
-        }
-        let mut met = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit)) as u32;
-        let mut keys = [0.0f32; LANES];
-        if NEAREST {
+        // SAFETY: a `Packet` exists only where the processor has AVX2 (`Packet::new`), and
+        // its walk is compiled for it (`packet_isa.rs`).
+        unsafe {
+            let bytes = node as *const WideNode as *const u8;
+            // SAFETY: `offset` is that of one of the node's plane arrays (`plane_offsets`).
+            let planes = |offset: usize| _mm256_loadu_ps(bytes.add(offset) as *const f32);
             // SAFETY: eight f32.
-            unsafe { _mm256_storeu_ps(keys.as_mut_ptr(), enter) };
+            let tmax_lanes = _mm256_loadu_ps(tmax.as_ptr());
+            let Some(f) = &self.frustum else {
+                return self.push_children_lane_by_lane::<NEAREST>(node, tmax, lanes, stack, depth);
+            };
+            // The largest tmax of the lanes walking: the others count as −∞.
+            let walking = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
+                _mm256_and_si256(
+                    _mm256_set1_epi32(lanes as i32),
+                    _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128),
+                ),
+                _mm256_setzero_si256(),
+            ));
+            let [_, reach] =
+                lane_extremes(_mm256_blendv_ps(_mm256_set1_ps(f32::NEG_INFINITY), tmax_lanes, walking));
+            let (mut enter, mut exit) = (_mm256_setzero_ps(), reach);
+            for axis in 0..3 {
+                let near = _mm256_sub_ps(planes(self.near_offset[axis]), f.near_origin[axis]);
+                let [lo, hi] = f.inv_near[axis];
+                enter = _mm256_max_ps(enter, _mm256_min_ps(_mm256_mul_ps(near, lo), _mm256_mul_ps(near, hi)));
+                let far = _mm256_sub_ps(planes(self.far_offset[axis]), f.far_origin[axis]);
+                let [lo, hi] = f.inv_far[axis];
+                exit = _mm256_min_ps(exit, _mm256_max_ps(_mm256_mul_ps(far, lo), _mm256_mul_ps(far, hi)));
+            }
+            let mut met = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit)) as u32;
+            let mut keys = [0.0f32; LANES];
+            if NEAREST {
+                // SAFETY: eight f32.
+                _mm256_storeu_ps(keys.as_mut_ptr(), enter);
+            }
+            let base = *depth;
+            let mut top = base;
+            // Room for eight more: a node at level L (root 1) finds at most 7·(L − 1) entries
+            // beneath it, and the stack holds 7·depth + 1 (`SceneBvh::scratch`).
+            assert!(stack.len() >= base + 8, "the packet stack is sized to the tree");
+            while met != 0 {
+                let c = met.trailing_zeros() as usize;
+                met &= met - 1;
+                let child = node.child[c];
+                let hit = if child.is_leaf() { self.lane_test(node, c, tmax_lanes).0 & lanes } else { lanes };
+                // SAFETY: top < base + 8 ≤ stack.len() (asserted above).
+                *stack.get_unchecked_mut(top) = (child, hit, keys[c]);
+                top += (hit != 0) as usize;
+            }
+            *depth = top;
+            pop_next::<NEAREST>(stack, base, depth)
         }
-        let base = *depth;
-        let mut top = base;
-        // Room for eight more: a node at level L (root 1) finds at most 7·(L − 1) entries
-        // beneath it, and the stack holds 7·depth + 1 (`SceneBvh::scratch`).
-        assert!(stack.len() >= base + 8, "the packet stack is sized to the tree");
-        while met != 0 {
-            let c = met.trailing_zeros() as usize;
-            met &= met - 1;
-            let child = node.child[c];
-            let hit = if child.is_leaf() { self.lane_test(node, c, tmax_lanes).0 & lanes } else { lanes };
-            // SAFETY: top < base + 8 ≤ stack.len() (asserted above).
-            unsafe { *stack.get_unchecked_mut(top) = (child, hit, keys[c]) };
-            top += (hit != 0) as usize;
-        }
-        *depth = top;
-        pop_next::<NEAREST>(stack, base, depth)
     }
 
     /// Pushes the children of `node` that some lane of `lanes` may meet within [0, tmax[lane]]
@@ -275,8 +298,7 @@ impl Packet {
     /// the lowest lane enters them, so the nearest is next; otherwise they go in node order.
     /// Every slot is tested: an empty one's inverted box is missed (testing it costs less than
     /// skipping it).
-    #[target_feature(enable = "avx2")]
-    #[inline]
+    #[inline(always)]
     fn push_children_lane_by_lane<const NEAREST: bool>(
         &self,
         node: &WideNode,
@@ -285,165 +307,183 @@ impl Packet {
         stack: &mut [(ChildRef, u32, f32)],
         depth: &mut usize,
     ) -> Option<(ChildRef, u32)> {
-        // SAFETY: eight f32.
-        let tmax = unsafe { _mm256_loadu_ps(tmax.as_ptr()) };
-        // The lowest lane's entry distance, moved to lane 0 (`_mm256_cvtss_f32`).
-        let lowest = _mm256_set1_epi32(lanes.trailing_zeros() as i32);
-        let base = *depth;
-        let mut top = base;
-        // Room for eight more: a node at level L (root 1) finds at most 7·(L − 1) entries
-        // beneath it, and the stack holds 7·depth + 1 (`SceneBvh::scratch`).
-        assert!(stack.len() >= base + 8, "the packet stack is sized to the tree");
-        for c in 0..8 {
-            let (met, enter) = self.lane_test(node, c, tmax);
-            let hit = met & lanes;
-            let key = if NEAREST { _mm256_cvtss_f32(_mm256_permutevar8x32_ps(enter, lowest)) } else { 0.0 };
-            // Written whether met or not, kept only if met: no branch on a coin toss.
-            // SAFETY: top < base + 8 ≤ stack.len() (asserted above).
-            unsafe { *stack.get_unchecked_mut(top) = (node.child[c], hit, key) };
-            top += (hit != 0) as usize;
+        // SAFETY: a `Packet` exists only where the processor has AVX2 (`Packet::new`), and
+        // its walk is compiled for it (`packet_isa.rs`).
+        unsafe {
+            // SAFETY: eight f32.
+            let tmax = _mm256_loadu_ps(tmax.as_ptr());
+            // The lowest lane's entry distance, moved to lane 0 (`_mm256_cvtss_f32`).
+            let lowest = _mm256_set1_epi32(lanes.trailing_zeros() as i32);
+            let base = *depth;
+            let mut top = base;
+            // Room for eight more: a node at level L (root 1) finds at most 7·(L − 1) entries
+            // beneath it, and the stack holds 7·depth + 1 (`SceneBvh::scratch`).
+            assert!(stack.len() >= base + 8, "the packet stack is sized to the tree");
+            for c in 0..8 {
+                let (met, enter) = self.lane_test(node, c, tmax);
+                let hit = met & lanes;
+                let key =
+                    if NEAREST { _mm256_cvtss_f32(_mm256_permutevar8x32_ps(enter, lowest)) } else { 0.0 };
+                // Written whether met or not, kept only if met: no branch on a coin toss.
+                // SAFETY: top < base + 8 ≤ stack.len() (asserted above).
+                *stack.get_unchecked_mut(top) = (node.child[c], hit, key);
+                top += (hit != 0) as usize;
+            }
+            *depth = top;
+            pop_next::<NEAREST>(stack, base, depth)
         }
-        *depth = top;
-        pop_next::<NEAREST>(stack, base, depth)
     }
 
     /// The lanes whose own node test meets child `c` of `node` within [0, tmax[lane]], and each
     /// lane's entry distance: the single-ray test's operations, lane by lane.
-    #[target_feature(enable = "avx2")]
-    #[inline]
+    #[inline(always)]
     fn lane_test(&self, node: &WideNode, c: usize, tmax: __m256) -> (u32, __m256) {
-        let bytes = node as *const WideNode as *const u8;
-        // SAFETY: `offset` is that of one of the node's plane arrays (`plane_offsets`), and c < 8.
-        let plane = |offset: usize| unsafe { _mm256_set1_ps(*(bytes.add(offset) as *const f32).add(c)) };
-        let (mut enter, mut exit) = (_mm256_setzero_ps(), tmax);
-        for axis in 0..3 {
-            let near = plane(self.near_offset[axis]);
-            let far = plane(self.far_offset[axis]);
-            let t_near = _mm256_mul_ps(_mm256_sub_ps(near, self.origin[axis]), self.inv_near[axis]);
-            let t_far = _mm256_mul_ps(_mm256_sub_ps(far, self.origin[axis]), self.inv_far[axis]);
-            enter = _mm256_max_ps(enter, t_near);
-            exit = _mm256_min_ps(exit, t_far);
+        // SAFETY: a `Packet` exists only where the processor has AVX2 (`Packet::new`), and
+        // its walk is compiled for it (`packet_isa.rs`).
+        unsafe {
+            let bytes = node as *const WideNode as *const u8;
+            // SAFETY: `offset` is that of one of the node's plane arrays (`plane_offsets`), and c < 8.
+            let plane = |offset: usize| _mm256_set1_ps(*(bytes.add(offset) as *const f32).add(c));
+            let (mut enter, mut exit) = (_mm256_setzero_ps(), tmax);
+            for axis in 0..3 {
+                let near = plane(self.near_offset[axis]);
+                let far = plane(self.far_offset[axis]);
+                let t_near = _mm256_mul_ps(_mm256_sub_ps(near, self.origin[axis]), self.inv_near[axis]);
+                let t_far = _mm256_mul_ps(_mm256_sub_ps(far, self.origin[axis]), self.inv_far[axis]);
+                enter = _mm256_max_ps(enter, t_near);
+                exit = _mm256_min_ps(exit, t_far);
+            }
+            (_mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit)) as u32, enter)
         }
-        (_mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit)) as u32, enter)
     }
 
     /// The lanes of `lanes` whose ray the watertight test might not reject for `triangle`: all
     /// but those whose three edge functions are non-zero and of mixed signs. And the triangle
     /// as each lane's test sees it (`LaneTriangle`).
-    #[target_feature(enable = "avx2")]
-    #[inline]
+    #[inline(always)]
     fn candidates(&self, triangle: &[Vec3A; 3], lanes: u32) -> (u32, LaneTriangle) {
-        let [kx, ky, kz] = self.axes;
-        let [sx, sy] = self.shear;
-        // `WatertightRay::shear`, lane by lane: translate to the origin, then shear.
-        let sheared = |v: Vec3A| {
-            let v = v.to_array();
-            let d = |k: usize| _mm256_sub_ps(_mm256_set1_ps(v[k]), self.origin[k]);
-            let (dx, dy, dz) = (d(kx), d(ky), d(kz));
-            (_mm256_sub_ps(dx, _mm256_mul_ps(sx, dz)), _mm256_sub_ps(dy, _mm256_mul_ps(sy, dz)), dz)
-        };
-        let ((ax, ay, az), (bx, by, bz), (cx, cy, cz)) =
-            (sheared(triangle[0]), sheared(triangle[1]), sheared(triangle[2]));
-        let dz = [az, bz, cz];
-        let edge = |px: __m256, py: __m256, qx: __m256, qy: __m256| {
-            _mm256_sub_ps(_mm256_mul_ps(px, qy), _mm256_mul_ps(py, qx))
-        };
-        let e = [edge(cx, cy, bx, by), edge(ax, ay, cx, cy), edge(bx, by, ax, ay)];
-        let seen = LaneTriangle { edges: e, z_unscaled: dz };
-        let zero = _mm256_setzero_ps();
-        let Some([fixed, per_reach]) = self.slack else {
-            let any = |cmp: &dyn Fn(__m256) -> __m256| {
-                _mm256_movemask_ps(_mm256_or_ps(_mm256_or_ps(cmp(e[0]), cmp(e[1])), cmp(e[2]))) as u32
+        // SAFETY: a `Packet` exists only where the processor has AVX2 (`Packet::new`), and
+        // its walk is compiled for it (`packet_isa.rs`).
+        unsafe {
+            let ((ax, ay, az), (bx, by, bz), (cx, cy, cz)) =
+                (self.sheared(triangle[0]), self.sheared(triangle[1]), self.sheared(triangle[2]));
+            let dz = [az, bz, cz];
+            let edge = |px: __m256, py: __m256, qx: __m256, qy: __m256| {
+                _mm256_sub_ps(_mm256_mul_ps(px, qy), _mm256_mul_ps(py, qx))
             };
-            let some_zero = any(&|x| _mm256_cmp_ps::<_CMP_EQ_OQ>(x, zero));
-            let some_negative = any(&|x| _mm256_cmp_ps::<_CMP_LT_OQ>(x, zero));
-            let some_positive = any(&|x| _mm256_cmp_ps::<_CMP_GT_OQ>(x, zero));
-            return (lanes & (some_zero | !(some_negative & some_positive)), seen);
-        };
-        // Only lanes whose edge functions have strictly mixed signs can be rejected; the others
-        // go to the scalar test whatever the bound.
-        let lt = |x| _mm256_cmp_ps::<_CMP_LT_OQ>(x, zero);
-        let gt = |x| _mm256_cmp_ps::<_CMP_GT_OQ>(x, zero);
-        let mixed = _mm256_and_ps(
-            _mm256_or_ps(_mm256_or_ps(lt(e[0]), lt(e[1])), lt(e[2])),
-            _mm256_or_ps(_mm256_or_ps(gt(e[0]), gt(e[1])), gt(e[2])),
-        );
-        if _mm256_movemask_ps(mixed) as u32 & lanes == 0 {
-            return (lanes, seen);
+            let e = [edge(cx, cy, bx, by), edge(ax, ay, cx, cy), edge(bx, by, ax, ay)];
+            let seen = LaneTriangle { edges: e, z_unscaled: dz };
+            let zero = _mm256_setzero_ps();
+            let Some([fixed, per_reach]) = self.slack else {
+                let signs = EdgeSigns::of(&e);
+                let [some_zero, some_negative, some_positive] =
+                    [signs.zero, signs.negative, signs.positive].map(|m| _mm256_movemask_ps(m) as u32);
+                return (lanes & (some_zero | !(some_negative & some_positive)), seen);
+            };
+            // Only lanes whose edge functions have strictly mixed signs can be rejected; the others
+            // go to the scalar test whatever the bound.
+            let lt = |x| _mm256_cmp_ps::<_CMP_LT_OQ>(x, zero);
+            let gt = |x| _mm256_cmp_ps::<_CMP_GT_OQ>(x, zero);
+            let mixed = _mm256_and_ps(
+                _mm256_or_ps(_mm256_or_ps(lt(e[0]), lt(e[1])), lt(e[2])),
+                _mm256_or_ps(_mm256_or_ps(gt(e[0]), gt(e[1])), gt(e[2])),
+            );
+            if _mm256_movemask_ps(mixed) as u32 & lanes == 0 {
+                return (lanes, seen);
+            }
+            // `CertifiedRay::classify`'s bound, lane by lane: reach is the largest |x|, |y| and
+            // translated main-axis coordinate, σ = fixed + per_reach·reach, and the edge functions'
+            // bound 2·(2σ(2·reach + σ) + 4.01u·reach²) (u = 2⁻²⁴), times 1 + 2⁻¹⁰.
+            let abs = |x: __m256| _mm256_andnot_ps(_mm256_set1_ps(-0.0), x);
+            let max3 = |a: __m256, b: __m256, c: __m256| _mm256_max_ps(_mm256_max_ps(abs(a), abs(b)), abs(c));
+            let reach =
+                _mm256_max_ps(_mm256_max_ps(max3(ax, bx, cx), max3(ay, by, cy)), max3(dz[0], dz[1], dz[2]));
+            let sigma = _mm256_add_ps(fixed, _mm256_mul_ps(per_reach, reach));
+            let two_reach_sigma = _mm256_add_ps(_mm256_add_ps(reach, reach), sigma);
+            let bound = _mm256_add_ps(
+                _mm256_mul_ps(_mm256_set1_ps(4.0), _mm256_mul_ps(sigma, two_reach_sigma)),
+                _mm256_mul_ps(_mm256_set1_ps(8.02 * f32::EPSILON * 0.5), _mm256_mul_ps(reach, reach)),
+            );
+            let bound = _mm256_mul_ps(bound, _mm256_set1_ps(1.0 + 2f32.powi(-10)));
+            let below = _mm256_sub_ps(zero, bound);
+            let clear =
+                |x: __m256| (_mm256_cmp_ps::<_CMP_LT_OQ>(x, below), _mm256_cmp_ps::<_CMP_GT_OQ>(x, bound));
+            let ((n0, p0), (n1, p1), (n2, p2)) = (clear(e[0]), clear(e[1]), clear(e[2]));
+            let clearly_mixed =
+                _mm256_and_ps(_mm256_or_ps(_mm256_or_ps(n0, n1), n2), _mm256_or_ps(_mm256_or_ps(p0, p1), p2));
+            // Below 2⁻⁴⁰ the f32 bound may underflow: such lanes go to the scalar test.
+            let sound = _mm256_cmp_ps::<_CMP_GE_OQ>(reach, _mm256_set1_ps(2f32.powi(-40)));
+            (lanes & !(_mm256_movemask_ps(_mm256_and_ps(clearly_mixed, sound)) as u32), seen)
         }
-        // `CertifiedRay::classify`'s bound, lane by lane: reach is the largest |x|, |y| and
-        // translated main-axis coordinate, σ = fixed + per_reach·reach, and the edge functions'
-        // bound 2·(2σ(2·reach + σ) + 4.01u·reach²) (u = 2⁻²⁴), times 1 + 2⁻¹⁰.
-        let abs = |x: __m256| _mm256_andnot_ps(_mm256_set1_ps(-0.0), x);
-        let max3 = |a: __m256, b: __m256, c: __m256| _mm256_max_ps(_mm256_max_ps(abs(a), abs(b)), abs(c));
-        let reach =
-            _mm256_max_ps(_mm256_max_ps(max3(ax, bx, cx), max3(ay, by, cy)), max3(dz[0], dz[1], dz[2]));
-        let sigma = _mm256_add_ps(fixed, _mm256_mul_ps(per_reach, reach));
-        let two_reach_sigma = _mm256_add_ps(_mm256_add_ps(reach, reach), sigma);
-        let bound = _mm256_add_ps(
-            _mm256_mul_ps(_mm256_set1_ps(4.0), _mm256_mul_ps(sigma, two_reach_sigma)),
-            _mm256_mul_ps(_mm256_set1_ps(8.02 * f32::EPSILON * 0.5), _mm256_mul_ps(reach, reach)),
-        );
-        let bound = _mm256_mul_ps(bound, _mm256_set1_ps(1.0 + 2f32.powi(-10)));
-        let below = _mm256_sub_ps(zero, bound);
-        let clear =
-            |x: __m256| (_mm256_cmp_ps::<_CMP_LT_OQ>(x, below), _mm256_cmp_ps::<_CMP_GT_OQ>(x, bound));
-        let ((n0, p0), (n1, p1), (n2, p2)) = (clear(e[0]), clear(e[1]), clear(e[2]));
-        let clearly_mixed =
-            _mm256_and_ps(_mm256_or_ps(_mm256_or_ps(n0, n1), n2), _mm256_or_ps(_mm256_or_ps(p0, p1), p2));
-        // Below 2⁻⁴⁰ the f32 bound may underflow: such lanes go to the scalar test.
-        let sound = _mm256_cmp_ps::<_CMP_GE_OQ>(reach, _mm256_set1_ps(2f32.powi(-40)));
-        (lanes & !(_mm256_movemask_ps(_mm256_and_ps(clearly_mixed, sound)) as u32), seen)
+    }
+
+    /// `WatertightRay::shear` of vertex `v`, lane by lane: translated to the lane's origin, then
+    /// sheared; (x, y, the main axis's coordinate not yet scaled).
+    #[inline(always)]
+    fn sheared(&self, v: Vec3A) -> (__m256, __m256, __m256) {
+        let ([kx, ky, kz], [sx, sy], v) = (self.axes, self.shear, v.to_array());
+        // SAFETY: a `Packet` exists only where the processor has AVX2 (`Packet::new`), and
+        // its walk is compiled for it (`packet_isa.rs`).
+        unsafe {
+            let (dx, dy, dz) = (
+                _mm256_sub_ps(_mm256_set1_ps(v[kx]), self.origin[kx]),
+                _mm256_sub_ps(_mm256_set1_ps(v[ky]), self.origin[ky]),
+                _mm256_sub_ps(_mm256_set1_ps(v[kz]), self.origin[kz]),
+            );
+            (_mm256_sub_ps(dx, _mm256_mul_ps(sx, dz)), _mm256_sub_ps(dy, _mm256_mul_ps(sy, dz)), dz)
+        }
     }
 
     /// `WatertightRay::intersect` over [0, tmax] for each lane of `lanes`, with the triangle as
     /// `candidates` saw it: the same operations in the same order, lane by lane, so the same
     /// distances and barycentrics. Lanes with an edge function exactly zero are left to the
     /// scalar test (`LaneHits::scalar`), which settles them in f64.
-    #[target_feature(enable = "avx2")]
-    #[inline]
+    #[inline(always)]
     pub(in crate::trace) fn intersect(
         &self,
         seen: &LaneTriangle,
         lanes: u32,
         tmax: &[f32; LANES],
     ) -> LaneHits {
-        // SAFETY: eight f32.
-        let tmax = unsafe { _mm256_loadu_ps(tmax.as_ptr()) };
-        let zero = _mm256_setzero_ps();
-        let [u, v, w] = seen.edges;
-        let any = |cmp: &dyn Fn(__m256) -> __m256| _mm256_or_ps(_mm256_or_ps(cmp(u), cmp(v)), cmp(w));
-        let some_zero = any(&|x| _mm256_cmp_ps::<_CMP_EQ_OQ>(x, zero));
-        let mixed = _mm256_and_ps(
-            any(&|x| _mm256_cmp_ps::<_CMP_LT_OQ>(x, zero)),
-            any(&|x| _mm256_cmp_ps::<_CMP_GT_OQ>(x, zero)),
-        );
-        let det = _mm256_add_ps(_mm256_add_ps(u, v), w);
-        let z = seen.z_unscaled.map(|z| _mm256_mul_ps(self.scale, z));
-        let t_scaled = _mm256_add_ps(
-            _mm256_add_ps(_mm256_mul_ps(u, z[0]), _mm256_mul_ps(v, z[1])),
-            _mm256_mul_ps(w, z[2]),
-        );
-        let t = _mm256_div_ps(t_scaled, det);
-        let inv_det = _mm256_div_ps(_mm256_set1_ps(1.0), det);
-        let within =
-            _mm256_and_ps(_mm256_cmp_ps::<_CMP_GE_OQ>(t, zero), _mm256_cmp_ps::<_CMP_LE_OQ>(t, tmax));
-        let solved = _mm256_andnot_ps(_mm256_or_ps(mixed, _mm256_cmp_ps::<_CMP_EQ_OQ>(det, zero)), within);
-        let scalar = _mm256_movemask_ps(some_zero) as u32 & lanes;
-        let mut hits = LaneHits {
-            hit: _mm256_movemask_ps(solved) as u32 & lanes & !scalar,
-            scalar,
-            t: [0.0; LANES],
-            barycentric: [[0.0; LANES]; 3],
-        };
-        // SAFETY: eight f32 each.
+        // SAFETY: a `Packet` exists only where the processor has AVX2 (`Packet::new`), and
+        // its walk is compiled for it (`packet_isa.rs`).
         unsafe {
-            _mm256_storeu_ps(hits.t.as_mut_ptr(), t);
-            for (b, edge) in hits.barycentric.iter_mut().zip([u, v, w]) {
-                _mm256_storeu_ps(b.as_mut_ptr(), _mm256_mul_ps(edge, inv_det));
+            // SAFETY: eight f32.
+            let tmax = _mm256_loadu_ps(tmax.as_ptr());
+            let zero = _mm256_setzero_ps();
+            let [u, v, w] = seen.edges;
+            let signs = EdgeSigns::of(&seen.edges);
+            let (some_zero, mixed) = (signs.zero, _mm256_and_ps(signs.negative, signs.positive));
+            let det = _mm256_add_ps(_mm256_add_ps(u, v), w);
+            let [z0, z1, z2] = seen.z_unscaled;
+            let z =
+                [_mm256_mul_ps(self.scale, z0), _mm256_mul_ps(self.scale, z1), _mm256_mul_ps(self.scale, z2)];
+            let t_scaled = _mm256_add_ps(
+                _mm256_add_ps(_mm256_mul_ps(u, z[0]), _mm256_mul_ps(v, z[1])),
+                _mm256_mul_ps(w, z[2]),
+            );
+            let t = _mm256_div_ps(t_scaled, det);
+            let inv_det = _mm256_div_ps(_mm256_set1_ps(1.0), det);
+            let within =
+                _mm256_and_ps(_mm256_cmp_ps::<_CMP_GE_OQ>(t, zero), _mm256_cmp_ps::<_CMP_LE_OQ>(t, tmax));
+            let solved =
+                _mm256_andnot_ps(_mm256_or_ps(mixed, _mm256_cmp_ps::<_CMP_EQ_OQ>(det, zero)), within);
+            let scalar = _mm256_movemask_ps(some_zero) as u32 & lanes;
+            let mut hits = LaneHits {
+                hit: _mm256_movemask_ps(solved) as u32 & lanes & !scalar,
+                scalar,
+                t: [0.0; LANES],
+                barycentric: [[0.0; LANES]; 3],
+            };
+            // SAFETY: eight f32 each.
+            {
+                _mm256_storeu_ps(hits.t.as_mut_ptr(), t);
+                for (b, edge) in hits.barycentric.iter_mut().zip([u, v, w]) {
+                    _mm256_storeu_ps(b.as_mut_ptr(), _mm256_mul_ps(edge, inv_det));
+                }
             }
+            hits
         }
-        hits
     }
 }
 
@@ -452,6 +492,35 @@ impl Packet {
 pub(in crate::trace) struct LaneTriangle {
     edges: [__m256; 3],
     z_unscaled: [__m256; 3],
+}
+
+/// Lane by lane, whether some of three edge functions is zero, negative, positive (all bits set
+/// where it is).
+struct EdgeSigns {
+    zero: __m256,
+    negative: __m256,
+    positive: __m256,
+}
+
+impl EdgeSigns {
+    /// # Safety
+    /// The caller runs where the processor has AVX2, in code compiled for it.
+    #[inline(always)]
+    unsafe fn of(e: &[__m256; 3]) -> EdgeSigns {
+        // SAFETY: the caller's.
+        unsafe {
+            let zero = _mm256_setzero_ps();
+            let any = |a, b, c| _mm256_or_ps(_mm256_or_ps(a, b), c);
+            let eq = |x| _mm256_cmp_ps::<_CMP_EQ_OQ>(x, zero);
+            let lt = |x| _mm256_cmp_ps::<_CMP_LT_OQ>(x, zero);
+            let gt = |x| _mm256_cmp_ps::<_CMP_GT_OQ>(x, zero);
+            EdgeSigns {
+                zero: any(eq(e[0]), eq(e[1]), eq(e[2])),
+                negative: any(lt(e[0]), lt(e[1]), lt(e[2])),
+                positive: any(gt(e[0]), gt(e[1]), gt(e[2])),
+            }
+        }
+    }
 }
 
 /// What `Packet::intersect` found: the lanes that hit, with their distances and barycentrics,
@@ -477,19 +546,21 @@ pub(in crate::trace) fn each_lane(mut lanes: u32, mut f: impl FnMut(usize) -> bo
 }
 
 /// The least and the greatest of the eight lanes of `v`, each in every lane.
-#[target_feature(enable = "avx2")]
-#[inline]
-fn lane_extremes(v: __m256) -> [__m256; 2] {
-    let swapped = _mm256_permute2f128_ps::<1>(v, v);
-    let (lo, hi) = (_mm256_min_ps(v, swapped), _mm256_max_ps(v, swapped));
-    let (lo, hi) = (
-        _mm256_min_ps(lo, _mm256_permute_ps::<0b01_00_11_10>(lo)),
-        _mm256_max_ps(hi, _mm256_permute_ps::<0b01_00_11_10>(hi)),
-    );
-    [
-        _mm256_min_ps(lo, _mm256_permute_ps::<0b10_11_00_01>(lo)),
-        _mm256_max_ps(hi, _mm256_permute_ps::<0b10_11_00_01>(hi)),
-    ]
+#[inline(always)]
+unsafe fn lane_extremes(v: __m256) -> [__m256; 2] {
+    // SAFETY: the caller runs where the processor has AVX2, in code compiled for it.
+    unsafe {
+        let swapped = _mm256_permute2f128_ps::<1>(v, v);
+        let (lo, hi) = (_mm256_min_ps(v, swapped), _mm256_max_ps(v, swapped));
+        let (lo, hi) = (
+            _mm256_min_ps(lo, _mm256_permute_ps::<0b01_00_11_10>(lo)),
+            _mm256_max_ps(hi, _mm256_permute_ps::<0b01_00_11_10>(hi)),
+        );
+        [
+            _mm256_min_ps(lo, _mm256_permute_ps::<0b10_11_00_01>(lo)),
+            _mm256_max_ps(hi, _mm256_permute_ps::<0b10_11_00_01>(hi)),
+        ]
+    }
 }
 
 /// Pops the entry to visit next of those pushed onto `stack[base..*depth]`; nearest first,
@@ -525,7 +596,7 @@ fn pop_next<const NEAREST: bool>(
 /// it). `leaf` may shrink `tmax[lane]` (closest hits), and returns the lanes it finished (any
 /// hit), which leave `*active`. Nearest first, children go in the order the lowest lane enters
 /// them.
-#[target_feature(enable = "avx2")]
+#[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(in crate::trace) fn walk_packet<const NEAREST: bool>(
     nodes: &[WideNode],

@@ -13,6 +13,8 @@ use super::node_test::NodeRay;
 #[cfg(target_arch = "x86_64")]
 use super::packet::{LANES, Packet, each_lane};
 #[cfg(target_arch = "x86_64")]
+use super::packet_isa::{in_packet_isa, packet_isa};
+#[cfg(target_arch = "x86_64")]
 use super::scene_bvh::primary_packet;
 use super::scene_bvh::{RAYS_PER_BATCH, SceneBvh};
 use super::scratch::TraversalScratch;
@@ -235,20 +237,27 @@ impl SceneBvh {
         hits: &mut [Option<Hit>],
         out: &mut [PrimaryCertainty],
     ) -> bool {
-        let mut watertight = [WatertightRay::UNUSED; LANES];
-        let Some(packet) = primary_packet(origin, directions, &mut watertight) else {
+        let Some(isa) = packet_isa() else {
             return false;
         };
-        // SAFETY: a `Packet` is only made where the processor has AVX2 (`Packet::new`).
-        unsafe { self.certify_packet(scratch, &watertight, packet, hits, out) };
-        true
+        in_packet_isa(
+            isa,
+            #[inline(always)]
+            || {
+                let mut watertight = [WatertightRay::UNUSED; LANES];
+                let Some(packet) = primary_packet(origin, directions, &mut watertight) else {
+                    return false;
+                };
+                self.certify_packet(scratch, &watertight, packet, hits, out);
+                true
+            },
+        )
     }
 
     /// `certify_primaries` for the rays of `packet` (`watertight`, as `primary_packet` makes
-    /// them), whose closest hits are `hits`. Compiled with AVX2 (which a `Packet` proves the
-    /// processor has), so that the walk's closure inlines.
+    /// them), whose closest hits are `hits`.
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
+    #[inline(always)]
     fn certify_packet(
         &self,
         scratch: &mut TraversalScratch,
@@ -289,14 +298,21 @@ impl SceneBvh {
         let chunks = directions.chunks(RAYS_PER_BATCH).zip(hits.chunks_mut(RAYS_PER_BATCH));
         for ((directions, hits), out) in chunks.zip(certainties.chunks_mut(RAYS_PER_BATCH)) {
             #[cfg(target_arch = "x86_64")]
-            {
-                let mut watertight = [WatertightRay::UNUSED; LANES];
-                if let Some(packet) = primary_packet(origin, directions, &mut watertight) {
-                    // SAFETY: a `Packet` is only made where the processor has AVX2 (`Packet::new`).
-                    unsafe {
+            if let Some(isa) = packet_isa() {
+                let walked = in_packet_isa(
+                    isa,
+                    #[inline(always)]
+                    || {
+                        let mut watertight = [WatertightRay::UNUSED; LANES];
+                        let Some(packet) = primary_packet(origin, directions, &mut watertight) else {
+                            return false;
+                        };
                         self.closest_hits_of_packet(scratch, &watertight, &packet, hits);
                         self.certify_packet(scratch, &watertight, packet, hits, out);
-                    }
+                        true
+                    },
+                );
+                if walked {
                     continue;
                 }
             }

@@ -21,6 +21,8 @@ use super::node_test;
 use super::node_test::NodeRay;
 #[cfg(target_arch = "x86_64")]
 use super::packet::{LANES, LaneTriangle, Packet, each_lane, walk_packet};
+#[cfg(target_arch = "x86_64")]
+use super::packet_isa::{in_packet_isa, packet_isa};
 use super::scratch::TraversalScratch;
 use super::shadow_ray::ShadowRay;
 use super::shadow_search::{ShadowAnswer, ShadowSearch};
@@ -272,23 +274,35 @@ impl SceneBvh {
         scratch: &mut TraversalScratch,
         rays: &[ShadowRay],
     ) -> Option<ShadowBits> {
-        if rays.len() < 2 || rays.len() > LANES || !node_test::wide_available() {
+        let isa = packet_isa()?;
+        if rays.len() < 2 || rays.len() > LANES {
             return None;
         }
-        // SAFETY: the processor has AVX2 (`wide_available`).
-        unsafe { self.shadow_answers_wide(scratch, rays) }
+        // SAFETY: the processor has AVX2 (`packet_isa`), and the walk is compiled for it.
+        in_packet_isa(
+            isa,
+            #[inline(always)]
+            || unsafe { self.shadow_answers_wide(scratch, rays) },
+        )
     }
 
-    /// `shadow_answers_packet` once the processor is known to have AVX2: compiled with it, so
-    /// that the walk's closures inline the packet's code.
+    /// `shadow_answers_packet` once the processor is known to have AVX2.
+    ///
+    /// # Safety
+    /// The processor has AVX2, and the caller is compiled for it (`in_packet_isa`).
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    fn shadow_answers_wide(&self, scratch: &mut TraversalScratch, rays: &[ShadowRay]) -> Option<ShadowBits> {
+    #[inline(always)]
+    unsafe fn shadow_answers_wide(
+        &self,
+        scratch: &mut TraversalScratch,
+        rays: &[ShadowRay],
+    ) -> Option<ShadowBits> {
         let lane = |k: usize| k.min(rays.len() - 1);
         let walks: [(WatertightRay, f32); LANES] =
             std::array::from_fn(|k| ShadowSearch::walk_ray(&rays[lane(k)]));
         let watertight = walks.map(|w| w.0);
-        let mut packet = Packet::new(&watertight[..rays.len()])?;
+        // SAFETY: the caller's.
+        let mut packet = unsafe { Packet::new(&watertight[..rays.len()]) }?;
         let mut searches: [ShadowSearch; LANES] =
             std::array::from_fn(|k| ShadowSearch::new(&rays[lane(k)], &watertight[k]));
         packet.certify(&std::array::from_fn(|k| searches[k].edge_slack()));
@@ -308,9 +322,9 @@ impl SceneBvh {
     }
 
     /// Walks the flat triangles' tree with `packet`, from every lane, and returns the lanes
-    /// still active at the end (`walk_packet`'s `leaf` and `tmax`). Needs AVX2.
+    /// still active at the end (`walk_packet`'s `leaf` and `tmax`).
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
+    #[inline(always)]
     pub(in crate::trace) fn walk_flat<const NEAREST: bool>(
         &self,
         scratch: &mut TraversalScratch,
@@ -339,20 +353,27 @@ impl SceneBvh {
         directions: &[Vec3],
         hits: &mut [Option<Hit>],
     ) -> bool {
-        let mut watertight = [WatertightRay::UNUSED; LANES];
-        let Some(packet) = primary_packet(origin, directions, &mut watertight) else {
+        let Some(isa) = packet_isa() else {
             return false;
         };
-        // SAFETY: a `Packet` is only made where the processor has AVX2 (`Packet::new`).
-        unsafe { self.closest_hits_of_packet(scratch, &watertight, &packet, hits) };
-        true
+        in_packet_isa(
+            isa,
+            #[inline(always)]
+            || {
+                let mut watertight = [WatertightRay::UNUSED; LANES];
+                let Some(packet) = primary_packet(origin, directions, &mut watertight) else {
+                    return false;
+                };
+                self.closest_hits_of_packet(scratch, &watertight, &packet, hits);
+                true
+            },
+        )
     }
 
     /// The closest hits of `packet`'s rays (`watertight`, as `primary_packet` makes them) into
-    /// `hits`, one per ray. Compiled with AVX2 (which a `Packet` proves the processor has), so
-    /// that the leaf's closure inlines the packet's intersection.
+    /// `hits`, one per ray.
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
+    #[inline(always)]
     pub(in crate::trace) fn closest_hits_of_packet(
         &self,
         scratch: &mut TraversalScratch,
@@ -411,7 +432,7 @@ impl SceneBvh {
 /// they cannot share a walk or the processor has no AVX2. The rays are written in place, not
 /// returned: moving eight of them and the packet cost a tenth of a packet's walk in copies.
 #[cfg(target_arch = "x86_64")]
-#[inline]
+#[inline(always)]
 pub(in crate::trace) fn primary_packet(
     origin: Vec3,
     directions: &[Vec3],
