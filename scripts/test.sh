@@ -27,7 +27,7 @@ for arg in "$@"; do
 done
 
 # The Rust version that `rust-version` in Cargo.toml promises.
-msrv=1.88
+msrv=1.89
 
 fail() {
   echo "scripts/test.sh: $*" >&2
