@@ -15,7 +15,7 @@
 //!
 //! Two forms with the same answers: `intersect_node`, four children at a time on any processor
 //! (simd4.rs), and `intersect_node_wide`, eight at a time with AVX2, chosen at run time
-//! (`wide_available`); each does the same operations in the same order, lane by lane.
+//! (`packet_isa::wide_available`); each does the same operations in the same order, lane by lane.
 //! tests/node_test_forms.rs compares the two forms' references.
 
 use super::simd4::{F4, Span4};
@@ -132,17 +132,6 @@ pub fn node_test_name() -> &'static str {
     "4 children at a time (portable)"
 }
 
-/// Whether the 8-lane test may run: the processor has AVX2, and `SHADOWTRUTH_NODE_TEST` is not
-/// `portable` (which keeps the portable form, for comparing the two). Decided once per process.
-#[cfg(target_arch = "x86_64")]
-pub(in crate::trace) fn wide_available() -> bool {
-    static WIDE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *WIDE.get_or_init(|| {
-        let forced_portable = std::env::var("SHADOWTRUTH_NODE_TEST").is_ok_and(|v| v == "portable");
-        !forced_portable && is_x86_feature_detected!("avx2")
-    })
-}
-
 /// Whether a test of the 8-lane form can run it here. A processor without AVX2 cannot, and
 /// fails the test (it must not pass for a form it never ran) unless `SHADOWTRUTH_NODE_TEST` is
 /// `portable`, which says that the portable form alone is under test.
@@ -205,7 +194,7 @@ pub(in crate::trace) fn plane_offsets(negative: [bool; 3]) -> ([usize; 3], [usiz
 
 /// `intersect_node` for a ray that moves along every axis, eight children at a time; `WIDEN`
 /// says whether `margin` is to be applied at all. Callable only where AVX2 is enabled
-/// (`wide_available`).
+/// (`packet_isa::wide_available`).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[inline]

@@ -1,4 +1,6 @@
-//! The instruction sets the packet walk (packet.rs) is compiled for, chosen at run time: AVX2,
+//! The vector forms the walks run with here, chosen at run time: whether the 8-lane node test
+//! and packets run at all (`wide_available`: AVX2), and the instruction sets the packet walk
+//! (packet.rs) is compiled for: AVX2,
 //! and AVX-512 (F, VL, BW, DQ, with BMI1/2, LZCNT and POPCNT) where the processor has it. The
 //! walk's functions are all `#[inline(always)]` and carry no target features of their own: each
 //! query runs them inside one of two entry points (`in_packet_isa`), one compiled for each set,
@@ -7,6 +9,16 @@
 //! the answers, are the same bit for bit (IEEE arithmetic either way, and Rust never fuses a
 //! multiply and an add on its own). Measured on the 200K forest at 1920×1080, one thread
 //! (docs/scale.md): primary rays 9 %, shadow rays 5 %, the G-buffer 11 % faster than AVX2.
+
+/// Whether the 8-lane test may run: the processor has AVX2, and `SHADOWTRUTH_NODE_TEST` is not
+/// `portable` (which keeps the portable form, for comparing the two). Decided once per process.
+pub(in crate::trace) fn wide_available() -> bool {
+    static WIDE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *WIDE.get_or_init(|| {
+        let forced_portable = std::env::var("SHADOWTRUTH_NODE_TEST").is_ok_and(|v| v == "portable");
+        !forced_portable && is_x86_feature_detected!("avx2")
+    })
+}
 
 /// An instruction set the packet walk is compiled for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -21,7 +33,7 @@ pub(in crate::trace) enum PacketIsa {
 pub(in crate::trace) fn packet_isa() -> Option<PacketIsa> {
     static ISA: std::sync::OnceLock<Option<PacketIsa>> = std::sync::OnceLock::new();
     *ISA.get_or_init(|| {
-        if !super::node_test::wide_available() {
+        if !wide_available() {
             return None;
         }
         let avx2_only = std::env::var("SHADOWTRUTH_NODE_TEST").is_ok_and(|v| v == "avx2");

@@ -13,9 +13,7 @@ use super::node_test::NodeRay;
 #[cfg(target_arch = "x86_64")]
 use super::packet::{LANES, Packet, each_lane};
 #[cfg(target_arch = "x86_64")]
-use super::packet_isa::{in_packet_isa, packet_isa};
-#[cfg(target_arch = "x86_64")]
-use super::scene_bvh::primary_packet;
+use super::scene_bvh::with_primary_packet;
 use super::scene_bvh::{RAYS_PER_BATCH, SceneBvh};
 use super::scratch::TraversalScratch;
 use super::walk::{ANY_ORDER, walk};
@@ -237,20 +235,11 @@ impl SceneBvh {
         hits: &mut [Option<Hit>],
         out: &mut [PrimaryCertainty],
     ) -> bool {
-        let Some(isa) = packet_isa() else {
-            return false;
-        };
-        in_packet_isa(
-            isa,
+        with_primary_packet(
+            origin,
+            directions,
             #[inline(always)]
-            || {
-                let mut watertight = [WatertightRay::UNUSED; LANES];
-                let Some(packet) = primary_packet(origin, directions, &mut watertight) else {
-                    return false;
-                };
-                self.certify_packet(scratch, &watertight, packet, hits, out);
-                true
-            },
+            |watertight, packet| self.certify_packet(scratch, watertight, packet, hits, out),
         )
     }
 
@@ -298,23 +287,16 @@ impl SceneBvh {
         let chunks = directions.chunks(RAYS_PER_BATCH).zip(hits.chunks_mut(RAYS_PER_BATCH));
         for ((directions, hits), out) in chunks.zip(certainties.chunks_mut(RAYS_PER_BATCH)) {
             #[cfg(target_arch = "x86_64")]
-            if let Some(isa) = packet_isa() {
-                let walked = in_packet_isa(
-                    isa,
-                    #[inline(always)]
-                    || {
-                        let mut watertight = [WatertightRay::UNUSED; LANES];
-                        let Some(packet) = primary_packet(origin, directions, &mut watertight) else {
-                            return false;
-                        };
-                        self.closest_hits_of_packet(scratch, &watertight, &packet, hits);
-                        self.certify_packet(scratch, &watertight, packet, hits, out);
-                        true
-                    },
-                );
-                if walked {
-                    continue;
-                }
+            if with_primary_packet(
+                origin,
+                directions,
+                #[inline(always)]
+                |watertight, packet| {
+                    self.closest_hits_of_packet(scratch, watertight, &packet, hits);
+                    self.certify_packet(scratch, watertight, packet, hits, out);
+                },
+            ) {
+                continue;
             }
             self.closest_hits(scratch, origin, directions, hits);
             self.certify_primaries(scratch, origin, directions, hits, out);

@@ -17,12 +17,11 @@
 use super::flat_tree::FlatTree;
 use super::hit::Hit;
 use super::instances::InstanceLevel;
-use super::node_test;
 use super::node_test::NodeRay;
 #[cfg(target_arch = "x86_64")]
 use super::packet::{LANES, LaneTriangle, Packet, each_lane, walk_packet};
 #[cfg(target_arch = "x86_64")]
-use super::packet_isa::{in_packet_isa, packet_isa};
+use super::packet_isa::{self, in_packet_isa, packet_isa};
 use super::scratch::TraversalScratch;
 use super::shadow_ray::ShadowRay;
 use super::shadow_search::{ShadowAnswer, ShadowSearch};
@@ -353,20 +352,11 @@ impl SceneBvh {
         directions: &[Vec3],
         hits: &mut [Option<Hit>],
     ) -> bool {
-        let Some(isa) = packet_isa() else {
-            return false;
-        };
-        in_packet_isa(
-            isa,
+        with_primary_packet(
+            origin,
+            directions,
             #[inline(always)]
-            || {
-                let mut watertight = [WatertightRay::UNUSED; LANES];
-                let Some(packet) = primary_packet(origin, directions, &mut watertight) else {
-                    return false;
-                };
-                self.closest_hits_of_packet(scratch, &watertight, &packet, hits);
-                true
-            },
+            |watertight, packet| self.closest_hits_of_packet(scratch, watertight, &packet, hits),
         )
     }
 
@@ -427,6 +417,33 @@ impl SceneBvh {
     }
 }
 
+/// Runs `walk` on the primary rays from `origin` along `directions` as a packet, with each
+/// lane's watertight ray (`primary_packet`), compiled for the packet walk's instruction set
+/// (`in_packet_isa`); false, without running it, where the rays cannot walk as a packet.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+pub(in crate::trace) fn with_primary_packet(
+    origin: Vec3,
+    directions: &[Vec3],
+    walk: impl FnOnce(&[WatertightRay; LANES], Packet),
+) -> bool {
+    let Some(isa) = packet_isa() else {
+        return false;
+    };
+    in_packet_isa(
+        isa,
+        #[inline(always)]
+        || {
+            let mut watertight = [WatertightRay::UNUSED; LANES];
+            let Some(packet) = primary_packet(origin, directions, &mut watertight) else {
+                return false;
+            };
+            walk(&watertight, packet);
+            true
+        },
+    )
+}
+
 /// The primary rays from `origin` along `directions` (two to eight) as a packet, each lane's
 /// watertight ray written to `watertight` (lanes past the last repeat it), or `None` where
 /// they cannot share a walk or the processor has no AVX2. The rays are written in place, not
@@ -438,7 +455,7 @@ pub(in crate::trace) fn primary_packet(
     directions: &[Vec3],
     watertight: &mut [WatertightRay; LANES],
 ) -> Option<Packet> {
-    if directions.len() < 2 || directions.len() > LANES || !node_test::wide_available() {
+    if directions.len() < 2 || directions.len() > LANES || !packet_isa::wide_available() {
         return None;
     }
     for (k, ray) in watertight.iter_mut().enumerate() {

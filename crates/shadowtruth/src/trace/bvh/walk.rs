@@ -54,7 +54,7 @@ pub(in crate::trace) fn walk<const NEAREST: bool>(
         return;
     }
     #[cfg(target_arch = "x86_64")]
-    if ray.all_axes_move() && node_test::wide_available() {
+    if ray.all_axes_move() && super::packet_isa::wide_available() {
         // SAFETY: the processor has AVX2 (checked at run time).
         unsafe { walk_wide::<NEAREST>(tree, state, ray, tmin, tmax, margin, leaf) };
         return;
