@@ -204,17 +204,14 @@ impl Packet {
     /// bound in `candidates`).
     #[inline(always)]
     pub(in crate::trace) fn certify(&mut self, coefficients: &[(f64, f64); LANES]) {
-        // SAFETY: a `Packet` exists only where the processor has AVX2 (`Packet::new`), and
-        // its walk is compiled for it (`packet_isa.rs`).
-        {
-            let up = |v: f64| (v * (1.0 + 2f64.powi(-10))) as f32;
-            // SAFETY: eight f32.
-            let load = |v: [f32; LANES]| unsafe { _mm256_loadu_ps(v.as_ptr()) };
-            self.slack = Some([
-                load(std::array::from_fn(|k| up(coefficients[k].0))),
-                load(std::array::from_fn(|k| up(coefficients[k].1))),
-            ]);
-        }
+        let up = |v: f64| (v * (1.0 + 2f64.powi(-10))) as f32;
+        // SAFETY: eight f32; a `Packet` exists only where the processor has AVX2
+        // (`Packet::new`), and its walk is compiled for it (`packet_isa.rs`).
+        let load = |v: [f32; LANES]| unsafe { _mm256_loadu_ps(v.as_ptr()) };
+        self.slack = Some([
+            load(std::array::from_fn(|k| up(coefficients[k].0))),
+            load(std::array::from_fn(|k| up(coefficients[k].1))),
+        ]);
     }
 
     /// Pushes the children of `node` that some lane of `lanes` may meet within [0, tmax[lane]]
@@ -475,12 +472,10 @@ impl Packet {
                 t: [0.0; LANES],
                 barycentric: [[0.0; LANES]; 3],
             };
-            // SAFETY: eight f32 each.
-            {
-                _mm256_storeu_ps(hits.t.as_mut_ptr(), t);
-                for (b, edge) in hits.barycentric.iter_mut().zip([u, v, w]) {
-                    _mm256_storeu_ps(b.as_mut_ptr(), _mm256_mul_ps(edge, inv_det));
-                }
+            // Eight f32 each.
+            _mm256_storeu_ps(hits.t.as_mut_ptr(), t);
+            for (b, edge) in hits.barycentric.iter_mut().zip([u, v, w]) {
+                _mm256_storeu_ps(b.as_mut_ptr(), _mm256_mul_ps(edge, inv_det));
             }
             hits
         }
