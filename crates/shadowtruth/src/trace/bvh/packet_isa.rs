@@ -8,8 +8,10 @@
 //! With AVX-512 the compiler has 32 vector registers, mask registers and broadcast operands for
 //! the same 8-lane operations; the operations, and so the answers, are the same bit for bit
 //! (IEEE arithmetic either way, and Rust never fuses a multiply and an add on its own).
-//! Measured on the 200K forest at 1920×1080, one thread (docs/scale.md): primary rays 1.19×,
-//! shadow rays 1.04×, the G-buffer 1.09× the AVX2 compilation's rate.
+//! Only closest hits take the AVX-512 form (`PacketQuery`): measured on the 200K forest at
+//! 1920×1080, one thread, four alternating rounds (docs/scale.md), it runs primary rays at
+//! 1.05× the AVX2 compilation's rate, but shadow rays at 0.94× and the certified G-buffer walk
+//! at 0.92×.
 
 /// Whether the 8-lane test may run: the processor has AVX2, and `SHADOWTRUTH_NODE_TEST` is not
 /// `portable` (which keeps the portable form, for comparing the two). Decided once per process.
@@ -48,6 +50,26 @@ pub(in crate::trace) fn packet_isa() -> Option<PacketIsa> {
             && is_x86_feature_detected!("popcnt");
         Some(if avx512 && !avx2_only { PacketIsa::Avx512 } else { PacketIsa::Avx2 })
     })
+}
+
+/// What a packet walk is for: each runs compiled for the set that runs it fastest.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(in crate::trace) enum PacketQuery {
+    /// Closest hits alone (primary rays): AVX-512 where the processor has it.
+    ClosestHits,
+    /// Closest hits with their certificates (the G-buffer): AVX2.
+    CertifiedHits,
+    /// Shadow rays: AVX2.
+    Shadows,
+}
+
+/// The set the packet walk of `query` runs with here, or `None` where packets do not run
+/// (`packet_isa`).
+pub(in crate::trace) fn packet_isa_for(query: PacketQuery) -> Option<PacketIsa> {
+    match query {
+        PacketQuery::ClosestHits => packet_isa(),
+        PacketQuery::CertifiedHits | PacketQuery::Shadows => packet_isa().map(|_| PacketIsa::Avx2),
+    }
 }
 
 /// Runs `walk` compiled for `isa` (from `packet_isa`, so that the processor has it): the packet

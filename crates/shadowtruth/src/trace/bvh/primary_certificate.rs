@@ -13,6 +13,8 @@ use super::node_test::NodeRay;
 #[cfg(target_arch = "x86_64")]
 use super::packet::{LANES, Packet, each_lane};
 #[cfg(target_arch = "x86_64")]
+use super::packet_isa::PacketQuery;
+#[cfg(target_arch = "x86_64")]
 use super::scene_bvh::with_primary_packet;
 use super::scene_bvh::{RAYS_PER_BATCH, SceneBvh};
 use super::scratch::TraversalScratch;
@@ -236,6 +238,7 @@ impl SceneBvh {
         out: &mut [PrimaryCertainty],
     ) -> bool {
         with_primary_packet(
+            PacketQuery::CertifiedHits,
             origin,
             directions,
             #[inline(always)]
@@ -288,6 +291,7 @@ impl SceneBvh {
         for ((directions, hits), out) in chunks.zip(certainties.chunks_mut(RAYS_PER_BATCH)) {
             #[cfg(target_arch = "x86_64")]
             if with_primary_packet(
+                PacketQuery::CertifiedHits,
                 origin,
                 directions,
                 #[inline(always)]

@@ -21,7 +21,7 @@ use super::node_test::NodeRay;
 #[cfg(target_arch = "x86_64")]
 use super::packet::{LANES, LaneTriangle, Packet, each_lane, walk_packet};
 #[cfg(target_arch = "x86_64")]
-use super::packet_isa::{self, in_packet_isa, packet_isa};
+use super::packet_isa::{self, PacketQuery, in_packet_isa, packet_isa_for};
 use super::scratch::TraversalScratch;
 use super::shadow_ray::ShadowRay;
 use super::shadow_search::{ShadowAnswer, ShadowSearch};
@@ -273,11 +273,11 @@ impl SceneBvh {
         scratch: &mut TraversalScratch,
         rays: &[ShadowRay],
     ) -> Option<ShadowBits> {
-        let isa = packet_isa()?;
+        let isa = packet_isa_for(PacketQuery::Shadows)?;
         if rays.len() < 2 || rays.len() > LANES {
             return None;
         }
-        // SAFETY: the processor has AVX2 (`packet_isa`), and the walk is compiled for it.
+        // SAFETY: the processor has AVX2 (`packet_isa_for`), and the walk is compiled for it.
         in_packet_isa(
             isa,
             #[inline(always)]
@@ -353,6 +353,7 @@ impl SceneBvh {
         hits: &mut [Option<Hit>],
     ) -> bool {
         with_primary_packet(
+            PacketQuery::ClosestHits,
             origin,
             directions,
             #[inline(always)]
@@ -418,16 +419,17 @@ impl SceneBvh {
 }
 
 /// Runs `walk` on the primary rays from `origin` along `directions` as a packet, with each
-/// lane's watertight ray (`primary_packet`), compiled for the packet walk's instruction set
-/// (`in_packet_isa`); false, without running it, where the rays cannot walk as a packet.
+/// lane's watertight ray (`primary_packet`), compiled for the instruction set of `query`
+/// (`packet_isa_for`); false, without running it, where the rays cannot walk as a packet.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 pub(in crate::trace) fn with_primary_packet(
+    query: PacketQuery,
     origin: Vec3,
     directions: &[Vec3],
     walk: impl FnOnce(&[WatertightRay; LANES], Packet),
 ) -> bool {
-    let Some(isa) = packet_isa() else {
+    let Some(isa) = packet_isa_for(query) else {
         return false;
     };
     in_packet_isa(
