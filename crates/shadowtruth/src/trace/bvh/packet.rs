@@ -331,6 +331,15 @@ impl Packet {
         }
     }
 
+    /// The lanes whose own node test meets child `slot` of `node` within [0, tmax[lane]]
+    /// (`lane_test`).
+    #[inline(always)]
+    pub(in crate::trace) fn lanes_meeting(&self, node: &WideNode, slot: usize, tmax: &[f32; LANES]) -> u32 {
+        // SAFETY: eight f32; a `Packet` exists only where the processor has AVX2
+        // (`Packet::new`), and its walk is compiled for it (`packet_isa.rs`).
+        unsafe { self.lane_test(node, slot, _mm256_loadu_ps(tmax.as_ptr())).0 }
+    }
+
     /// The lanes whose own node test meets child `c` of `node` within [0, tmax[lane]], and each
     /// lane's entry distance: the single-ray test's operations, lane by lane.
     #[inline(always)]
@@ -692,6 +701,53 @@ mod tests {
             directions[..8].iter().map(|d| WatertightRay::new(origin.into(), (*d).into())).collect();
         // SAFETY: AVX2 checked above.
         assert!(unsafe { Packet::new(&rays) }.is_some(), "the rays must walk as packets");
+    }
+
+    /// Certified closest hits walked once (`certified_closest_hits`, whose walk notes the
+    /// triangles each certificate needs) are those of the two walks (`closest_hits`, then
+    /// `certify_primaries`) and of single rays, through stacks of grids a hair apart: 10 layers
+    /// (every layer noted within one lane's room) and 24 (more than a lane notes, so the
+    /// certificate walks on its own), each layer crossed just beyond the hit, within the walk's
+    /// look beyond it; some layers repeat another exactly, so that hits tie.
+    #[test]
+    fn certificates_through_stacked_layers_as_two_walks() {
+        if !super::super::node_test::wide_form_testable() {
+            return;
+        }
+        for layers in [10, 24] {
+            let mut tris = Vec::new();
+            for layer in 0..layers {
+                let z = -((layer / 2) as f32) * 1e-4;
+                for (i, j) in (0..8).flat_map(|i| (0..8).map(move |j| (i as f32, j as f32))) {
+                    let [a, b, c, d] =
+                        [vec3(i, j, z), vec3(i + 1.0, j, z), vec3(i + 1.0, j + 1.0, z), vec3(i, j + 1.0, z)];
+                    tris.extend([[a, b, c], [a, c, d]]);
+                }
+            }
+            let bvh = SceneBvh::build_from_triangles(&tris);
+            let mut scratch = bvh.scratch();
+            let origin = vec3(0.3, 0.2, 8.0);
+            let directions: Vec<Vec3> = (0..64)
+                .map(|k| {
+                    vec3(0.6 + (k % 8) as f32 * 0.83, 0.7 + (k / 8) as f32 * 0.79, -8.0) - vec3(0.3, 0.2, 0.0)
+                })
+                .collect();
+            let n = directions.len();
+            let (mut fused, mut fused_certainties) = (vec![None; n], vec![PrimaryCertainty::Uncertain; n]);
+            bvh.certified_closest_hits(&mut scratch, origin, &directions, &mut fused, &mut fused_certainties);
+            let (mut two, mut two_certainties) = (vec![None; n], vec![PrimaryCertainty::Uncertain; n]);
+            bvh.closest_hits(&mut scratch, origin, &directions, &mut two);
+            bvh.certify_primaries(&mut scratch, origin, &directions, &mut two, &mut two_certainties);
+            assert_eq!((&fused, &fused_certainties), (&two, &two_certainties), "{layers} layers");
+            for (k, &d) in directions.iter().enumerate() {
+                let mut single = bvh.closest_hit(&mut scratch, origin, d, 0.0, f32::INFINITY);
+                let certainty = bvh.certify_primary(&mut scratch, origin, d, &mut single);
+                assert_eq!((fused_certainties[k], fused[k]), (certainty, single), "{layers} layers, ray {k}");
+                assert!(single.is_some(), "every ray meets the layers");
+            }
+            let certain = fused_certainties.iter().filter(|&&c| c == PrimaryCertainty::Certain).count();
+            assert!(certain > n / 2, "the layers are told apart ({certain} of {n} certain)");
+        }
     }
 
     /// Packets give the single-ray answers bit for bit: closest hits (triangle, distance,

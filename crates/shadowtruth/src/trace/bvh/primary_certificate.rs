@@ -264,9 +264,19 @@ impl SceneBvh {
             std::array::from_fn(|k| PrimarySearch::new(&watertight[k], own[k].as_ref()));
         packet.certify(&searches.each_ref().map(|s| s.fast.sheared_error_coefficients()));
         let mut tmax = searches.each_ref().map(|s| s.tmax);
-        let active = self.walk_flat::<ANY_ORDER>(scratch, &packet, &mut tmax, |i, candidates, _, _| {
-            each_lane(candidates, |k| searches[k].test(&watertight[k], self.scene_ids[i], &self.triangles[i]))
-        });
+        let active = self.walk_flat::<ANY_ORDER>(
+            scratch,
+            &packet,
+            &mut tmax,
+            #[inline(always)]
+            |i, candidates, _, _| {
+                each_lane(
+                    candidates,
+                    #[inline(always)]
+                    |k| searches[k].test(&watertight[k], self.scene_ids[i], &self.triangles[i]),
+                )
+            },
+        );
         for (k, (out, hit)) in out.iter_mut().zip(hits.iter_mut()).enumerate() {
             let (search, walk_ray) = (&mut searches[k], &watertight[k]);
             if let (Some(instances), true) = (&self.instances, active & (1 << k) != 0) {
@@ -276,9 +286,71 @@ impl SceneBvh {
         }
     }
 
+    /// `closest_hits_of_packet` then `certify_packet` in one walk where it can: the closest-hit
+    /// walk notes, for each lane, the flat triangles that the certificate's test does not reject
+    /// outright (`Noted`), looking a little beyond each hit (`look_beyond`). The certificate then
+    /// tests those of the noted triangles whose leaf box (`SceneBvh::leaf_slots`) the lane's own
+    /// node test meets within the certificate's reach: exactly the triangles its own walk would
+    /// test. That walk reaches a leaf for a lane when the lane's test meets the
+    /// leaf's box within its reach (the frustum keeps every box around it, the test being
+    /// monotone in the planes), and the closest-hit walk tested the same box with a reach no
+    /// shorter, so it noted every such triangle; the order of the tests does not change the
+    /// verdict. Where a lane noted more than `Noted` holds, or its certificate reaches beyond
+    /// the walk's, the certificate walks on its own (`certify_packet`).
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn certified_hits_of_packet(
+        &self,
+        scratch: &mut TraversalScratch,
+        watertight: &[WatertightRay; LANES],
+        mut packet: Packet,
+        hits: &mut [Option<Hit>],
+        out: &mut [PrimaryCertainty],
+    ) {
+        // The certificate's rejection of the leaves' triangles, as `certify_packet` sets it: its
+        // slack depends only on the ray's errors (none: the ray is exact), not on the hit.
+        let unbounded = |k: usize| CertifiedRay::<f32>::of_walk(&watertight[k], 0.0, 0.0, f64::INFINITY, 0.0);
+        packet.certify(&std::array::from_fn(|k| unbounded(k).sheared_error_coefficients()));
+        let mut noted = Noted::new();
+        let mut tmax = [f32::INFINITY; LANES];
+        let best =
+            self.walk_closest_hits(scratch, watertight, &packet, &mut tmax, look_beyond, |i, lanes| {
+                noted.note(i, lanes)
+            });
+        hits.copy_from_slice(&best[..hits.len()]);
+        let mut searches: [PrimarySearch; LANES] =
+            std::array::from_fn(|k| PrimarySearch::new(&watertight[k], best[k].as_ref()));
+        let complete =
+            each_lane(packet.lanes, |k| noted.overflow & (1 << k) == 0 && searches[k].tmax <= tmax[k]);
+        if complete != packet.lanes {
+            return self.certify_packet(scratch, watertight, packet, hits, out);
+        }
+        let reach = searches.each_ref().map(|s| s.tmax);
+        for (k, (out, hit)) in out.iter_mut().zip(hits.iter_mut()).enumerate() {
+            let (search, walk_ray) = (&mut searches[k], &watertight[k]);
+            debug_assert_eq!(
+                search.fast.sheared_error_coefficients(),
+                unbounded(k).sheared_error_coefficients()
+            );
+            let mut over = false;
+            for &i in noted.of(k) {
+                let (node, slot) = self.tree.leaf_box(self.leaf_slots[i as usize]);
+                let reached = packet.lanes_meeting(node, slot, &reach) & (1 << k) != 0;
+                if reached && search.test(walk_ray, self.scene_ids[i as usize], &self.triangles[i as usize]) {
+                    over = true;
+                    break;
+                }
+            }
+            if let (Some(instances), false) = (&self.instances, over) {
+                instances.any_triangle(scratch, walk_ray, reach[k], |id, v| search.test(walk_ray, id, v));
+            }
+            *out = search.finish(walk_ray, hit);
+        }
+    }
+
     /// The closest hits of the rays from `origin` along `directions`, certified as
     /// `certify_primaries` certifies them: `closest_hits` then `certify_primaries`, the two walks
-    /// of each `RAYS_PER_BATCH` rays sharing one packet.
+    /// of each `RAYS_PER_BATCH` rays as one where they can (`certified_hits_of_packet`).
     pub(in crate::trace) fn certified_closest_hits(
         &self,
         scratch: &mut TraversalScratch,
@@ -295,16 +367,63 @@ impl SceneBvh {
                 origin,
                 directions,
                 #[inline(always)]
-                |watertight, packet| {
-                    self.closest_hits_of_packet(scratch, watertight, &packet, hits);
-                    self.certify_packet(scratch, watertight, packet, hits, out);
-                },
+                |watertight, packet| self.certified_hits_of_packet(scratch, watertight, packet, hits, out),
             ) {
                 continue;
             }
             self.closest_hits(scratch, origin, directions, hits);
             self.certify_primaries(scratch, origin, directions, hits, out);
         }
+    }
+}
+
+/// How far a closest-hit walk that certifies its hits looks beyond a hit at distance `t`: the
+/// certificate's reach is the hit's exact distance and its error bound, rounded up, which lies
+/// within a few ulps of t but for the most grazing hits (those beyond walk on their own).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn look_beyond(t: f32) -> f32 {
+    t * (1.0 + 2f32.powi(-12))
+}
+
+/// The flat triangles a packet's closest-hit walk noted for each lane's certificate
+/// (`certified_hits_of_packet`).
+#[cfg(target_arch = "x86_64")]
+struct Noted {
+    triangles: [[u32; Noted::CAPACITY]; LANES],
+    count: [u8; LANES],
+    /// Lanes that noted more than `CAPACITY`.
+    overflow: u32,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Noted {
+    /// A lane's triangles noted at most: a pixel's ray passes through few triangles' outlines
+    /// before the walk is done.
+    const CAPACITY: usize = 16;
+
+    fn new() -> Self {
+        Noted { triangles: [[0; Noted::CAPACITY]; LANES], count: [0; LANES], overflow: 0 }
+    }
+
+    /// Notes triangle `i` for each lane of `lanes`.
+    #[inline(always)]
+    fn note(&mut self, i: usize, lanes: u32) {
+        each_lane(lanes, |k| {
+            let n = self.count[k] as usize;
+            if n == Noted::CAPACITY {
+                self.overflow |= 1 << k;
+            } else {
+                self.triangles[k][n] = i as u32;
+                self.count[k] += 1;
+            }
+            false
+        });
+    }
+
+    /// The triangles lane `k` noted.
+    fn of(&self, k: usize) -> &[u32] {
+        &self.triangles[k][..self.count[k] as usize]
     }
 }
 

@@ -40,6 +40,10 @@ pub struct SceneBvh {
     /// Triangles in BVH order: `triangles[i]` is scene triangle `scene_ids[i]`.
     pub(in crate::trace) triangles: Vec<[Vec3A; 3]>,
     pub(in crate::trace) scene_ids: Vec<u32>,
+    /// Where each triangle's leaf hangs in the tree (`WideBvh::leaf_slots`), for the packet
+    /// walks' certificates.
+    #[cfg(target_arch = "x86_64")]
+    pub(in crate::trace) leaf_slots: Vec<u32>,
     /// Deepest level of the tree: the traversal stack never holds more entries.
     pub(in crate::trace) depth: usize,
     pub(in crate::trace) instances: Option<InstanceLevel>,
@@ -66,7 +70,16 @@ impl SceneBvh {
 
     fn build_with_margin(tris: &[[Vec3; 3]], margin: f32, bounds: (Vec3, Vec3)) -> Self {
         let FlatTree { tree, triangles, scene_ids, depth } = FlatTree::build(tris, margin);
-        SceneBvh { tree, triangles, scene_ids, depth, instances: None, bounds }
+        SceneBvh {
+            #[cfg(target_arch = "x86_64")]
+            leaf_slots: tree.leaf_slots(triangles.len()),
+            tree,
+            triangles,
+            scene_ids,
+            depth,
+            instances: None,
+            bounds,
+        }
     }
 
     /// The exact bounds (min, max) of the triangles it was built from: `Scene::bounds` of its
@@ -297,23 +310,40 @@ impl SceneBvh {
         rays: &[ShadowRay],
     ) -> Option<ShadowBits> {
         let lane = |k: usize| k.min(rays.len() - 1);
-        let walks: [(WatertightRay, f32); LANES] =
-            std::array::from_fn(|k| ShadowSearch::walk_ray(&rays[lane(k)]));
-        let watertight = walks.map(|w| w.0);
+        // Written in place, in plain loops: arrays made by `array::from_fn` and `map` were
+        // copied, which cost more than the rest of a packet's set-up.
+        let (mut watertight, mut tmax) = ([WatertightRay::UNUSED; LANES], [0.0; LANES]);
+        for k in 0..LANES {
+            (watertight[k], tmax[k]) = ShadowSearch::walk_ray(&rays[lane(k)]);
+        }
         // SAFETY: the caller's.
         let mut packet = unsafe { Packet::new(&watertight[..rays.len()]) }?;
         let mut searches: [ShadowSearch; LANES] =
             std::array::from_fn(|k| ShadowSearch::new(&rays[lane(k)], &watertight[k]));
-        packet.certify(&std::array::from_fn(|k| searches[k].edge_slack()));
-        let mut tmax = walks.map(|w| w.1);
-        let active = self.walk_flat::<ANY_ORDER>(scratch, &packet, &mut tmax, |i, candidates, _, _| {
-            each_lane(candidates, |k| searches[k].test(self.scene_ids[i], &self.triangles[i]))
-        });
+        let mut slack = [(0.0, 0.0); LANES];
+        for (slack, search) in slack.iter_mut().zip(&searches) {
+            *slack = search.edge_slack();
+        }
+        packet.certify(&slack);
+        let reach = tmax;
+        let active = self.walk_flat::<ANY_ORDER>(
+            scratch,
+            &packet,
+            &mut tmax,
+            #[inline(always)]
+            |i, candidates, _, _| {
+                each_lane(
+                    candidates,
+                    #[inline(always)]
+                    |k| searches[k].test(self.scene_ids[i], &self.triangles[i]),
+                )
+            },
+        );
         if let Some(instances) = &self.instances {
             for k in 0..rays.len() {
                 if active & (1 << k) != 0 {
                     let search = &mut searches[k];
-                    instances.any_triangle(scratch, &watertight[k], walks[k].1, |id, v| search.test(id, v));
+                    instances.any_triangle(scratch, &watertight[k], reach[k], |id, v| search.test(id, v));
                 }
             }
         }
@@ -372,8 +402,29 @@ impl SceneBvh {
         packet: &Packet,
         hits: &mut [Option<Hit>],
     ) {
-        let mut best = [None; LANES];
         let mut tmax = [f32::INFINITY; LANES];
+        let best = self.walk_closest_hits(scratch, watertight, packet, &mut tmax, |t| t, |_, _| {});
+        hits.copy_from_slice(&best[..hits.len()]);
+    }
+
+    /// The closest hit of each lane of `packet` (`watertight`, as `primary_packet` makes them),
+    /// flat triangles and instances: the least (distance, scene id) of the watertight hits. Each
+    /// lane looks as far as `tmax`, which ends as `look_beyond(t)` of its hit's distance t
+    /// (`look_beyond(t) ≥ t`: a walk that looks further reaches more leaves, and the same least
+    /// hit). `seen(i, lanes)` hears of each flat triangle `i` with the lanes `walk_packet` gave
+    /// it.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub(in crate::trace) fn walk_closest_hits(
+        &self,
+        scratch: &mut TraversalScratch,
+        watertight: &[WatertightRay; LANES],
+        packet: &Packet,
+        tmax: &mut [f32; LANES],
+        look_beyond: impl Fn(f32) -> f32,
+        mut seen: impl FnMut(usize, u32),
+    ) -> [Option<Hit>; LANES] {
+        let mut best = [None; LANES];
         let mut keep = |i: usize, k: usize, h: RayTriangleHit, tmax: &mut [f32; LANES]| {
             let [v0, v1, v2] = self.triangles[i];
             let hit = Hit {
@@ -384,17 +435,18 @@ impl SceneBvh {
             };
             if hit.beats(&best[k]) {
                 best[k] = Some(hit);
-                tmax[k] = h.t;
+                tmax[k] = look_beyond(h.t);
             }
         };
         self.walk_flat::<NEAREST_FIRST>(
             scratch,
             packet,
-            &mut tmax,
+            tmax,
             #[inline(always)]
-            |i, candidates, seen, tmax| {
+            |i, candidates, triangle, tmax| {
+                seen(i, candidates);
                 // Eight lanes solved at once; those the f64 test must settle, one by one.
-                let solved = packet.intersect(seen, candidates, tmax);
+                let solved = packet.intersect(triangle, candidates, tmax);
                 each_lane(solved.hit, |k| {
                     let h = RayTriangleHit { t: solved.t[k], barycentric: solved.barycentric.map(|b| b[k]) };
                     keep(i, k, h, tmax);
@@ -409,12 +461,13 @@ impl SceneBvh {
                 })
             },
         );
-        for (k, hit) in hits.iter_mut().enumerate() {
-            if let Some(instances) = &self.instances {
+        if let Some(instances) = &self.instances {
+            each_lane(packet.lanes, |k| {
                 instances.closest_hit(scratch, &watertight[k], 0.0, tmax[k], &mut best[k]);
-            }
-            *hit = best[k];
+                false
+            });
         }
+        best
     }
 }
 

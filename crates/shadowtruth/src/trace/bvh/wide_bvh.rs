@@ -164,6 +164,30 @@ impl WideNode {
     }
 }
 
+#[cfg(target_arch = "x86_64")]
+impl WideBvh {
+    /// Where each of the tree's `primitives` (in tree order) hangs: the index of the node that
+    /// holds its leaf, times eight, plus the leaf's slot there (`leaf_box`). A tree has fewer
+    /// nodes than primitives (`MAX_PRIMITIVES`), so this fits a u32.
+    pub(in crate::trace) fn leaf_slots(&self, primitives: usize) -> Vec<u32> {
+        let mut slots = vec![u32::MAX; primitives];
+        for (n, node) in self.nodes.iter().enumerate() {
+            for (c, child) in node.child.iter().enumerate() {
+                if child.is_leaf() {
+                    child.primitives().for_each(|i| slots[i] = (n * 8 + c) as u32);
+                }
+            }
+        }
+        slots
+    }
+
+    /// The node and the slot of a leaf, from `leaf_slots`.
+    #[inline(always)]
+    pub(in crate::trace) fn leaf_box(&self, leaf_slot: u32) -> (&WideNode, usize) {
+        (&self.nodes[leaf_slot as usize / 8], leaf_slot as usize % 8)
+    }
+}
+
 /// Depth of a tree in nodes (root = 1), by walking it.
 pub(in crate::trace) fn tree_depth(tree: &WideBvh) -> usize {
     if tree.nodes.is_empty() {
