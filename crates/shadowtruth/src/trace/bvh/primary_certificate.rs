@@ -264,18 +264,12 @@ impl SceneBvh {
             std::array::from_fn(|k| PrimarySearch::new(&watertight[k], own[k].as_ref()));
         packet.certify(&searches.each_ref().map(|s| s.fast.sheared_error_coefficients()));
         let mut tmax = searches.each_ref().map(|s| s.tmax);
-        let active = self.walk_flat::<ANY_ORDER>(
+        let active = self.walk_flat_any_hit(
             scratch,
             &packet,
             &mut tmax,
             #[inline(always)]
-            |i, candidates, _, _| {
-                each_lane(
-                    candidates,
-                    #[inline(always)]
-                    |k| searches[k].test(&watertight[k], self.scene_ids[i], &self.triangles[i]),
-                )
-            },
+            |i, k| searches[k].test(&watertight[k], self.scene_ids[i], &self.triangles[i]),
         );
         for (k, (out, hit)) in out.iter_mut().zip(hits.iter_mut()).enumerate() {
             let (search, walk_ray) = (&mut searches[k], &watertight[k]);

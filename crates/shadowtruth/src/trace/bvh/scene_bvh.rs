@@ -326,18 +326,12 @@ impl SceneBvh {
         }
         packet.certify(&slack);
         let reach = tmax;
-        let active = self.walk_flat::<ANY_ORDER>(
+        let active = self.walk_flat_any_hit(
             scratch,
             &packet,
             &mut tmax,
             #[inline(always)]
-            |i, candidates, _, _| {
-                each_lane(
-                    candidates,
-                    #[inline(always)]
-                    |k| searches[k].test(self.scene_ids[i], &self.triangles[i]),
-                )
-            },
+            |i, k| searches[k].test(self.scene_ids[i], &self.triangles[i]),
         );
         if let Some(instances) = &self.instances {
             for k in 0..rays.len() {
@@ -372,6 +366,33 @@ impl SceneBvh {
             leaf,
         );
         active
+    }
+
+    /// `walk_flat` in node order, with `test(i, lane)` for each lane that may hit flat
+    /// triangle `i`: true finishes the lane. Returns the lanes still active at the end.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub(in crate::trace) fn walk_flat_any_hit(
+        &self,
+        scratch: &mut TraversalScratch,
+        packet: &Packet,
+        tmax: &mut [f32; LANES],
+        mut test: impl FnMut(usize, usize) -> bool,
+    ) -> u32 {
+        // Each closure inlined: called, the leaf test left the packet walk's instruction set.
+        self.walk_flat::<ANY_ORDER>(
+            scratch,
+            packet,
+            tmax,
+            #[inline(always)]
+            |i, candidates, _, _| {
+                each_lane(
+                    candidates,
+                    #[inline(always)]
+                    |k| test(i, k),
+                )
+            },
+        )
     }
 
     #[cfg(target_arch = "x86_64")]
