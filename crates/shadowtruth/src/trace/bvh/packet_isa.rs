@@ -9,9 +9,9 @@
 //! the same 8-lane operations; the operations, and so the answers, are the same bit for bit
 //! (IEEE arithmetic either way, and Rust never fuses a multiply and an add on its own).
 //! Only closest hits take the AVX-512 form (`PacketQuery`): measured on the 200K forest at
-//! 1920×1080, one thread, four alternating rounds (docs/scale.md), it runs primary rays at
-//! 1.05× the AVX2 compilation's rate, but shadow rays at 0.94× and the certified G-buffer walk
-//! at 0.92×.
+//! 1920×1080, one thread, eight alternating rounds (docs/scale.md), it runs primary rays at
+//! 1.03× the AVX2 compilation's rate, but shadow rays at 0.93× and the certified G-buffer walk
+//! at 0.91×.
 
 /// Whether the 8-lane test may run: the processor has AVX2, and `SHADOWTRUTH_NODE_TEST` is not
 /// `portable` (which keeps the portable form, for comparing the two). Decided once per process.
