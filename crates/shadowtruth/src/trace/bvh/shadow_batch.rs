@@ -1,5 +1,5 @@
 //! Shadow rays gathered to be traced `RAYS_PER_BATCH` at a time (`SceneBvh::shadow_occluded`,
-//! which walks them together where it can): a row's pixels in the hard reference, and a row's
+//! which walks them together where it can): a tile's pixels in the hard reference, and a row's
 //! light samples or sub-pixel surfaces (`RowShadows`) in the soft references, so that a pixel
 //! with fewer rays than a batch does not trace a batch of its own.
 

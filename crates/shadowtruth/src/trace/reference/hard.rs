@@ -4,7 +4,7 @@
 
 use super::gbuffer::{GBuffer, LightSight, PixelClass};
 use crate::scene::{Camera, Light, Scene};
-use crate::trace::bvh::scene_bvh::SceneBvh;
+use crate::trace::bvh::scene_bvh::{RAYS_PER_BATCH, SceneBvh};
 use crate::trace::bvh::scratch::TraversalScratch;
 use crate::trace::bvh::shadow_batch::ShadowBatch;
 use crate::trace::bvh::shadow_ray::{ShadowRay, SurfacePoint};
@@ -105,6 +105,14 @@ pub(in crate::trace) fn hard_visible(
     bvh.shadow_occluder(scratch, &shadow_ray_to_centre(point, light)).is_none()
 }
 
+/// Pixels are traced in tiles of `TILE_COLUMNS` × `TILE_ROWS`, one batch to a tile where every
+/// pixel is evaluated: the shadow rays of a compact tile start closer together than those of
+/// eight pixels of one row, so a packet's rays share more of their walk. On the 200K forest at
+/// 1920×1080 shadow rays ran 1.12× as fast as in rows of eight on one thread, 1.10× on two
+/// (docs/scale.md).
+const TILE_COLUMNS: usize = 4;
+const TILE_ROWS: usize = RAYS_PER_BATCH / TILE_COLUMNS;
+
 /// Traces one shadow ray per evaluated pixel; the pixels whose answer is not certain are listed
 /// in `uncertain` (docs/reference.md, "The reference's uncertainty").
 pub fn trace_hard_reference(
@@ -116,28 +124,34 @@ pub fn trace_hard_reference(
     let mut lit = vec![0u8; gbuffer.pixel_count()];
     let w = gbuffer.width as usize;
     let sight = LightSight::of(light);
-    let uncertain_rows: Vec<Vec<u32>> = lit
-        .par_chunks_mut(w)
+    let uncertain_bands: Vec<Vec<u32>> = lit
+        .par_chunks_mut(w * TILE_ROWS)
         .enumerate()
         .map_init(
             || bvh.scratch(),
-            |scratch, (y, row)| {
-                // The row's evaluated pixels, traced together a batch at a time.
+            |scratch, (band, rows)| {
+                // The band's evaluated pixels, traced together a batch at a time.
+                let (first, band_rows) = (band * TILE_ROWS * w, rows.len() / w);
                 let mut uncertain = Vec::new();
-                let mut answer = |x: usize, visible: bool, doubt: bool| {
-                    row[x] = visible as u8;
+                let mut answer = |j: usize, visible: bool, doubt: bool| {
+                    rows[j] = visible as u8;
                     if doubt {
-                        uncertain.push((y * w + x) as u32);
+                        uncertain.push((first + j) as u32);
                     }
                 };
                 let mut batch = ShadowBatch::new();
-                for x in 0..w {
-                    let i = y * w + x;
-                    if gbuffer.class[i] != PixelClass::Evaluated {
-                        continue;
+                // Tile by tile from the left, each tile row by row (plain loops: a chain of
+                // `flat_map`s cost 2 % of the shadow rays' instructions).
+                for x0 in (0..w).step_by(TILE_COLUMNS) {
+                    for y in 0..band_rows {
+                        for j in y * w + x0..y * w + (x0 + TILE_COLUMNS).min(w) {
+                            if gbuffer.class[first + j] != PixelClass::Evaluated {
+                                continue;
+                            }
+                            let ray = shadow_ray_to_centre(&gbuffer.surface_point(scene, first + j), &sight);
+                            batch.push(bvh, scratch, j, ray, &mut answer);
+                        }
                     }
-                    let ray = shadow_ray_to_centre(&gbuffer.surface_point(scene, i), &sight);
-                    batch.push(bvh, scratch, x, ray, &mut answer);
                 }
                 batch.finish(bvh, scratch, &mut answer);
                 uncertain.sort_unstable();
@@ -145,7 +159,7 @@ pub fn trace_hard_reference(
             },
         )
         .collect();
-    HardReference { width: gbuffer.width, height: gbuffer.height, lit, uncertain: uncertain_rows.concat() }
+    HardReference { width: gbuffer.width, height: gbuffer.height, lit, uncertain: uncertain_bands.concat() }
 }
 
 /// The G-buffer and hard reference of a view as every score takes them: the G-buffer traced, the
