@@ -1,10 +1,9 @@
 //! The engine: one BVH per scene and the rays walked through it. obvhs builds the tree's shape
 //! (a CWBVH, converted by cwbvh_convert.rs); the walks run over our own 8-wide tree with exact
-//! f32 child boxes (wide_bvh.rs, walk.rs, eight rays at once in packet.rs, parallel ones
-//! filtered by their beam in parallel_beam.rs), a conservative node test (node_test.rs,
-//! simd4.rs) and a watertight triangle test (watertight.rs); instanced meshes sit behind a
-//! second level (instances.rs). Shadow rays (shadow_ray.rs) are answered one at a time or a
-//! batch at once (shadow_batch.rs).
+//! f32 child boxes (wide_bvh.rs, walk.rs, eight rays at once in packet.rs), a conservative node
+//! test (node_test.rs, simd4.rs) and a watertight triangle test (watertight.rs); instanced meshes
+//! sit behind a second level (instances.rs). Shadow rays (shadow_ray.rs) are answered one at a
+//! time or a batch at once (shadow_batch.rs).
 
 pub(in crate::trace) mod certified;
 pub(in crate::trace) mod cwbvh_convert;
@@ -15,7 +14,6 @@ pub(in crate::trace) mod node_test;
 pub(in crate::trace) mod packet;
 #[cfg(target_arch = "x86_64")]
 pub(in crate::trace) mod packet_isa;
-pub(in crate::trace) mod parallel_beam;
 pub(in crate::trace) mod primary_certificate;
 pub(in crate::trace) mod scene_bvh;
 pub(in crate::trace) mod scratch;

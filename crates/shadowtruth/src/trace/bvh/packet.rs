@@ -8,9 +8,7 @@
 //! bit, by construction:
 //! - the node test runs per lane the very operations of the single-ray test (node_test.rs) on
 //!   that ray's own numbers, so each ray reaches every node its own walk would (and perhaps
-//!   more, where another ray of the packet leads there); a test of the whole packet against
-//!   eight children at once first drops the children that no lane's own test keeps (a frustum
-//!   around rays from one point, `Frustum`; a beam around parallel rays, parallel_beam.rs);
+//!   more, where another ray of the packet leads there);
 //! - at a leaf, a vectorised copy of the watertight test's first steps (the shear and the edge
 //!   functions, operation for operation as `WatertightRay::shear`) rejects only the rays whose
 //!   edge functions are all non-zero and of mixed signs, which the scalar test rejects too;
@@ -30,7 +28,6 @@
 #![cfg(target_arch = "x86_64")]
 
 use super::node_test::{SLACK, plane_offsets};
-use super::parallel_beam::ParallelBeam;
 use super::watertight::WatertightRay;
 use super::wide_bvh::{ChildRef, WideNode};
 use glam::Vec3A;
@@ -61,8 +58,6 @@ pub(in crate::trace) struct Packet {
     /// Bounds of every lane's slab distances, eight children at a time (`Frustum`), where the
     /// rays share an origin.
     frustum: Option<Frustum>,
-    /// The beam of parallel rays, where they share a direction (`along_parallel_beam`).
-    beam: Option<ParallelBeam>,
 }
 
 /// What bounds the slab distances of all of a packet's rays at once, per axis: the lanes'
@@ -84,46 +79,6 @@ struct Frustum {
 }
 
 impl Frustum {
-    /// The entry distances of the children of `node` (at their lowest corner) and, as bits, the
-    /// children that some lane of `lanes` may meet within its tmax.
-    #[inline(always)]
-    fn meets(
-        &self,
-        node: &WideNode,
-        tmax: __m256,
-        lanes: u32,
-        near_offset: [usize; 3],
-        far_offset: [usize; 3],
-    ) -> (__m256, u32) {
-        // SAFETY: a `Frustum` exists only where the processor has AVX2 (`Packet::new`), and
-        // its test is compiled for it (`packet_isa.rs`).
-        unsafe {
-            let bytes = node as *const WideNode as *const u8;
-            // SAFETY: `offset` is that of one of the node's plane arrays (`plane_offsets`).
-            let planes = |offset: usize| _mm256_loadu_ps(bytes.add(offset) as *const f32);
-            // The largest tmax of the lanes walking: the others count as −∞.
-            let walking = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
-                _mm256_and_si256(
-                    _mm256_set1_epi32(lanes as i32),
-                    _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128),
-                ),
-                _mm256_setzero_si256(),
-            ));
-            let [_, reach] =
-                lane_extremes(_mm256_blendv_ps(_mm256_set1_ps(f32::NEG_INFINITY), tmax, walking));
-            let (mut enter, mut exit) = (_mm256_setzero_ps(), reach);
-            for axis in 0..3 {
-                let near = _mm256_sub_ps(planes(near_offset[axis]), self.near_origin[axis]);
-                let [lo, hi] = self.inv_near[axis];
-                enter = _mm256_max_ps(enter, _mm256_min_ps(_mm256_mul_ps(near, lo), _mm256_mul_ps(near, hi)));
-                let far = _mm256_sub_ps(planes(far_offset[axis]), self.far_origin[axis]);
-                let [lo, hi] = self.inv_far[axis];
-                exit = _mm256_min_ps(exit, _mm256_max_ps(_mm256_mul_ps(far, lo), _mm256_mul_ps(far, hi)));
-            }
-            (enter, _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit)) as u32)
-        }
-    }
-
     #[inline(always)]
     unsafe fn new(
         origin: &[__m256; 3],
@@ -239,25 +194,8 @@ impl Packet {
                 lanes: (1u32 << rays.len()) - 1,
                 slack: None,
                 frustum,
-                beam: None,
             })
         }
-    }
-
-    /// Where the packet's `rays` share a direction but not an origin, makes the walk test lane
-    /// by lane only the children that their beam meets (`ParallelBeam`), over a tree whose
-    /// planes lie within `plane_reach` of zero.
-    #[inline(always)]
-    pub(in crate::trace) fn along_parallel_beam(&mut self, rays: &[WatertightRay], plane_reach: f32) {
-        let first = &rays[0];
-        if self.frustum.is_some() || rays.iter().any(|r| r.direction != first.direction) {
-            return;
-        }
-        // SAFETY: a `Packet` exists only where the processor has AVX2 (`Packet::new`), and
-        // its walk is compiled for it (`packet_isa.rs`).
-        self.beam = Some(unsafe {
-            ParallelBeam::new(&self.origin, self.axes, [first.sx, first.sy], first.sz > 0.0, plane_reach)
-        });
     }
 
     /// Makes the leaf rejection that of the certified shadow test, with each lane's
@@ -287,11 +225,6 @@ impl Packet {
     /// whatever a lane keeps. Nearest first, children are sorted by the frustum's entry
     /// distance; otherwise they go in node order. Every slot is tested: an empty one's inverted
     /// box is missed.
-    ///
-    /// Parallel rays in any order (`ParallelBeam`) test lane by lane every child the beam keeps,
-    /// inner ones too: the beam keeps whatever a lane keeps, so each lane reaches exactly the
-    /// nodes its own walk reaches, and the beam spares the tests of the children it drops.
-    /// (Keeping inner children for all lanes, as the frustum does, walked twice the nodes.)
     #[inline(always)]
     fn push_children<const NEAREST: bool>(
         &self,
@@ -304,21 +237,39 @@ impl Packet {
         // SAFETY: a `Packet` exists only where the processor has AVX2 (`Packet::new`), and
         // its walk is compiled for it (`packet_isa.rs`).
         unsafe {
+            let bytes = node as *const WideNode as *const u8;
+            // SAFETY: `offset` is that of one of the node's plane arrays (`plane_offsets`).
+            let planes = |offset: usize| _mm256_loadu_ps(bytes.add(offset) as *const f32);
             // SAFETY: eight f32.
             let tmax_lanes = _mm256_loadu_ps(tmax.as_ptr());
-            let mut keys = [0.0f32; LANES];
-            let (mut met, inner_by_lane) = match (&self.frustum, &self.beam) {
-                (Some(f), _) => {
-                    let enter = f.meets(node, tmax_lanes, lanes, self.near_offset, self.far_offset);
-                    if NEAREST {
-                        // SAFETY: eight f32.
-                        _mm256_storeu_ps(keys.as_mut_ptr(), enter.0);
-                    }
-                    (enter.1, false)
-                }
-                (None, Some(beam)) if !NEAREST => (beam.meets(node), true),
-                _ => return self.push_children_lane_by_lane::<NEAREST>(node, tmax, lanes, stack, depth),
+            let Some(f) = &self.frustum else {
+                return self.push_children_lane_by_lane::<NEAREST>(node, tmax, lanes, stack, depth);
             };
+            // The largest tmax of the lanes walking: the others count as −∞.
+            let walking = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
+                _mm256_and_si256(
+                    _mm256_set1_epi32(lanes as i32),
+                    _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128),
+                ),
+                _mm256_setzero_si256(),
+            ));
+            let [_, reach] =
+                lane_extremes(_mm256_blendv_ps(_mm256_set1_ps(f32::NEG_INFINITY), tmax_lanes, walking));
+            let (mut enter, mut exit) = (_mm256_setzero_ps(), reach);
+            for axis in 0..3 {
+                let near = _mm256_sub_ps(planes(self.near_offset[axis]), f.near_origin[axis]);
+                let [lo, hi] = f.inv_near[axis];
+                enter = _mm256_max_ps(enter, _mm256_min_ps(_mm256_mul_ps(near, lo), _mm256_mul_ps(near, hi)));
+                let far = _mm256_sub_ps(planes(self.far_offset[axis]), f.far_origin[axis]);
+                let [lo, hi] = f.inv_far[axis];
+                exit = _mm256_min_ps(exit, _mm256_max_ps(_mm256_mul_ps(far, lo), _mm256_mul_ps(far, hi)));
+            }
+            let mut met = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit)) as u32;
+            let mut keys = [0.0f32; LANES];
+            if NEAREST {
+                // SAFETY: eight f32.
+                _mm256_storeu_ps(keys.as_mut_ptr(), enter);
+            }
             let base = *depth;
             let mut top = base;
             // Room for eight more: a node at level L (root 1) finds at most 7·(L − 1) entries
@@ -328,8 +279,7 @@ impl Packet {
                 let c = met.trailing_zeros() as usize;
                 met &= met - 1;
                 let child = node.child[c];
-                let by_lane = inner_by_lane || child.is_leaf();
-                let hit = if by_lane { self.lane_test(node, c, tmax_lanes).0 & lanes } else { lanes };
+                let hit = if child.is_leaf() { self.lane_test(node, c, tmax_lanes).0 & lanes } else { lanes };
                 // SAFETY: top < base + 8 ≤ stack.len() (asserted above).
                 *stack.get_unchecked_mut(top) = (child, hit, keys[c]);
                 top += (hit != 0) as usize;
@@ -601,7 +551,7 @@ pub(in crate::trace) fn each_lane(mut lanes: u32, mut f: impl FnMut(usize) -> bo
 
 /// The least and the greatest of the eight lanes of `v`, each in every lane.
 #[inline(always)]
-pub(in crate::trace) unsafe fn lane_extremes(v: __m256) -> [__m256; 2] {
+unsafe fn lane_extremes(v: __m256) -> [__m256; 2] {
     // SAFETY: the caller runs where the processor has AVX2, in code compiled for it.
     unsafe {
         let swapped = _mm256_permute2f128_ps::<1>(v, v);

@@ -44,10 +44,6 @@ pub struct SceneBvh {
     /// walks' certificates.
     #[cfg(target_arch = "x86_64")]
     pub(in crate::trace) leaf_slots: Vec<u32>,
-    /// The largest magnitude of any finite plane of the tree, for the rounding bound of a
-    /// packet's beam (`ParallelBeam`).
-    #[cfg(target_arch = "x86_64")]
-    plane_reach: f32,
     /// Deepest level of the tree: the traversal stack never holds more entries.
     pub(in crate::trace) depth: usize,
     pub(in crate::trace) instances: Option<InstanceLevel>,
@@ -77,8 +73,6 @@ impl SceneBvh {
         SceneBvh {
             #[cfg(target_arch = "x86_64")]
             leaf_slots: tree.leaf_slots(triangles.len()),
-            #[cfg(target_arch = "x86_64")]
-            plane_reach: tree.plane_reach(),
             tree,
             triangles,
             scene_ids,
@@ -324,7 +318,6 @@ impl SceneBvh {
         }
         // SAFETY: the caller's.
         let mut packet = unsafe { Packet::new(&watertight[..rays.len()]) }?;
-        packet.along_parallel_beam(&watertight[..rays.len()], self.plane_reach);
         let mut searches: [ShadowSearch; LANES] =
             std::array::from_fn(|k| ShadowSearch::new(&rays[lane(k)], &watertight[k]));
         let mut slack = [(0.0, 0.0); LANES];

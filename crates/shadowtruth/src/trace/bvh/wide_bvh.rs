@@ -181,12 +181,6 @@ impl WideBvh {
         slots
     }
 
-    /// The largest magnitude of any finite plane of any node (0 for an empty tree).
-    pub(in crate::trace) fn plane_reach(&self) -> f32 {
-        let planes = self.nodes.iter().flat_map(|node| node.lo.iter().chain(&node.hi).flatten());
-        planes.filter(|p| p.is_finite()).fold(0.0, |reach, p| reach.max(p.abs()))
-    }
-
     /// The node and the slot of a leaf, from `leaf_slots`.
     #[inline(always)]
     pub(in crate::trace) fn leaf_box(&self, leaf_slot: u32) -> (&WideNode, usize) {
