@@ -398,17 +398,19 @@ impl Packet {
                 return (lanes, seen);
             }
             // `CertifiedRay::classify`'s bound, lane by lane: reach is the largest |x|, |y| and
-            // translated main-axis coordinate, σ = fixed + per_reach·reach, and the edge functions'
-            // bound 2·(2σ(2·reach + σ) + 4.01u·reach²) (u = 2⁻²⁴), times 1 + 2⁻¹⁰.
+            // translated main-axis coordinate, σ = fixed + per_reach·reach, across the largest
+            // |x| and |y|, and the edge functions' bound 2·(2σ(2·across + σ) + 4.01u·across²)
+            // (u = 2⁻²⁴) and 4·2⁻¹⁴⁹ for underflow, which the factor 1 + 2⁻¹⁰ covers where reach
+            // ≥ 2⁻⁴⁰ (σ ≥ 2⁻⁵⁹ there: see `sound`).
             let abs = |x: __m256| _mm256_andnot_ps(_mm256_set1_ps(-0.0), x);
             let max3 = |a: __m256, b: __m256, c: __m256| _mm256_max_ps(_mm256_max_ps(abs(a), abs(b)), abs(c));
-            let reach =
-                _mm256_max_ps(_mm256_max_ps(max3(ax, bx, cx), max3(ay, by, cy)), max3(dz[0], dz[1], dz[2]));
+            let across = _mm256_max_ps(max3(ax, bx, cx), max3(ay, by, cy));
+            let reach = _mm256_max_ps(across, max3(dz[0], dz[1], dz[2]));
             let sigma = _mm256_add_ps(fixed, _mm256_mul_ps(per_reach, reach));
-            let two_reach_sigma = _mm256_add_ps(_mm256_add_ps(reach, reach), sigma);
+            let two_across_sigma = _mm256_add_ps(_mm256_add_ps(across, across), sigma);
             let bound = _mm256_add_ps(
-                _mm256_mul_ps(_mm256_set1_ps(4.0), _mm256_mul_ps(sigma, two_reach_sigma)),
-                _mm256_mul_ps(_mm256_set1_ps(8.02 * f32::EPSILON * 0.5), _mm256_mul_ps(reach, reach)),
+                _mm256_mul_ps(_mm256_set1_ps(4.0), _mm256_mul_ps(sigma, two_across_sigma)),
+                _mm256_mul_ps(_mm256_set1_ps(8.02 * f32::EPSILON * 0.5), _mm256_mul_ps(across, across)),
             );
             let bound = _mm256_mul_ps(bound, _mm256_set1_ps(1.0 + 2f32.powi(-10)));
             let below = _mm256_sub_ps(zero, bound);
