@@ -540,7 +540,8 @@ mod tests {
         for round in 0..20_000 {
             let vector =
                 |rng: &mut SplitMix64, s: f64| DVec3::from_array(std::array::from_fn(|_| rng.range([-s, s])));
-            let o = vector(&mut rng, 1.0).as_vec3();
+            // Multiples of 2⁻²⁰, so that the far end below is exact.
+            let o = (vector(&mut rng, 1.0) * 2f64.powi(20)).round().as_vec3() * 2f32.powi(-20);
             let (distance, size) = (rng.range([10.0, 100.0]), rng.range([0.05, 0.5]));
             let centre = o.as_dvec3() + distance * vector(&mut rng, 1.0).normalize();
             let t = [0, 1, 2].map(|_| (centre + size * vector(&mut rng, 1.0)).as_vec3());
@@ -553,7 +554,8 @@ mod tests {
                 _ => centre + size * vector(&mut rng, 2.0),
             };
             let d = (target - o.as_dvec3()).normalize().as_vec3();
-            // The ray's far end 2¹² along it, exact in f64 (a power of two times f32 values).
+            // The ray's far end 2¹² along it, exact in f64: 2¹²·d and o span fewer than 53 bits
+            // (unless a component of d is below 2⁻²⁹, about once in 10⁹).
             let far = o.as_dvec3() + 4096.0 * d.as_dvec3();
             let exact = exact_meets_f64(o.as_dvec3(), far, &t.map(Vec3::as_dvec3));
             let fast = CertifiedRay::<f32>::new(o.to_array(), 0.0, d.to_array(), 0.0, 4096.0, 0.0);
