@@ -2,16 +2,17 @@
 //! G-buffer (primary rays), hard reference (shadow rays) and the area-light reference (4×4 shadow
 //! rays per pixel towards a sun of 2° angular diameter; throughput in shadow rays). And primary
 //! and shadow rays on an outdoor scene of 200K triangles (`generate forest`: terrain and trees
-//! with thin trunks, under the sun), the rays `reference --timing` times (primary rays prepared
-//! before the clock, as it times them), with the G-buffer and the coverage and area-light
+//! with thin trunks, under the sun), the rays `reference --timing` times (primary and shadow
+//! rays prepared before the clock, as it times them), with the G-buffer, the hard reference and
+//! the coverage and area-light
 //! references per sample beside them; and each way the tracer walks those rays, on one thread:
 //! single rays against packets of eight neighbours, primary and shadow alike.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use shadowtruth::scene::{LightKind, load_scene};
 use shadowtruth::trace::{
-    GBuffer, SceneBvh, ShadowRay, hard_shadow_ray, primary_directions, primary_hits,
-    trace_area_light_reference, trace_coverage_reference, trace_hard_reference,
+    GBuffer, SceneBvh, ShadowRay, hard_shadow_ray, hard_shadow_rays, primary_directions, primary_hits,
+    trace_area_light_reference, trace_coverage_reference, trace_hard_reference, trace_shadow_rays,
 };
 use std::path::Path;
 use std::process::Command;
@@ -70,7 +71,10 @@ fn trace_outdoor(c: &mut Criterion) {
     g.bench_function("primary_rays", |b| b.iter(|| primary_hits(&bvh, camera, &directions)));
     g.bench_function("gbuffer", |b| b.iter(|| GBuffer::trace(&scene, &bvh, camera, sun)));
     g.throughput(Throughput::Elements(gbuffer.evaluated.len() as u64));
-    g.bench_function("shadow_rays", |b| b.iter(|| trace_hard_reference(&scene, &bvh, &gbuffer, sun)));
+    let shadow_rays = hard_shadow_rays(&scene, &gbuffer, sun);
+    g.bench_function("shadow_rays", |b| b.iter(|| trace_shadow_rays(&bvh, &shadow_rays)));
+    drop(shadow_rays);
+    g.bench_function("hard_reference", |b| b.iter(|| trace_hard_reference(&scene, &bvh, &gbuffer, sun)));
     // The soft references per sample, beside the hard rate: 2×2 sub-pixel samples (a primary
     // ray and at most one shadow ray each) and 2×2 shadow rays towards the sun's disk.
     let grid = 2;

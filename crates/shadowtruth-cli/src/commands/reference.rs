@@ -56,8 +56,10 @@ pub(super) struct ReferenceArgs {
     threads: Option<usize>,
     /// Also time the tracer: primary rays per second (prepared before the clock, closest hits
     /// written, as Embree's tool times them), the G-buffer's pixels per second (those hits'
-    /// surface points, classes and certificates too, with its time over the rays' alone), and
-    /// shadow rays per second (the whole hard reference), each the median of --repeats.
+    /// surface points, classes and certificates too, with its time over the rays' alone),
+    /// shadow rays per second (prepared from the G-buffer before the clock, as the primary rays
+    /// are), and the hard reference's pixels per second (the shadow rays built and traced, with
+    /// its time over the rays' alone), each the median of --repeats.
     #[arg(long)]
     timing: bool,
     /// How many times --timing runs each measurement, 1 to 1000.

@@ -9,14 +9,18 @@
 //! Primary rays are timed as that tool times them: the pixel-centre rays are prepared before
 //! the clock starts, and the clock runs while they are traced and their closest hits written.
 //! The G-buffer built from the same rays (their surface points, classes and certificates
-//! besides) is timed beside them, with its time over theirs. Shadow rays are timed as the
-//! whole hard reference: building each shadow ray from its G-buffer point (which the other tool
-//! does before its clock) included.
+//! besides) is timed beside them, with its time over theirs. Shadow rays likewise: prepared
+//! from the G-buffer's points before the clock starts and traced in the batches the hard
+//! reference traces them in; the whole hard reference (each ray built from its point, then
+//! traced, and the mask written) is timed beside them, with its time over theirs.
 
 use anyhow::{Result, bail};
 use shadowtruth::metrics::timed_median;
 use shadowtruth::scene::{Camera, Light, Scene};
-use shadowtruth::trace::{GBuffer, SceneBvh, primary_directions, primary_hits, trace_hard_reference};
+use shadowtruth::trace::{
+    GBuffer, SceneBvh, hard_shadow_rays, primary_directions, primary_hits, trace_hard_reference,
+    trace_shadow_rays,
+};
 use std::path::PathBuf;
 
 /// Rays per second (in millions) of one kind, over how many rays.
@@ -43,14 +47,16 @@ pub(super) struct OtherTiming {
     pub occlusion_mode: Option<String>,
 }
 
-/// Our timing: the tracer's, and the G-buffer's (pixels per second, in millions).
+/// Our timing: the tracer's, and the G-buffer's and the hard reference's (pixels per second, in
+/// millions).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct OurTiming {
     pub tracer: TraceTiming,
     pub gbuffer: Rate,
+    pub hard_reference: Rate,
 }
 
-/// Times the primary rays, the G-buffer and the hard reference (shadow rays), each the median
+/// Times the primary rays, the G-buffer, the shadow rays and the hard reference, each the median
 /// of `repeats` (each measurement's repeats in a row).
 pub(super) fn time_tracer(
     scene: &Scene,
@@ -63,7 +69,10 @@ pub(super) fn time_tracer(
     let (_, primary_ms) =
         timed_median(repeats, || std::hint::black_box(primary_hits(bvh, camera, &directions)));
     let (g, gbuffer_ms) = timed_median(repeats, || GBuffer::trace(scene, bvh, camera, light));
-    let (_, shadow_ms) =
+    let shadow_rays = hard_shadow_rays(scene, &g, light);
+    let (_, shadow_ms) = timed_median(repeats, || std::hint::black_box(trace_shadow_rays(bvh, &shadow_rays)));
+    drop(shadow_rays);
+    let (_, reference_ms) =
         timed_median(repeats, || std::hint::black_box(trace_hard_reference(scene, bvh, &g, light)));
     let rays = (g.pixel_count() as u64, g.evaluated.len() as u64);
     let rate = |rays: u64, ms: f64| Rate { mrays_per_s: rays as f64 / ms / 1e3, rays };
@@ -74,17 +83,20 @@ pub(super) fn time_tracer(
             occlusion: rate(rays.1, shadow_ms),
         },
         gbuffer: rate(rays.0, gbuffer_ms),
+        hard_reference: rate(rays.1, reference_ms),
     }
 }
 
 /// Our timing line, in the other tool's layout so that the two read side by side, and the
-/// G-buffer's rate on a line of its own.
+/// G-buffer's and the hard reference's rates on lines of their own.
 pub(super) fn timing_line(t: &OurTiming, repeats: usize) -> String {
     let tracer = &t.tracer;
     format!(
         "shadowtruth {} threads  primary {:.3} Mrays/s ({} rays)   occlusion {:.3} Mrays/s ({} rays)   (median of {})\n\
          shadowtruth {} threads  G-buffer {:.3} Mpixels/s: the primary rays with their surface points, classes \
-         and certificates, {:.2}× the time of the rays alone",
+         and certificates, {:.2}× the time of the rays alone\n\
+         shadowtruth {} threads  hard reference {:.3} Mpixels/s: the shadow rays built from the G-buffer's points \
+         and traced, {:.2}× the time of the rays alone",
         tracer.threads,
         tracer.primary.mrays_per_s,
         tracer.primary.rays,
@@ -94,6 +106,9 @@ pub(super) fn timing_line(t: &OurTiming, repeats: usize) -> String {
         tracer.threads,
         t.gbuffer.mrays_per_s,
         tracer.primary.mrays_per_s / t.gbuffer.mrays_per_s,
+        tracer.threads,
+        t.hard_reference.mrays_per_s,
+        tracer.occlusion.mrays_per_s / t.hard_reference.mrays_per_s,
     )
 }
 
@@ -105,13 +120,15 @@ pub(super) fn ratio_line(ours_with_gbuffer: &OurTiming, other: &OtherTiming) -> 
     let mode = |m: &Option<String>| m.as_ref().map(|m| format!(" (its {m})")).unwrap_or_default();
     let best = if other.primary_mode.is_some() { "embree's best" } else { "embree" };
     let mut line = format!(
-        "shadowtruth / {best}, {} threads: primary {:.2}×{}, occlusion {:.2}×{} (G-buffer {:.2}× its primary)",
+        "shadowtruth / {best}, {} threads: primary {:.2}×{}, occlusion {:.2}×{} (G-buffer {:.2}× its primary, \
+         hard reference {:.2}× its occlusion)",
         ours.threads,
         ratio(ours.primary, theirs.primary),
         mode(&other.primary_mode),
         ratio(ours.occlusion, theirs.occlusion),
         mode(&other.occlusion_mode),
-        ratio(ours_with_gbuffer.gbuffer, theirs.primary)
+        ratio(ours_with_gbuffer.gbuffer, theirs.primary),
+        ratio(ours_with_gbuffer.hard_reference, theirs.occlusion)
     );
     if ours.primary.rays != theirs.primary.rays {
         line += &format!(
@@ -338,16 +355,18 @@ mod tests {
                 occlusion: Rate { mrays_per_s: 10.0, rays: 59 },
             },
             gbuffer: Rate { mrays_per_s: 4.0, rays: 100 },
+            hard_reference: Rate { mrays_per_s: 6.0, rays: 59 },
         };
         assert_eq!(
             ratio_line(&ours, &theirs),
-            "shadowtruth / embree, 2 threads: primary 0.50×, occlusion 1.25× (G-buffer 0.40× its primary)"
+            "shadowtruth / embree, 2 threads: primary 0.50×, occlusion 1.25× (G-buffer 0.40× its primary, \
+             hard reference 0.75× its occlusion)"
         );
         (theirs.primary_mode, theirs.occlusion_mode) = (Some("p16 high".into()), Some("p8c medium".into()));
         assert_eq!(
             ratio_line(&ours, &theirs),
             "shadowtruth / embree's best, 2 threads: primary 0.50× (its p16 high), occlusion 1.25× \
-             (its p8c medium) (G-buffer 0.40× its primary)"
+             (its p8c medium) (G-buffer 0.40× its primary, hard reference 0.75× its occlusion)"
         );
         ours.tracer.primary.rays = 99;
         assert!(ratio_line(&ours, &theirs).ends_with("(not the same rays: 99 primary rays here, 100 there)"));

@@ -133,7 +133,7 @@ pub fn trace_hard_reference(
             || bvh.scratch(),
             |scratch, (band, rows)| {
                 // The band's evaluated pixels, traced together a batch at a time.
-                let (first, band_rows) = (band * TILE_ROWS * w, rows.len() / w);
+                let first = band * TILE_ROWS * w;
                 let mut uncertain = Vec::new();
                 let mut answer = |j: usize, visible: bool, doubt: bool| {
                     rows[j] = visible as u8;
@@ -142,19 +142,10 @@ pub fn trace_hard_reference(
                     }
                 };
                 let mut batch = ShadowBatch::new();
-                // Tile by tile from the left, each tile row by row, in plain loops: the same order
-                // as a chain of `flat_map`s ran shadow rays at 0.87× (docs/scale.md).
-                for x0 in (0..w).step_by(TILE_COLUMNS) {
-                    for y in 0..band_rows {
-                        for j in y * w + x0..y * w + (x0 + TILE_COLUMNS).min(w) {
-                            if gbuffer.class[first + j] != PixelClass::Evaluated {
-                                continue;
-                            }
-                            let ray = shadow_ray_to_centre(&gbuffer.surface_point(scene, first + j), &sight);
-                            batch.push(bvh, scratch, j, ray, &mut answer);
-                        }
-                    }
-                }
+                for_each_in_tiles(gbuffer, band, |j| {
+                    let ray = shadow_ray_to_centre(&gbuffer.surface_point(scene, first + j), &sight);
+                    batch.push(bvh, scratch, j, ray, &mut answer);
+                });
                 batch.finish(bvh, scratch, &mut answer);
                 uncertain.sort_unstable();
                 uncertain
@@ -162,6 +153,61 @@ pub fn trace_hard_reference(
         )
         .collect();
     HardReference { width: gbuffer.width, height: gbuffer.height, lit, uncertain: uncertain_bands.concat() }
+}
+
+/// Calls `f(j)` for each evaluated pixel of band `band` (its rows from `band`·`TILE_ROWS`, `j`
+/// counted from the band's first pixel) in the order the hard reference traces them: tile by
+/// tile from the left, each tile row by row. Plain loops: the same order as a chain of
+/// `flat_map`s ran shadow rays at 0.87× (docs/scale.md).
+#[inline(always)]
+fn for_each_in_tiles(gbuffer: &GBuffer, band: usize, mut f: impl FnMut(usize)) {
+    let w = gbuffer.width as usize;
+    let first = band * TILE_ROWS * w;
+    let band_rows = (gbuffer.height as usize - band * TILE_ROWS).min(TILE_ROWS);
+    for x0 in (0..w).step_by(TILE_COLUMNS) {
+        for y in 0..band_rows {
+            for j in y * w + x0..y * w + (x0 + TILE_COLUMNS).min(w) {
+                if gbuffer.class[first + j] == PixelClass::Evaluated {
+                    f(j);
+                }
+            }
+        }
+    }
+}
+
+/// The shadow rays of `trace_hard_reference`, band by band in the order it traces them, so that
+/// `trace_shadow_rays` can time the rays alone, without building them (`reference --timing`).
+/// Each ray holds over 100 bytes: a 1920×1080 view's take over 100 MB.
+pub fn hard_shadow_rays(scene: &Scene, gbuffer: &GBuffer, light: &Light) -> Vec<Vec<ShadowRay>> {
+    let sight = LightSight::of(light);
+    let w = gbuffer.width as usize;
+    (0..(gbuffer.height as usize).div_ceil(TILE_ROWS))
+        .into_par_iter()
+        .map(|band| {
+            let mut rays = Vec::new();
+            for_each_in_tiles(gbuffer, band, |j| {
+                let i = band * TILE_ROWS * w + j;
+                rays.push(shadow_ray_to_centre(&gbuffer.surface_point(scene, i), &sight));
+            });
+            rays
+        })
+        .collect()
+}
+
+/// Traces `hard_shadow_rays`'s bands as `trace_hard_reference` does, in the same batches, and
+/// returns how many rays are occluded (by the best guess where uncertain).
+pub fn trace_shadow_rays(bvh: &SceneBvh, bands: &[Vec<ShadowRay>]) -> usize {
+    bands
+        .par_iter()
+        .map_init(
+            || bvh.scratch(),
+            |scratch, rays| {
+                rays.chunks(RAYS_PER_BATCH)
+                    .map(|batch| bvh.shadow_answers(scratch, batch).occluded.count_ones() as usize)
+                    .sum::<usize>()
+            },
+        )
+        .sum()
 }
 
 /// The G-buffer and hard reference of a view as every score takes them: the G-buffer traced, the

@@ -16,7 +16,10 @@ pub use area_light::{AreaLightError, trace_area_light_reference, validate_area_l
 pub use cache::{CachedReference, ReferenceCache, reference_digest, soft_reference_digest};
 pub use coverage::trace_coverage_reference;
 pub use gbuffer::{GBuffer, PixelClass, PrimaryHit, primary_directions, primary_hits};
-pub use hard::{HardReference, MaskCode, hard_shadow_ray, trace_hard_reference, trace_scored_view};
+pub use hard::{
+    HardReference, MaskCode, hard_shadow_ray, hard_shadow_rays, trace_hard_reference, trace_scored_view,
+    trace_shadow_rays,
+};
 pub use overlap::{ShadowOverlap, trace_shadow_overlap};
 pub use soft_reference::EXR_ENCODING;
 pub use soft_reference::{
