@@ -71,7 +71,8 @@ fn trace_outdoor(c: &mut Criterion) {
     g.bench_function("primary_rays", |b| b.iter(|| primary_hits(&bvh, camera, &directions)));
     g.bench_function("gbuffer", |b| b.iter(|| GBuffer::trace(&scene, &bvh, camera, sun)));
     g.throughput(Throughput::Elements(gbuffer.evaluated.len() as u64));
-    let shadow_rays = hard_shadow_rays(&scene, &gbuffer, sun);
+    let mut shadow_rays = Vec::new();
+    hard_shadow_rays(&scene, &gbuffer, sun, usize::MAX, |rays| shadow_rays = rays.to_vec());
     g.bench_function("shadow_rays", |b| b.iter(|| trace_shadow_rays(&bvh, &shadow_rays)));
     drop(shadow_rays);
     g.bench_function("hard_reference", |b| b.iter(|| trace_hard_reference(&scene, &bvh, &gbuffer, sun)));

@@ -22,10 +22,17 @@ fn the_rays_alone_answer_as_the_hard_reference() {
                 let evaluated: Vec<usize> =
                     (0..g.pixel_count()).filter(|&i| g.class[i] == PixelClass::Evaluated).collect();
                 let shadowed = evaluated.iter().filter(|&&i| reference.lit[i] == 0).count();
-                let rays = hard_shadow_rays(&scene, &g, light);
                 let view = format!("{name}/{}/{}", camera.name, light.name);
-                assert_eq!(rays.iter().map(Vec::len).sum::<usize>(), evaluated.len(), "{view}");
-                assert_eq!(trace_shadow_rays(&bvh, &rays), shadowed, "{view}");
+                // Groups of about 64 KB of rays, so that a view comes in several.
+                let (mut rays, mut occluded, mut groups) = (0, 0, 0);
+                hard_shadow_rays(&scene, &g, light, 1 << 16, |group| {
+                    rays += group.iter().map(Vec::len).sum::<usize>();
+                    occluded += trace_shadow_rays(&bvh, group);
+                    groups += 1;
+                });
+                assert_eq!(rays, evaluated.len(), "{view}");
+                assert_eq!(occluded, shadowed, "{view}");
+                assert!(groups > 1, "{view}: the rays come in groups ({groups})");
                 shadowed_views += (shadowed > 0 && shadowed < evaluated.len()) as usize;
             }
         }

@@ -175,23 +175,37 @@ fn for_each_in_tiles(gbuffer: &GBuffer, band: usize, mut f: impl FnMut(usize)) {
     }
 }
 
-/// The shadow rays of `trace_hard_reference`, band by band in the order it traces them, so that
-/// `trace_shadow_rays` can time the rays alone, without building them (`reference --timing`).
-/// Each ray holds over 100 bytes: a 1920×1080 view's take over 100 MB.
-pub fn hard_shadow_rays(scene: &Scene, gbuffer: &GBuffer, light: &Light) -> Vec<Vec<ShadowRay>> {
+/// The shadow rays of `trace_hard_reference`, band by band in the order it traces them, a group
+/// of bands at a time, so that `trace_shadow_rays` can time the rays alone, without building
+/// them (`reference --timing`): `f` gets each group in turn. A group holds about `max_bytes` of
+/// rays, but at least one band per thread (a ray takes over 100 bytes, so a 1920×1080 view's
+/// take over 100 MB, and one at the largest image size several GB).
+pub fn hard_shadow_rays(
+    scene: &Scene,
+    gbuffer: &GBuffer,
+    light: &Light,
+    max_bytes: usize,
+    mut f: impl FnMut(&[Vec<ShadowRay>]),
+) {
     let sight = LightSight::of(light);
     let w = gbuffer.width as usize;
-    (0..(gbuffer.height as usize).div_ceil(TILE_ROWS))
-        .into_par_iter()
-        .map(|band| {
-            let mut rays = Vec::new();
-            for_each_in_tiles(gbuffer, band, |j| {
-                let i = band * TILE_ROWS * w + j;
-                rays.push(shadow_ray_to_centre(&gbuffer.surface_point(scene, i), &sight));
-            });
-            rays
-        })
-        .collect()
+    let band_bytes = w * TILE_ROWS * std::mem::size_of::<ShadowRay>();
+    let group = (max_bytes / band_bytes).max(rayon::current_num_threads()).max(1);
+    let bands = (gbuffer.height as usize).div_ceil(TILE_ROWS);
+    for first in (0..bands).step_by(group) {
+        let rays: Vec<Vec<ShadowRay>> = (first..(first + group).min(bands))
+            .into_par_iter()
+            .map(|band| {
+                let mut rays = Vec::new();
+                for_each_in_tiles(gbuffer, band, |j| {
+                    let i = band * TILE_ROWS * w + j;
+                    rays.push(shadow_ray_to_centre(&gbuffer.surface_point(scene, i), &sight));
+                });
+                rays
+            })
+            .collect();
+        f(&rays);
+    }
 }
 
 /// Traces `hard_shadow_rays`'s bands as `trace_hard_reference` does, in the same batches, and
