@@ -11,6 +11,7 @@ pub(in crate::trace) mod flat_tree;
 pub(in crate::trace) mod hit;
 pub(in crate::trace) mod instances;
 pub(in crate::trace) mod node_test;
+pub(in crate::trace) mod own_crossing;
 pub(in crate::trace) mod packet;
 #[cfg(target_arch = "x86_64")]
 pub(in crate::trace) mod packet_isa;

@@ -10,6 +10,9 @@
 use super::certified::{CertifiedRay, Crossing, Verdict, in_one_plane};
 use super::hit::Hit;
 use super::node_test::NodeRay;
+use super::own_crossing::OwnCrossing;
+#[cfg(target_arch = "x86_64")]
+use super::own_crossing::own_crossings;
 #[cfg(target_arch = "x86_64")]
 use super::packet::{LANES, Packet, each_lane};
 #[cfg(target_arch = "x86_64")]
@@ -75,24 +78,10 @@ struct PrimarySearch<'h> {
 
 impl<'h> PrimarySearch<'h> {
     /// The search for `hit`, the closest hit of `walk` (the ray from the camera along the
-    /// pixel's direction); already uncertain when the hit itself is not certainly crossed.
-    fn new(walk: &WatertightRay, hit: Option<&'h Hit>) -> Self {
-        let (length, length_error, uncertain, refined) = match hit {
-            Some(h) => {
-                // In f64: f32's bound on the distance grows with the cube of the distance over
-                // the triangle's projected area, too loose to order surfaces that nearly touch.
-                let v = h.vertices.map(|p| p.as_dvec3().to_array());
-                let (crossing, b) = forms(walk).in_f64(f64::INFINITY, 0.0).crossing_and_barycentrics(&v);
-                let refined = b.map(|b| b.map(|b| b as f32));
-                match crossing {
-                    Crossing::Through { t_lo, t_hi } => {
-                        (0.5 * (t_lo + t_hi), 0.5 * (t_hi - t_lo), false, refined)
-                    }
-                    _ => (0.0, 0.0, true, refined),
-                }
-            }
-            None => (f64::INFINITY, 0.0, false, None),
-        };
+    /// pixel's direction), whose crossing of its own triangle is `own` (`OwnCrossing::of`);
+    /// already uncertain when the hit itself is not certainly crossed.
+    fn new(walk: &WatertightRay, hit: Option<&'h Hit>, own: OwnCrossing) -> Self {
+        let OwnCrossing { length, length_error, uncertain, refined } = own;
         let fast = CertifiedRay::of_walk(walk, 0.0, 0.0, length, length_error);
         let reach = length + length_error;
         let tmax = if reach.is_finite() { (reach as f32).next_up() } else { f32::INFINITY };
@@ -212,7 +201,8 @@ impl SceneBvh {
     ) -> PrimaryCertainty {
         let walk_ray = WatertightRay::new(origin.into(), direction.into());
         let own = *hit;
-        let mut search = PrimarySearch::new(&walk_ray, own.as_ref());
+        let mut search =
+            PrimarySearch::new(&walk_ray, own.as_ref(), OwnCrossing::of(&walk_ray, own.as_ref()));
         if !search.uncertain {
             let node_ray = NodeRay::new(walk_ray.origin, walk_ray.direction);
             let mut tmax = search.tmax;
@@ -260,8 +250,9 @@ impl SceneBvh {
     ) {
         let lane = |k: usize| k.min(hits.len() - 1);
         let own: [Option<Hit>; LANES] = std::array::from_fn(|k| hits[lane(k)]);
+        let crossings = own_crossings(watertight, &own);
         let mut searches: [PrimarySearch; LANES] =
-            std::array::from_fn(|k| PrimarySearch::new(&watertight[k], own[k].as_ref()));
+            std::array::from_fn(|k| PrimarySearch::new(&watertight[k], own[k].as_ref(), crossings[k]));
         packet.certify(&searches.each_ref().map(|s| s.fast.sheared_error_coefficients()));
         let mut tmax = searches.each_ref().map(|s| s.tmax);
         let active = self.walk_flat_any_hit(
@@ -312,8 +303,9 @@ impl SceneBvh {
                 noted.note(i, lanes)
             });
         hits.copy_from_slice(&best[..hits.len()]);
+        let crossings = own_crossings(watertight, &best);
         let mut searches: [PrimarySearch; LANES] =
-            std::array::from_fn(|k| PrimarySearch::new(&watertight[k], best[k].as_ref()));
+            std::array::from_fn(|k| PrimarySearch::new(&watertight[k], best[k].as_ref(), crossings[k]));
         let complete =
             each_lane(packet.lanes, |k| noted.overflow & (1 << k) == 0 && searches[k].tmax <= tmax[k]);
         if complete != packet.lanes {
