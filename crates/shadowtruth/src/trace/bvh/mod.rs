@@ -3,7 +3,9 @@
 //! f32 child boxes (wide_bvh.rs, walk.rs, eight rays at once in packet.rs), a conservative node
 //! test (node_test.rs, simd4.rs) and a watertight triangle test (watertight.rs); instanced meshes
 //! sit behind a second level (instances.rs). Shadow rays (shadow_ray.rs) are answered one at a
-//! time or a batch at once (shadow_batch.rs).
+//! time or a batch at once (shadow_batch.rs), each with a certificate (certified.rs,
+//! shadow_search.rs); primary hits are certified too (primary_certificate.rs, with each hit's own
+//! crossing in f64, own_crossing.rs).
 
 pub(in crate::trace) mod certified;
 pub(in crate::trace) mod cwbvh_convert;
