@@ -51,6 +51,10 @@ pub(in crate::trace) struct Packet {
     scale: __m256,
     /// Lanes that hold a ray (the others repeat the last).
     pub(in crate::trace) lanes: u32,
+    /// The rays' octant as the tree places children in slots (`order_children` in
+    /// cwbvh_convert.rs): bit 2, 1, 0 set where the rays move down x, y, z. Slot `octant` holds
+    /// the child a ray meets first, slot `octant ^ 7` the one it meets last.
+    octant: usize,
     /// For shadow rays (`certify`), lane by lane, the certified test's bound on the sheared
     /// coordinates' error as (fixed, per unit of reach): a lane is then rejected only where two
     /// edge functions have opposite signs beyond their bound (certified.rs).
@@ -192,6 +196,7 @@ impl Packet {
                 shear: [load(&lanes.shear[0]), load(&lanes.shear[1])],
                 scale: load(&lanes.scale),
                 lanes: (1u32 << rays.len()) - 1,
+                octant: (negative[0] as usize) << 2 | (negative[1] as usize) << 1 | negative[2] as usize,
                 slack: None,
                 frustum,
             })
@@ -292,7 +297,8 @@ impl Packet {
     /// Pushes the children of `node` that some lane of `lanes` may meet within [0, tmax[lane]]
     /// onto `stack[..*depth]`, each with those lanes, and pops the one to visit next (`None`
     /// when no child is met). Nearest first, the children are sorted by the distance at which
-    /// the lowest lane enters them, so the nearest is next; otherwise they go in node order.
+    /// the lowest lane enters them, so the nearest is next; otherwise the child the rays meet
+    /// last goes first (`octant`).
     /// Every slot is tested: an empty one's inverted box is missed (testing it costs less than
     /// skipping it).
     #[inline(always)]
@@ -316,7 +322,13 @@ impl Packet {
             // Room for eight more: a node at level L (root 1) finds at most 7·(L − 1) entries
             // beneath it, and the stack holds 7·depth + 1 (`SceneBvh::scratch`).
             assert!(stack.len() >= base + 8, "the packet stack is sized to the tree");
-            for c in 0..8 {
+            for i in 0..8 {
+                // In any order, slot i ^ octant: the child the rays meet last is pushed last, so
+                // visited first. Towards a light, that is the child nearest the light, where
+                // occluders lie more often than beside the surface the rays leave: shadow rays
+                // ran 1.04× as fast as in slot order (docs/scale.md). The answers do not depend
+                // on the order.
+                let c = if NEAREST { i } else { i ^ self.octant };
                 let (met, enter) = self.lane_test(node, c, tmax);
                 let hit = met & lanes;
                 let key =
