@@ -4,9 +4,9 @@
 //! farthest first, with the distance at which the ray enters each, and a child entered beyond
 //! the nearest hit found so far is dropped when popped. Any-hit walks (shadow rays) take the
 //! children in the order they lie in the node: ordering them costs more than it saves when any
-//! occluder ends the walk (packets of rays take the slots in the order of the rays' octant,
-//! which costs a xor: packet.rs) (tests/node_test_forms.rs keeps the two node-test forms' answers equal;
-//! the order is the same in both).
+//! occluder ends the walk (tests/node_test_forms.rs keeps the two node-test forms' answers
+//! equal; the order is the same in both). Packets take the slots in the order of their rays'
+//! octant instead, which costs a xor (packet.rs).
 
 use super::node_test::{self, NodeHits, NodeRay};
 use super::wide_bvh::{ChildRef, WideBvh, WideNode};
