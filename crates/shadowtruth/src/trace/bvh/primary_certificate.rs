@@ -10,7 +10,7 @@
 use super::certified::{CertifiedRay, Crossing, Verdict, in_one_plane};
 use super::hit::Hit;
 use super::node_test::NodeRay;
-use super::own_crossing::OwnCrossing;
+use super::own_crossing::{OwnCrossing, in_f64};
 #[cfg(target_arch = "x86_64")]
 use super::own_crossing::own_crossings;
 #[cfg(target_arch = "x86_64")]
@@ -419,8 +419,7 @@ impl Noted {
 /// (docs/reference.md, "The adjudicator"); in f64 the point lies within f32 rounding of the
 /// ray's exact crossing.
 pub(in crate::trace) fn refine_barycentrics(walk: &WatertightRay, hit: &mut Hit) {
-    let ray = forms(walk).in_f64(f64::INFINITY, 0.0);
-    if let Some(b) = ray.barycentrics(&hit.vertices.map(|p| p.as_dvec3().to_array())) {
+    if let Some(b) = in_f64(walk).barycentrics(&hit.vertices.map(|p| p.as_dvec3().to_array())) {
         hit.barycentric = b.map(|b| b as f32);
     }
 }
