@@ -1,12 +1,15 @@
-//! The shadow rays `reference --timing` traces alone (`hard_shadow_rays`, `trace_shadow_rays`)
-//! are those of the hard reference: one per evaluated pixel, and as many occluded as the
-//! reference leaves shadowed, on every view of the bundled scenes (a sun, spot lights).
+//! The shadow rays `reference --timing` traces alone (`hard_shadow_rays`, `area_light_shadow_rays`,
+//! `trace_shadow_rays`) are those of the references: for the hard reference one per evaluated
+//! pixel, and as many occluded as it leaves shadowed; for the area-light reference as many
+//! unoccluded as its visibilities count. On every view of the bundled scenes (a sun, spot
+//! lights, each with a size).
 
 mod common;
 
 use common::bundled;
 use shadowtruth::trace::{
-    GBuffer, PixelClass, SceneBvh, hard_shadow_rays, trace_hard_reference, trace_shadow_rays,
+    GBuffer, PixelClass, SceneBvh, area_light_shadow_rays, hard_shadow_rays, trace_area_light_reference,
+    trace_hard_reference, trace_shadow_rays,
 };
 
 #[test]
@@ -38,4 +41,40 @@ fn the_rays_alone_answer_as_the_hard_reference() {
         }
     }
     assert!(shadowed_views >= 5, "the views must have both lit and shadowed pixels ({shadowed_views})");
+}
+
+#[test]
+fn the_area_light_rays_alone_answer_as_its_reference() {
+    let grid = 3;
+    let mut views = 0;
+    for name in ["grazing_wall", "l_shape", "plane_box", "rocks", "spot"] {
+        let scene = bundled(name);
+        let bvh = SceneBvh::build(&scene);
+        for camera in &scene.cameras {
+            for light in &scene.lights {
+                let g = GBuffer::trace(&scene, &bvh, camera, light);
+                let reference =
+                    trace_area_light_reference(&scene, &bvh, &g, light, grid).expect("a light with a size");
+                // Each visibility is the count of unoccluded rays over the n×n samples.
+                let samples = (grid * grid) as f32;
+                let unoccluded: usize =
+                    reference.visibility.iter().map(|&v| (v * samples).round() as usize).sum();
+                let view = format!("{name}/{}/{}", camera.name, light.name);
+                let (mut rays, mut occluded, mut groups) = (0, 0, 0);
+                area_light_shadow_rays(&scene, &g, light, grid, 1 << 16, |group| {
+                    rays += group.iter().map(Vec::len).sum::<usize>();
+                    occluded += trace_shadow_rays(&bvh, group);
+                    groups += 1;
+                })
+                .expect("a light with a size");
+                assert_eq!(rays - occluded, unoccluded, "{view}");
+                assert!(
+                    groups > 1 && occluded > 0 && unoccluded > 0,
+                    "{view}: {groups} groups, {occluded} occluded"
+                );
+                views += 1;
+            }
+        }
+    }
+    assert!(views >= 5);
 }

@@ -12,8 +12,8 @@ use clap::Args;
 use shadowtruth::metrics::try_timed_median;
 use shadowtruth::scene::{Scene, load_scene};
 use shadowtruth::trace::{
-    GBuffer, SceneBvh, SoftReference, trace_area_light_reference, trace_coverage_reference,
-    trace_scored_view, validate_area_light,
+    GBuffer, SceneBvh, SoftReference, area_light_shadow_rays, trace_area_light_reference,
+    trace_coverage_reference, trace_scored_view, validate_area_light,
 };
 use std::path::PathBuf;
 
@@ -59,7 +59,8 @@ pub(super) struct ReferenceArgs {
     /// surface points, classes and certificates too, with its time over the rays' alone),
     /// shadow rays per second (prepared from the G-buffer before the clock, as the primary rays
     /// are), and the hard reference's pixels per second (the shadow rays built and traced, with
-    /// its time over the rays' alone), each the median of --repeats.
+    /// its time over the rays' alone), each the median of --repeats; with --kind area, the
+    /// area-light reference's rate and its time over its shadow rays' alone too.
     #[arg(long)]
     timing: bool,
     /// How many times --timing runs each measurement, 1 to 1000.
@@ -146,6 +147,27 @@ pub(super) fn reference(a: ReferenceArgs) -> Result<u8> {
                 samples as f64 / soft_ms / 1e3,
                 a.repeats
             );
+            if a.kind == ReferenceKind::Area {
+                let mut prepared = Ok(());
+                let (rays_ms, rays) = trace_timing::time_prepared_rays(&bvh, a.repeats, |each_group| {
+                    prepared = area_light_shadow_rays(
+                        &scene,
+                        &gbuffer,
+                        light,
+                        grid,
+                        trace_timing::SHADOW_RAYS_HELD,
+                        each_group,
+                    )
+                });
+                prepared?;
+                println!(
+                    "shadowtruth {} threads  area light {grid}×{grid} shadow rays alone {:.3} Mrays/s ({rays} rays, \
+                     those facing the surface): the reference takes {:.2}× their time",
+                    rayon::current_num_threads(),
+                    rays as f64 / rays_ms / 1e3,
+                    soft_ms / rays_ms
+                );
+            }
         }
     }
     Ok(0)

@@ -18,7 +18,7 @@ use anyhow::{Result, bail};
 use shadowtruth::metrics::timed_median;
 use shadowtruth::scene::{Camera, Light, Scene};
 use shadowtruth::trace::{
-    GBuffer, SceneBvh, hard_shadow_rays, primary_directions, primary_hits, trace_hard_reference,
+    GBuffer, SceneBvh, ShadowRay, hard_shadow_rays, primary_directions, primary_hits, trace_hard_reference,
     trace_shadow_rays,
 };
 use std::path::PathBuf;
@@ -85,22 +85,35 @@ pub(super) fn time_tracer(
     }
 }
 
-/// Shadow rays alone, in ms: prepared a group of bands at a time (`hard_shadow_rays`, about
-/// `SHADOW_RAYS_HELD` bytes of rays at once), each group traced `repeats` times; the median
-/// over the repeats of each repeat's time summed over the groups.
+/// Shadow rays alone, in ms: prepared a group of bands at a time (`hard_shadow_rays`).
 fn time_shadow_rays(scene: &Scene, bvh: &SceneBvh, g: &GBuffer, light: &Light, repeats: usize) -> f64 {
-    let mut summed_ms = vec![0.0; repeats.max(1)];
-    hard_shadow_rays(scene, g, light, SHADOW_RAYS_HELD, |rays| {
+    time_prepared_rays(bvh, repeats, |each_group| {
+        hard_shadow_rays(scene, g, light, SHADOW_RAYS_HELD, each_group)
+    })
+    .0
+}
+
+/// Prepared shadow rays alone: `prepare` hands each group of them over in turn (at most about
+/// `SHADOW_RAYS_HELD` bytes), and each group is traced `repeats` times. Returns the median over
+/// the repeats of each repeat's time summed over the groups (ms), and the count of rays.
+pub(super) fn time_prepared_rays(
+    bvh: &SceneBvh,
+    repeats: usize,
+    prepare: impl FnOnce(&mut dyn FnMut(&[Vec<ShadowRay>])),
+) -> (f64, u64) {
+    let (mut summed_ms, mut rays) = (vec![0.0; repeats.max(1)], 0);
+    prepare(&mut |group| {
+        rays += group.iter().map(Vec::len).sum::<usize>() as u64;
         for ms in summed_ms.iter_mut() {
-            *ms += timed_median(1, || std::hint::black_box(trace_shadow_rays(bvh, rays))).1;
+            *ms += timed_median(1, || std::hint::black_box(trace_shadow_rays(bvh, group))).1;
         }
     });
     summed_ms.sort_by(f64::total_cmp);
-    summed_ms[summed_ms.len() / 2]
+    (summed_ms[summed_ms.len() / 2], rays)
 }
 
 /// The most bytes of prepared shadow rays the timing holds at once.
-const SHADOW_RAYS_HELD: usize = 64 << 20;
+pub(super) const SHADOW_RAYS_HELD: usize = 64 << 20;
 
 /// Our timing line, in the other tool's layout so that the two read side by side, and the
 /// G-buffer's and the hard reference's rates on lines of their own.

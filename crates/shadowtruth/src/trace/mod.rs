@@ -17,9 +17,10 @@ pub use bvh::{
 pub use reference::{
     AreaLightError, CachedReference, DEFAULT_AREA_LIGHT_GRID, DEFAULT_COVERAGE_GRID, EXR_ENCODING, GBuffer,
     HardReference, MAX_REFERENCE_GRID, MaskCode, PixelClass, PrimaryHit, ReferenceCache, ShadowOverlap,
-    SoftKind, SoftReference, hard_shadow_ray, hard_shadow_rays, primary_directions, primary_hits,
-    reference_digest, soft_reference_digest, trace_area_light_reference, trace_coverage_reference,
-    trace_hard_reference, trace_scored_view, trace_shadow_overlap, trace_shadow_rays, validate_area_light,
+    SoftKind, SoftReference, area_light_shadow_rays, hard_shadow_ray, hard_shadow_rays, primary_directions,
+    primary_hits, reference_digest, soft_reference_digest, trace_area_light_reference,
+    trace_coverage_reference, trace_hard_reference, trace_scored_view, trace_shadow_overlap,
+    trace_shadow_rays, validate_area_light,
 };
 
 /// Bumped whenever a change to the tracer could change a reference bit.

@@ -10,9 +10,9 @@
 use super::certified::{CertifiedRay, Crossing, Verdict, in_one_plane};
 use super::hit::Hit;
 use super::node_test::NodeRay;
-use super::own_crossing::{OwnCrossing, in_f64};
 #[cfg(target_arch = "x86_64")]
 use super::own_crossing::own_crossings;
+use super::own_crossing::{OwnCrossing, in_f64};
 #[cfg(target_arch = "x86_64")]
 use super::packet::{LANES, Packet, each_lane};
 #[cfg(target_arch = "x86_64")]

@@ -22,13 +22,14 @@
 //! that of N independent samples; stratification makes the true error smaller, so it is an
 //! upper bound that falls as 1/√N on penumbra pixels.
 
-use super::gbuffer::GBuffer;
+use super::gbuffer::{GBuffer, PixelClass};
 use super::sampling::{concentric_disk, jittered_stratum, orthonormal_frame};
 use super::soft_reference::{Estimate, SoftReference, trace_evaluated};
 use crate::scene::{Light, LightKind, Scene};
 use crate::trace::bvh::scene_bvh::SceneBvh;
 use crate::trace::bvh::shadow_ray::ShadowRay;
 use glam::DVec3;
+use rayon::prelude::*;
 
 /// Why an area-light reference cannot be traced.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -100,36 +101,82 @@ pub fn trace_area_light_reference(
     grid: u32,
 ) -> Result<SoftReference, AreaLightError> {
     let emitter = emitter(light, grid)?;
-    let m = grid * grid;
-    Ok(trace_evaluated(bvh, gbuffer, m, |scratch, rays, x, _, i| {
-        let point = gbuffer.surface_point(scene, i);
-        let (p64, n64) = (point.position.as_dvec3(), point.normal.as_dvec3());
-        // The samples facing the point's side of the surface, traced with the row's.
-        for k in 0..m {
-            let (u, v) = jittered_stratum(i as u64, k, grid, LIGHT_SALT);
-            let (dx, dy) = concentric_disk(u, v);
-            let ray = match emitter {
-                Emitter::Cap { axis, tangent, bitangent, one_minus_cos } => {
-                    // Uniform in solid angle: the disk's r² is the cap's area fraction,
-                    // 1 − cos θ = r²(1 − cos θmax); sin θ / r = √(k(2 − r²k)).
-                    let dir = cap_direction((dx, dy), axis, (tangent, bitangent), one_minus_cos);
-                    (n64.dot(dir) > 0.0).then(|| ShadowRay::along(&point, dir))
-                }
-                Emitter::Sphere { centre, radius } => {
-                    let q = sphere_point(p64, (dx, dy), centre, radius);
-                    (n64.dot(q - p64) > 0.0).then(|| ShadowRay::to_point(&point, q))
-                }
-                Emitter::Disk { centre, tangent, bitangent, radius } => {
-                    let q = centre + radius * (dx * tangent + dy * bitangent);
-                    (n64.dot(q - p64) > 0.0).then(|| ShadowRay::to_point(&point, q))
-                }
-            };
-            if let Some(ray) = ray {
-                rays.push(bvh, scratch, x, ray);
-            }
-        }
-        Estimate::Mean { samples: m }
+    Ok(trace_evaluated(bvh, gbuffer, grid * grid, |scratch, rays, x, _, i| {
+        pixel_rays(scene, gbuffer, &emitter, grid, i, |ray| rays.push(bvh, scratch, x, ray))
     }))
+}
+
+/// The shadow rays of `trace_area_light_reference`, row by row in the order it traces them, a
+/// group of rows at a time, so that `trace_shadow_rays` can time the rays alone
+/// (`reference --timing --kind area`): `f` gets each group in turn. A group holds about
+/// `max_bytes` of rays, but at least one row per thread.
+pub fn area_light_shadow_rays(
+    scene: &Scene,
+    gbuffer: &GBuffer,
+    light: &Light,
+    grid: u32,
+    max_bytes: usize,
+    mut f: impl FnMut(&[Vec<ShadowRay>]),
+) -> Result<(), AreaLightError> {
+    let emitter = emitter(light, grid)?;
+    let w = gbuffer.width as usize;
+    let row_bytes = w * (grid * grid) as usize * std::mem::size_of::<ShadowRay>();
+    let group = (max_bytes / row_bytes.max(1)).max(rayon::current_num_threads()).max(1);
+    let rows = gbuffer.height as usize;
+    for first in (0..rows).step_by(group) {
+        let rays: Vec<Vec<ShadowRay>> = (first..(first + group).min(rows))
+            .into_par_iter()
+            .map(|y| {
+                let mut row = Vec::new();
+                for i in (y * w..(y + 1) * w).filter(|&i| gbuffer.class[i] == PixelClass::Evaluated) {
+                    pixel_rays(scene, gbuffer, &emitter, grid, i, |ray| row.push(ray));
+                }
+                row
+            })
+            .collect();
+        f(&rays);
+    }
+    Ok(())
+}
+
+/// The shadow rays of evaluated pixel `i` towards its n×n light samples (`grid` = n), each to
+/// `emit`: those facing the point's side of the surface. The pixel's estimate is the mean over
+/// all n×n samples.
+fn pixel_rays(
+    scene: &Scene,
+    gbuffer: &GBuffer,
+    emitter: &Emitter,
+    grid: u32,
+    i: usize,
+    mut emit: impl FnMut(ShadowRay),
+) -> Estimate {
+    let point = gbuffer.surface_point(scene, i);
+    let (p64, n64) = (point.position.as_dvec3(), point.normal.as_dvec3());
+    let m = grid * grid;
+    for k in 0..m {
+        let (u, v) = jittered_stratum(i as u64, k, grid, LIGHT_SALT);
+        let (dx, dy) = concentric_disk(u, v);
+        let ray = match *emitter {
+            Emitter::Cap { axis, tangent, bitangent, one_minus_cos } => {
+                // Uniform in solid angle: the disk's r² is the cap's area fraction,
+                // 1 − cos θ = r²(1 − cos θmax); sin θ / r = √(k(2 − r²k)).
+                let dir = cap_direction((dx, dy), axis, (tangent, bitangent), one_minus_cos);
+                (n64.dot(dir) > 0.0).then(|| ShadowRay::along(&point, dir))
+            }
+            Emitter::Sphere { centre, radius } => {
+                let q = sphere_point(p64, (dx, dy), centre, radius);
+                (n64.dot(q - p64) > 0.0).then(|| ShadowRay::to_point(&point, q))
+            }
+            Emitter::Disk { centre, tangent, bitangent, radius } => {
+                let q = centre + radius * (dx * tangent + dy * bitangent);
+                (n64.dot(q - p64) > 0.0).then(|| ShadowRay::to_point(&point, q))
+            }
+        };
+        if let Some(ray) = ray {
+            emit(ray);
+        }
+    }
+    Estimate::Mean { samples: m }
 }
 
 /// The direction of concentric-disk point (dx, dy) on the cap of `one_minus_cos` = 1 − cos θmax

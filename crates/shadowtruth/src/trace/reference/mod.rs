@@ -12,7 +12,9 @@ pub(in crate::trace) mod overlap;
 pub(in crate::trace) mod sampling;
 pub(in crate::trace) mod soft_reference;
 
-pub use area_light::{AreaLightError, trace_area_light_reference, validate_area_light};
+pub use area_light::{
+    AreaLightError, area_light_shadow_rays, trace_area_light_reference, validate_area_light,
+};
 pub use cache::{CachedReference, ReferenceCache, reference_digest, soft_reference_digest};
 pub use coverage::trace_coverage_reference;
 pub use gbuffer::{GBuffer, PixelClass, PrimaryHit, primary_directions, primary_hits};
