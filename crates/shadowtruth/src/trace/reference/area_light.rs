@@ -23,13 +23,13 @@
 //! upper bound that falls as 1/√N on penumbra pixels.
 
 use super::gbuffer::{GBuffer, PixelClass};
+use super::hard::in_groups;
 use super::sampling::{concentric_disk, jittered_stratum, orthonormal_frame};
 use super::soft_reference::{Estimate, SoftReference, trace_evaluated};
 use crate::scene::{Light, LightKind, Scene};
 use crate::trace::bvh::scene_bvh::SceneBvh;
 use crate::trace::bvh::shadow_ray::ShadowRay;
 use glam::DVec3;
-use rayon::prelude::*;
 
 /// Why an area-light reference cannot be traced.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -116,26 +116,18 @@ pub fn area_light_shadow_rays(
     light: &Light,
     grid: u32,
     max_bytes: usize,
-    mut f: impl FnMut(&[Vec<ShadowRay>]),
+    f: impl FnMut(&[Vec<ShadowRay>]),
 ) -> Result<(), AreaLightError> {
     let emitter = emitter(light, grid)?;
     let w = gbuffer.width as usize;
-    let row_bytes = w * (grid * grid) as usize * std::mem::size_of::<ShadowRay>();
-    let group = (max_bytes / row_bytes.max(1)).max(rayon::current_num_threads()).max(1);
-    let rows = gbuffer.height as usize;
-    for first in (0..rows).step_by(group) {
-        let rays: Vec<Vec<ShadowRay>> = (first..(first + group).min(rows))
-            .into_par_iter()
-            .map(|y| {
-                let mut row = Vec::new();
-                for i in (y * w..(y + 1) * w).filter(|&i| gbuffer.class[i] == PixelClass::Evaluated) {
-                    pixel_rays(scene, gbuffer, &emitter, grid, i, |ray| row.push(ray));
-                }
-                row
-            })
-            .collect();
-        f(&rays);
-    }
+    let row_rays = |y: usize| {
+        let mut row = Vec::new();
+        for i in (y * w..(y + 1) * w).filter(|&i| gbuffer.class[i] == PixelClass::Evaluated) {
+            pixel_rays(scene, gbuffer, &emitter, grid, i, |ray| row.push(ray));
+        }
+        row
+    };
+    in_groups(gbuffer.height as usize, w * (grid * grid) as usize, max_bytes, row_rays, f);
     Ok(())
 }
 

@@ -185,25 +185,37 @@ pub fn hard_shadow_rays(
     gbuffer: &GBuffer,
     light: &Light,
     max_bytes: usize,
-    mut f: impl FnMut(&[Vec<ShadowRay>]),
+    f: impl FnMut(&[Vec<ShadowRay>]),
 ) {
     let sight = LightSight::of(light);
     let w = gbuffer.width as usize;
-    let band_bytes = w * TILE_ROWS * std::mem::size_of::<ShadowRay>();
-    let group = (max_bytes / band_bytes).max(rayon::current_num_threads()).max(1);
     let bands = (gbuffer.height as usize).div_ceil(TILE_ROWS);
-    for first in (0..bands).step_by(group) {
-        let rays: Vec<Vec<ShadowRay>> = (first..(first + group).min(bands))
-            .into_par_iter()
-            .map(|band| {
-                let mut rays = Vec::new();
-                for_each_in_tiles(gbuffer, band, |j| {
-                    let i = band * TILE_ROWS * w + j;
-                    rays.push(shadow_ray_to_centre(&gbuffer.surface_point(scene, i), &sight));
-                });
-                rays
-            })
-            .collect();
+    let band_rays = |band: usize| {
+        let mut rays = Vec::new();
+        for_each_in_tiles(gbuffer, band, |j| {
+            let i = band * TILE_ROWS * w + j;
+            rays.push(shadow_ray_to_centre(&gbuffer.surface_point(scene, i), &sight));
+        });
+        rays
+    };
+    in_groups(bands, w * TILE_ROWS, max_bytes, band_rays, f);
+}
+
+/// Prepared shadow rays a group of `units` (bands, rows) at a time: `rays_of(unit)` makes a
+/// unit's rays, at most `unit_rays` of them, in parallel within a group, and `f` gets each group
+/// in turn. A group holds about `max_bytes` of rays, but at least one unit per thread.
+pub(super) fn in_groups(
+    units: usize,
+    unit_rays: usize,
+    max_bytes: usize,
+    rays_of: impl Fn(usize) -> Vec<ShadowRay> + Sync,
+    mut f: impl FnMut(&[Vec<ShadowRay>]),
+) {
+    let unit_bytes = (unit_rays * std::mem::size_of::<ShadowRay>()).max(1);
+    let group = (max_bytes / unit_bytes).max(rayon::current_num_threads()).max(1);
+    for first in (0..units).step_by(group) {
+        let rays: Vec<Vec<ShadowRay>> =
+            (first..(first + group).min(units)).into_par_iter().map(&rays_of).collect();
         f(&rays);
     }
 }
