@@ -12,6 +12,7 @@ pub(in crate::trace) mod cwbvh_convert;
 pub(in crate::trace) mod flat_tree;
 pub(in crate::trace) mod hit;
 pub(in crate::trace) mod instances;
+pub(in crate::trace) mod lane_vector;
 pub(in crate::trace) mod node_test;
 pub(in crate::trace) mod own_crossing;
 pub(in crate::trace) mod packet;

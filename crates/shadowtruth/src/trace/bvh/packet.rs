@@ -1,18 +1,18 @@
-//! Eight rays walked down the tree together, with AVX2: neighbouring pixels' primary rays, or
-//! their shadow rays towards a directional light (parallel, so as coherent as rays get). Every
-//! function here is `#[inline(always)]` and runs inside `packet_isa::in_packet_isa`, which
-//! compiles it for AVX2 or for AVX-512, whichever the processor has.
+//! Rays walked down the tree together, one per lane of a vector (lane_vector.rs): eight with
+//! AVX2, sixteen with AVX-512. Neighbouring pixels' primary rays, or their shadow rays towards a
+//! light (parallel towards a directional one, so as coherent as rays get). Every function here
+//! is `#[inline(always)]` and runs inside `packet_isa::in_packet_isa`, which compiles it for AVX2
+//! or for AVX-512, whichever the processor has and the width needs.
 //!
 //! A packet visits a node when any of its rays may meet it, so one walk's branches and node
-//! loads serve eight rays. The answers are those of eight single-ray walks (bvh.rs), bit for
-//! bit, by construction:
-//! - the node test runs per lane the very operations of the single-ray test (node_test.rs) on
-//!   that ray's own numbers, so each ray reaches every node its own walk would (and perhaps
+//! loads serve every ray. The answers are those of single-ray walks (bvh.rs), bit for bit:
+//! - the node test is conservative per lane, as the single-ray test is (node_test.rs): each ray
+//!   reaches every node that the exact ray meets, and so every triangle it may hit (and perhaps
 //!   more, where another ray of the packet leads there);
 //! - at a leaf, a vectorised copy of the watertight test's first steps (the shear and the edge
 //!   functions, operation for operation as `WatertightRay::shear`) rejects only the rays whose
 //!   edge functions are all non-zero and of mixed signs, which the scalar test rejects too;
-//!   a closest-hit walk then finishes the test for all eight lanes at once, operation for
+//!   a closest-hit walk then finishes the test for every lane at once, operation for
 //!   operation as `WatertightRay::intersect` (`Packet::intersect`), and leaves to the scalar
 //!   test only the lanes with an edge function exactly zero, which it settles in f64; a shadow
 //!   ray or a certificate gets its own scalar test (`leaf`), which decides;
@@ -20,35 +20,39 @@
 //!   any-hit answer whether one occludes, neither of which depends on the order of the visits.
 //!
 //! Rays join a packet only when they share their direction's signs and the watertight test's
-//! axis order, and move along every axis, as the 8-lane single-ray test requires
-//! (`Packet::new`); otherwise they are walked one by one.
+//! axis order, and move along every axis (`Packet::new`); otherwise they are walked one by one.
 //! tests/node_test_forms.rs compares every reference traced this way with the portable form,
 //! which walks single rays.
 
 #![cfg(target_arch = "x86_64")]
 
+use super::lane_vector::{L8, LaneMask, LaneVector};
 use super::node_test::{SLACK, plane_offsets};
 use super::watertight::WatertightRay;
 use super::wide_bvh::{ChildRef, WideNode};
 use glam::Vec3A;
 use std::arch::x86_64::*;
 
-/// Rays in a packet.
-pub(in crate::trace) const LANES: usize = 8;
+/// Rays in a packet of eight, the width every query has (`L8`).
+pub(in crate::trace) const LANES: usize = L8::LANES;
 
-/// Eight rays as the packet walk needs them, lane by lane.
-pub(in crate::trace) struct Packet {
-    origin: [__m256; 3],
-    inv_near: [__m256; 3],
-    inv_far: [__m256; 3],
+/// A packet's rays as the walk needs them, lane by lane.
+pub(in crate::trace) struct Packet<V: LaneVector = L8> {
+    origin: [V; 3],
+    inv_near: [V; 3],
+    inv_far: [V; 3],
+    /// origin · inv_near rounded up, and origin · inv_far rounded down, per axis: the node test
+    /// takes a slab distance as plane · inv − these, rounded once (`lane_test`).
+    origin_near: [V; 3],
+    origin_far: [V; 3],
     near_offset: [usize; 3],
     far_offset: [usize; 3],
     /// The watertight test's axis order, shared by every ray.
     axes: [usize; 3],
     /// Its shear factors, lane by lane.
-    shear: [__m256; 2],
+    shear: [V; 2],
     /// Its scale of the main axis (1/d along it), lane by lane.
-    scale: __m256,
+    scale: V,
     /// Lanes that hold a ray (the others repeat the last).
     pub(in crate::trace) lanes: u32,
     /// The rays' octant as the tree places children in slots (`order_children` in
@@ -58,7 +62,7 @@ pub(in crate::trace) struct Packet {
     /// For shadow rays (`certify`), lane by lane, the certified test's bound on the sheared
     /// coordinates' error as (fixed, per unit of reach): a lane is then rejected only where two
     /// edge functions have opposite signs beyond their bound (certified.rs).
-    slack: Option<[__m256; 2]>,
+    slack: Option<[V; 2]>,
     /// Bounds of every lane's slab distances, eight children at a time (`Frustum`), where the
     /// rays share an origin.
     frustum: Option<Frustum>,
@@ -68,8 +72,9 @@ pub(in crate::trace) struct Packet {
 /// extreme origins and the extremes of their shrunk and grown reciprocals. A lane computes
 /// fl(fl(plane − o)·inv); both roundings are monotone, so over o and inv in those ranges the
 /// value is bounded by its value at a corner. Entry distances take the lowest corner, exit
-/// distances the highest: a child that some lane's own test keeps is kept here too. Each value
-/// is in every lane, so that the node test reads it as an operand.
+/// distances the highest: a child that some lane's own test keeps is kept here too. The test
+/// runs over a node's eight children (not over lanes), so each value is in every one of eight
+/// lanes, for the test to read it as an operand.
 struct Frustum {
     /// The origin that gives the lowest entry distance (the largest where the ray moves up the
     /// axis, the smallest where it moves down).
@@ -84,16 +89,16 @@ struct Frustum {
 
 impl Frustum {
     #[inline(always)]
-    unsafe fn new(
-        origin: &[__m256; 3],
-        inv_near: &[__m256; 3],
-        inv_far: &[__m256; 3],
+    unsafe fn new<V: LaneVector>(
+        origin: &[V; 3],
+        inv_near: &[V; 3],
+        inv_far: &[V; 3],
         negative: [bool; 3],
     ) -> Self {
         // SAFETY: the caller runs where the processor has AVX2, in code compiled for it.
         unsafe {
             // Plain loops: `array::map` is not compiled with AVX2, so its closure would call
-            // `lane_extremes` instead of inlining it.
+            // `extremes` instead of inlining it.
             let zero = _mm256_setzero_ps();
             let mut f = Frustum {
                 near_origin: [zero; 3],
@@ -101,12 +106,13 @@ impl Frustum {
                 inv_near: [[zero; 2]; 3],
                 inv_far: [[zero; 2]; 3],
             };
+            let splat = |[lo, hi]: [f32; 2]| [_mm256_set1_ps(lo), _mm256_set1_ps(hi)];
             for axis in 0..3 {
-                let origin = lane_extremes(origin[axis]);
+                let origin = splat(origin[axis].extremes());
                 f.near_origin[axis] = origin[!negative[axis] as usize];
                 f.far_origin[axis] = origin[negative[axis] as usize];
-                f.inv_near[axis] = lane_extremes(inv_near[axis]);
-                f.inv_far[axis] = lane_extremes(inv_far[axis]);
+                f.inv_near[axis] = splat(inv_near[axis].extremes());
+                f.inv_far[axis] = splat(inv_far[axis].extremes());
             }
             f
         }
@@ -114,72 +120,90 @@ impl Frustum {
 }
 
 /// A packet's rays component by component, lane by lane (lanes past the last ray repeat it).
-struct Lanes {
-    origin: [[f32; LANES]; 3],
-    direction: [[f32; LANES]; 3],
-    shear: [[f32; LANES]; 2],
-    scale: [f32; LANES],
+struct Lanes<V: LaneVector> {
+    origin: [V::Array; 3],
+    direction: [V::Array; 3],
+    shear: [V::Array; 2],
+    scale: V::Array,
 }
 
-impl Lanes {
-    /// The lanes of `rays` (one to eight), or `None` where they do not share the watertight
+impl<V: LaneVector> Lanes<V> {
+    /// The lanes of `rays` (one to `V::LANES`), or `None` where they do not share the watertight
     /// test's axis order.
     #[inline(always)]
-    fn of(rays: &[WatertightRay]) -> Option<Lanes> {
+    fn of(rays: &[WatertightRay]) -> Option<Lanes<V>> {
         let first = rays.first()?;
-        let mut lanes = Lanes {
-            origin: [[0.0; LANES]; 3],
-            direction: [[0.0; LANES]; 3],
-            shear: [[0.0; LANES]; 2],
-            scale: [0.0; LANES],
+        let mut lanes = Lanes::<V> {
+            origin: Default::default(),
+            direction: Default::default(),
+            shear: Default::default(),
+            scale: Default::default(),
         };
-        let mut same_axes = rays.len() <= LANES;
-        for k in 0..LANES {
+        let mut same_axes = rays.len() <= V::LANES;
+        for k in 0..V::LANES {
             let ray = &rays[k.min(rays.len() - 1)];
             same_axes &= (ray.kx, ray.ky, ray.kz) == (first.kx, first.ky, first.kz);
             let (origin, direction) = (ray.origin.to_array(), ray.direction.to_array());
             for axis in 0..3 {
-                lanes.origin[axis][k] = origin[axis];
-                lanes.direction[axis][k] = direction[axis];
+                lanes.origin[axis].as_mut()[k] = origin[axis];
+                lanes.direction[axis].as_mut()[k] = direction[axis];
             }
-            lanes.shear[0][k] = ray.sx;
-            lanes.shear[1][k] = ray.sy;
-            lanes.scale[k] = ray.sz;
+            lanes.shear[0].as_mut()[k] = ray.sx;
+            lanes.shear[1].as_mut()[k] = ray.sy;
+            lanes.scale.as_mut()[k] = ray.sz;
         }
         same_axes.then_some(lanes)
     }
 }
 
-impl Packet {
-    /// The packet of `rays` (one to eight), or `None` if they cannot share a walk. Each lane's
-    /// numbers are those `NodeRay::new` computes for its ray (the same operations, eight at a
-    /// time); lanes past the last ray repeat it.
+/// |v|·2⁻²² + 2⁻¹⁴⁹, lane by lane: at least two units in the last place of v (and the least
+/// subnormal where v is zero), so that v plus it, rounded, is at least every number that rounds
+/// to v, and v minus it at most every such number.
+#[inline(always)]
+unsafe fn two_ulps<V: LaneVector>(v: V) -> V {
+    // SAFETY: the caller's: the processor has `V`'s instruction set.
+    unsafe { v.abs().mul(V::splat(2f32.powi(-22))).add(V::splat(f32::from_bits(1))) }
+}
+
+impl<V: LaneVector> Packet<V> {
+    /// The packet of `rays` (one to `V::LANES`), or `None` if they cannot share a walk. Each
+    /// lane's reciprocals are those `NodeRay::new` computes for its ray (the same operations, a
+    /// vector at a time); lanes past the last ray repeat it.
+    ///
+    /// # Safety
+    /// The processor has `V`'s instruction set, and the caller is compiled for it.
     #[inline(always)]
-    pub(in crate::trace) unsafe fn new(rays: &[WatertightRay]) -> Option<Packet> {
-        // SAFETY: the caller runs where the processor has AVX2, in code compiled for it.
+    pub(in crate::trace) unsafe fn new(rays: &[WatertightRay]) -> Option<Self> {
+        // SAFETY: the caller's.
         unsafe {
-            let lanes = Lanes::of(rays)?;
-            // SAFETY: eight f32.
-            let load = |v: &[f32; LANES]| _mm256_loadu_ps(v.as_ptr());
-            let (mut inv_near, mut inv_far, mut negative) =
-                ([_mm256_setzero_ps(); 3], [_mm256_setzero_ps(); 3], [false; 3]);
+            let lanes = Lanes::<V>::of(rays)?;
+            let (zero, inf) = (V::splat(0.0), V::splat(f32::INFINITY));
+            let (mut inv_near, mut inv_far, mut negative) = ([zero; 3], [zero; 3], [false; 3]);
             for axis in 0..3 {
-                let d = load(&lanes.direction[axis]);
-                let inv = _mm256_div_ps(_mm256_set1_ps(1.0), d);
-                inv_near[axis] = _mm256_mul_ps(inv, _mm256_set1_ps(1.0 - SLACK));
-                inv_far[axis] = _mm256_mul_ps(inv, _mm256_set1_ps(1.0 + SLACK));
-                let below = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LT_OQ>(d, _mm256_setzero_ps()));
-                let abs_far = _mm256_andnot_ps(_mm256_set1_ps(-0.0), inv_far[axis]);
-                let finite =
-                    _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LT_OQ>(abs_far, _mm256_set1_ps(f32::INFINITY)));
+                let d = V::load(&lanes.direction[axis]);
+                let inv = V::splat(1.0).div(d);
+                inv_near[axis] = inv.mul(V::splat(1.0 - SLACK));
+                inv_far[axis] = inv.mul(V::splat(1.0 + SLACK));
+                let below = d.lt(zero).bits();
+                let finite = inv_far[axis].abs().lt(inf).bits();
                 // Every lane moves along the axis, and in the same direction.
-                if finite != 0xff || (below != 0 && below != 0xff) {
+                if finite != V::ALL || (below != 0 && below != V::ALL) {
                     return None;
                 }
-                negative[axis] = below == 0xff;
+                negative[axis] = below == V::ALL;
             }
             let (near_offset, far_offset) = plane_offsets(negative);
-            let origin = [load(&lanes.origin[0]), load(&lanes.origin[1]), load(&lanes.origin[2])];
+            let origin = [V::load(&lanes.origin[0]), V::load(&lanes.origin[1]), V::load(&lanes.origin[2])];
+            let (mut origin_near, mut origin_far) = ([zero; 3], [zero; 3]);
+            for axis in 0..3 {
+                let (near, far) = (origin[axis].mul(inv_near[axis]), origin[axis].mul(inv_far[axis]));
+                origin_near[axis] = near.add(two_ulps(near));
+                origin_far[axis] = far.sub(two_ulps(far));
+                // Beyond f32 the bound would not hold: such rays walk one by one.
+                if origin_near[axis].abs().lt(inf).and(origin_far[axis].abs().lt(inf)).bits() != V::ALL {
+                    return None;
+                }
+            }
             // Rays from one point (a camera's) only: rays from scattered points (the shadow rays of
             // neighbouring pixels) can start far apart across a silhouette, and a frustum around
             // them keeps far more than any lane meets.
@@ -190,11 +214,13 @@ impl Packet {
                 origin,
                 inv_near,
                 inv_far,
+                origin_near,
+                origin_far,
                 near_offset,
                 far_offset,
                 axes: [first.kx, first.ky, first.kz],
-                shear: [load(&lanes.shear[0]), load(&lanes.shear[1])],
-                scale: load(&lanes.scale),
+                shear: [V::load(&lanes.shear[0]), V::load(&lanes.shear[1])],
+                scale: V::load(&lanes.scale),
                 lanes: (1u32 << rays.len()) - 1,
                 octant: (negative[0] as usize) << 2 | (negative[1] as usize) << 1 | negative[2] as usize,
                 slack: None,
@@ -204,19 +230,19 @@ impl Packet {
     }
 
     /// Makes the leaf rejection that of the certified shadow test, with each lane's
-    /// (fixed, per unit of reach) coefficients of the sheared coordinates' error bound. They are
-    /// rounded to f32 upwards (a factor 1 + 2⁻¹⁰ covers that and the f32 evaluation of the
-    /// bound in `candidates`).
+    /// (fixed, per unit of reach) coefficients of the sheared coordinates' error bound (one per
+    /// lane). They are rounded to f32 upwards (a factor 1 + 2⁻¹⁰ covers that and the f32
+    /// evaluation of the bound in `candidates`).
     #[inline(always)]
-    pub(in crate::trace) fn certify(&mut self, coefficients: &[(f64, f64); LANES]) {
+    pub(in crate::trace) fn certify(&mut self, coefficients: &[(f64, f64)]) {
         let up = |v: f64| (v * (1.0 + 2f64.powi(-10))) as f32;
-        // SAFETY: eight f32; a `Packet` exists only where the processor has AVX2
-        // (`Packet::new`), and its walk is compiled for it (`packet_isa.rs`).
-        let load = |v: [f32; LANES]| unsafe { _mm256_loadu_ps(v.as_ptr()) };
-        self.slack = Some([
-            load(std::array::from_fn(|k| up(coefficients[k].0))),
-            load(std::array::from_fn(|k| up(coefficients[k].1))),
-        ]);
+        let (mut fixed, mut per_reach) = (V::Array::default(), V::Array::default());
+        for (k, &(f, r)) in coefficients.iter().enumerate().take(V::LANES) {
+            fixed.as_mut()[k] = up(f);
+            per_reach.as_mut()[k] = up(r);
+        }
+        // SAFETY: a `Packet<V>` exists only where the processor has `V`'s set (`Packet::new`).
+        self.slack = Some(unsafe { [V::load(&fixed), V::load(&per_reach)] });
     }
 
     /// Pushes the children of `node` that some lane of `lanes` may meet within [0, tmax[lane]]
@@ -224,43 +250,34 @@ impl Packet {
     ///
     /// Inner children are kept when the packet's frustum meets them (`Frustum`), with all of
     /// `lanes`: one test of eight boxes for the whole packet. A leaf child kept so is tested
-    /// lane by lane, with each lane's own test (the single-ray walk's operations), so a lane
-    /// reaches exactly the leaves its own walk reaches: a box that a lane's test keeps is kept
-    /// for every box around it (the test is monotone in the planes), and the frustum keeps
-    /// whatever a lane keeps. Nearest first, children are sorted by the frustum's entry
-    /// distance; otherwise they go in node order. Every slot is tested: an empty one's inverted
-    /// box is missed.
+    /// lane by lane (`lane_test`). Both tests are conservative for each lane's exact ray (the
+    /// frustum bounds the single-ray test's distances, which are), so a lane reaches every leaf
+    /// its ray meets. Nearest first, children are sorted by the frustum's
+    /// entry distance; otherwise they go in node order. Every slot is tested: an empty one's
+    /// inverted box is missed.
     #[inline(always)]
     fn push_children<const NEAREST: bool>(
         &self,
         node: &WideNode,
-        tmax: &[f32; LANES],
+        tmax: &V::Array,
         lanes: u32,
         stack: &mut [(ChildRef, u32, f32)],
         depth: &mut usize,
     ) -> Option<(ChildRef, u32)> {
-        // SAFETY: a `Packet` exists only where the processor has AVX2 (`Packet::new`), and
-        // its walk is compiled for it (`packet_isa.rs`).
+        let Some(f) = &self.frustum else {
+            return self.push_children_lane_by_lane::<NEAREST>(node, tmax, lanes, stack, depth);
+        };
+        // SAFETY: a `Packet<V>` exists only where the processor has `V`'s set (`Packet::new`),
+        // which includes AVX2, and its walk is compiled for it (`packet_isa.rs`).
         unsafe {
             let bytes = node as *const WideNode as *const u8;
             // SAFETY: `offset` is that of one of the node's plane arrays (`plane_offsets`).
             let planes = |offset: usize| _mm256_loadu_ps(bytes.add(offset) as *const f32);
-            // SAFETY: eight f32.
-            let tmax_lanes = _mm256_loadu_ps(tmax.as_ptr());
-            let Some(f) = &self.frustum else {
-                return self.push_children_lane_by_lane::<NEAREST>(node, tmax, lanes, stack, depth);
-            };
+            let tmax_lanes = V::load(tmax);
             // The largest tmax of the lanes walking: the others count as −∞.
-            let walking = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
-                _mm256_and_si256(
-                    _mm256_set1_epi32(lanes as i32),
-                    _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128),
-                ),
-                _mm256_setzero_si256(),
-            ));
-            let [_, reach] =
-                lane_extremes(_mm256_blendv_ps(_mm256_set1_ps(f32::NEG_INFINITY), tmax_lanes, walking));
-            let (mut enter, mut exit) = (_mm256_setzero_ps(), reach);
+            let walking = V::Mask::from_bits(lanes);
+            let [_, reach] = tmax_lanes.select(walking, V::splat(f32::NEG_INFINITY)).extremes();
+            let (mut enter, mut exit) = (_mm256_setzero_ps(), _mm256_set1_ps(reach));
             for axis in 0..3 {
                 let near = _mm256_sub_ps(planes(self.near_offset[axis]), f.near_origin[axis]);
                 let [lo, hi] = f.inv_near[axis];
@@ -270,7 +287,7 @@ impl Packet {
                 exit = _mm256_min_ps(exit, _mm256_max_ps(_mm256_mul_ps(far, lo), _mm256_mul_ps(far, hi)));
             }
             let mut met = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit)) as u32;
-            let mut keys = [0.0f32; LANES];
+            let mut keys = [0.0f32; 8];
             if NEAREST {
                 // SAFETY: eight f32.
                 _mm256_storeu_ps(keys.as_mut_ptr(), enter);
@@ -305,153 +322,132 @@ impl Packet {
     fn push_children_lane_by_lane<const NEAREST: bool>(
         &self,
         node: &WideNode,
-        tmax: &[f32; LANES],
+        tmax: &V::Array,
         lanes: u32,
         stack: &mut [(ChildRef, u32, f32)],
         depth: &mut usize,
     ) -> Option<(ChildRef, u32)> {
-        // SAFETY: a `Packet` exists only where the processor has AVX2 (`Packet::new`), and
-        // its walk is compiled for it (`packet_isa.rs`).
-        unsafe {
-            // SAFETY: eight f32.
-            let tmax = _mm256_loadu_ps(tmax.as_ptr());
-            // The lowest lane's entry distance, moved to lane 0 (`_mm256_cvtss_f32`).
-            let lowest = _mm256_set1_epi32(lanes.trailing_zeros() as i32);
-            let base = *depth;
-            let mut top = base;
-            // Room for eight more: a node at level L (root 1) finds at most 7·(L − 1) entries
-            // beneath it, and the stack holds 7·depth + 1 (`SceneBvh::scratch`).
-            assert!(stack.len() >= base + 8, "the packet stack is sized to the tree");
-            for i in 0..8 {
-                // In any order, slot i ^ octant: the child the rays meet last is pushed last, so
-                // visited first. Towards a light, that is the child nearest the light, where
-                // occluders lie more often than beside the surface the rays leave: shadow rays
-                // ran 1.04× as fast as in slot order (docs/scale.md). The answers do not depend
-                // on the order.
-                let c = if NEAREST { i } else { i ^ self.octant };
-                let (met, enter) = self.lane_test(node, c, tmax);
-                let hit = met & lanes;
-                let key =
-                    if NEAREST { _mm256_cvtss_f32(_mm256_permutevar8x32_ps(enter, lowest)) } else { 0.0 };
-                // Written whether met or not, kept only if met: no branch on a coin toss.
-                // SAFETY: top < base + 8 ≤ stack.len() (asserted above).
-                *stack.get_unchecked_mut(top) = (node.child[c], hit, key);
-                top += (hit != 0) as usize;
-            }
-            *depth = top;
-            pop_next::<NEAREST>(stack, base, depth)
+        // SAFETY: a `Packet<V>` exists only where the processor has `V`'s set (`Packet::new`).
+        let tmax = unsafe { V::load(tmax) };
+        let lowest = lanes.trailing_zeros() as usize;
+        let base = *depth;
+        let mut top = base;
+        // Room for eight more: a node at level L (root 1) finds at most 7·(L − 1) entries
+        // beneath it, and the stack holds 7·depth + 1 (`SceneBvh::scratch`).
+        assert!(stack.len() >= base + 8, "the packet stack is sized to the tree");
+        for i in 0..8 {
+            // In any order, slot i ^ octant: the child the rays meet last is pushed last, so
+            // visited first. Towards a light, that is the child nearest the light, where
+            // occluders lie more often than beside the surface the rays leave: shadow rays
+            // ran 1.04× as fast as in slot order (docs/scale.md). The answers do not depend
+            // on the order.
+            let c = if NEAREST { i } else { i ^ self.octant };
+            let (met, enter) = self.lane_test(node, c, tmax);
+            let hit = met & lanes;
+            let key = if NEAREST { enter.lane(lowest) } else { 0.0 };
+            // Written whether met or not, kept only if met: no branch on a coin toss.
+            // SAFETY: top < base + 8 ≤ stack.len() (asserted above).
+            unsafe { *stack.get_unchecked_mut(top) = (node.child[c], hit, key) };
+            top += (hit != 0) as usize;
         }
+        *depth = top;
+        pop_next::<NEAREST>(stack, base, depth)
     }
 
     /// The lanes whose own node test meets child `slot` of `node` within [0, tmax[lane]]
     /// (`lane_test`).
     #[inline(always)]
-    pub(in crate::trace) fn lanes_meeting(&self, node: &WideNode, slot: usize, tmax: &[f32; LANES]) -> u32 {
-        // SAFETY: eight f32; a `Packet` exists only where the processor has AVX2
-        // (`Packet::new`), and its walk is compiled for it (`packet_isa.rs`).
-        unsafe { self.lane_test(node, slot, _mm256_loadu_ps(tmax.as_ptr())).0 }
+    pub(in crate::trace) fn lanes_meeting(&self, node: &WideNode, slot: usize, tmax: &V::Array) -> u32 {
+        // SAFETY: a `Packet<V>` exists only where the processor has `V`'s set (`Packet::new`).
+        self.lane_test(node, slot, unsafe { V::load(tmax) }).0
     }
 
-    /// The lanes whose own node test meets child `c` of `node` within [0, tmax[lane]], and each
-    /// lane's entry distance: the single-ray test's operations, lane by lane.
+    /// The lanes whose node test meets child `c` of `node` within [0, tmax[lane]], and each
+    /// lane's entry distance. Along each axis a slab distance is plane · inv − origin · inv,
+    /// one fused rounding (`mul_sub`) instead of the single-ray test's two (a subtraction, then
+    /// a product), with origin · inv rounded outwards by two ulps (`origin_near`,
+    /// `origin_far`). It is as conservative: the rounded product moves a distance by less than
+    /// that margin, and `SLACK` in the reciprocals covers their rounding and the fused one
+    /// (node_test.rs), so an entry is never later than the exact one nor an exit earlier. The
+    /// margin costs each box about one ulp of the origin's coordinate; the fused form saves an
+    /// operation per plane.
     #[inline(always)]
-    fn lane_test(&self, node: &WideNode, c: usize, tmax: __m256) -> (u32, __m256) {
-        // SAFETY: a `Packet` exists only where the processor has AVX2 (`Packet::new`), and
-        // its walk is compiled for it (`packet_isa.rs`).
-        unsafe {
-            let bytes = node as *const WideNode as *const u8;
-            // SAFETY: `offset` is that of one of the node's plane arrays (`plane_offsets`), and c < 8.
-            let plane = |offset: usize| _mm256_set1_ps(*(bytes.add(offset) as *const f32).add(c));
-            let (mut enter, mut exit) = (_mm256_setzero_ps(), tmax);
-            for axis in 0..3 {
-                let near = plane(self.near_offset[axis]);
-                let far = plane(self.far_offset[axis]);
-                let t_near = _mm256_mul_ps(_mm256_sub_ps(near, self.origin[axis]), self.inv_near[axis]);
-                let t_far = _mm256_mul_ps(_mm256_sub_ps(far, self.origin[axis]), self.inv_far[axis]);
-                enter = _mm256_max_ps(enter, t_near);
-                exit = _mm256_min_ps(exit, t_far);
-            }
-            (_mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit)) as u32, enter)
+    fn lane_test(&self, node: &WideNode, c: usize, tmax: V) -> (u32, V) {
+        let bytes = node as *const WideNode as *const u8;
+        // SAFETY: `offset` is that of one of the node's plane arrays (`plane_offsets`), and
+        // c < 8; a `Packet<V>` exists only where the processor has `V`'s set.
+        let plane = |offset: usize| unsafe { V::splat(*(bytes.add(offset) as *const f32).add(c)) };
+        // SAFETY: as above.
+        let (mut enter, mut exit) = (unsafe { V::splat(0.0) }, tmax);
+        for axis in 0..3 {
+            let t_near = plane(self.near_offset[axis]).mul_sub(self.inv_near[axis], self.origin_near[axis]);
+            let t_far = plane(self.far_offset[axis]).mul_sub(self.inv_far[axis], self.origin_far[axis]);
+            enter = enter.max(t_near);
+            exit = exit.min(t_far);
         }
+        (enter.le(exit).bits(), enter)
     }
 
     /// The lanes of `lanes` whose ray the watertight test might not reject for `triangle`: all
     /// but those whose three edge functions are non-zero and of mixed signs. And the triangle
     /// as each lane's test sees it (`LaneTriangle`).
     #[inline(always)]
-    fn candidates(&self, triangle: &[Vec3A; 3], lanes: u32) -> (u32, LaneTriangle) {
-        // SAFETY: a `Packet` exists only where the processor has AVX2 (`Packet::new`), and
-        // its walk is compiled for it (`packet_isa.rs`).
-        unsafe {
-            let ((ax, ay, az), (bx, by, bz), (cx, cy, cz)) =
-                (self.sheared(triangle[0]), self.sheared(triangle[1]), self.sheared(triangle[2]));
-            let dz = [az, bz, cz];
-            let edge = |px: __m256, py: __m256, qx: __m256, qy: __m256| {
-                _mm256_sub_ps(_mm256_mul_ps(px, qy), _mm256_mul_ps(py, qx))
-            };
-            let e = [edge(cx, cy, bx, by), edge(ax, ay, cx, cy), edge(bx, by, ax, ay)];
-            let seen = LaneTriangle { edges: e, z_unscaled: dz };
-            let zero = _mm256_setzero_ps();
-            let Some([fixed, per_reach]) = self.slack else {
-                let signs = EdgeSigns::of(&e);
-                let [some_zero, some_negative, some_positive] =
-                    [signs.zero, signs.negative, signs.positive].map(|m| _mm256_movemask_ps(m) as u32);
-                return (lanes & (some_zero | !(some_negative & some_positive)), seen);
-            };
-            // Only lanes whose edge functions have strictly mixed signs can be rejected; the others
-            // go to the scalar test whatever the bound.
-            let lt = |x| _mm256_cmp_ps::<_CMP_LT_OQ>(x, zero);
-            let gt = |x| _mm256_cmp_ps::<_CMP_GT_OQ>(x, zero);
-            let mixed = _mm256_and_ps(
-                _mm256_or_ps(_mm256_or_ps(lt(e[0]), lt(e[1])), lt(e[2])),
-                _mm256_or_ps(_mm256_or_ps(gt(e[0]), gt(e[1])), gt(e[2])),
-            );
-            if _mm256_movemask_ps(mixed) as u32 & lanes == 0 {
-                return (lanes, seen);
-            }
-            // `CertifiedRay::classify`'s bound, lane by lane: reach is the largest |x|, |y| and
-            // translated main-axis coordinate, σ = fixed + per_reach·reach, across the largest
-            // |x| and |y|, and the edge functions' bound 2·(2σ(2·across + σ) + 4.01u·across²)
-            // (u = 2⁻²⁴) and 4·2⁻¹⁴⁹ for underflow, which the factor 1 + 2⁻¹⁰ covers where reach
-            // ≥ 2⁻⁴⁰ (σ ≥ 2⁻⁵⁹ there: see `sound`).
-            let abs = |x: __m256| _mm256_andnot_ps(_mm256_set1_ps(-0.0), x);
-            let max3 = |a: __m256, b: __m256, c: __m256| _mm256_max_ps(_mm256_max_ps(abs(a), abs(b)), abs(c));
-            let across = _mm256_max_ps(max3(ax, bx, cx), max3(ay, by, cy));
-            let reach = _mm256_max_ps(across, max3(dz[0], dz[1], dz[2]));
-            let sigma = _mm256_add_ps(fixed, _mm256_mul_ps(per_reach, reach));
-            let two_across_sigma = _mm256_add_ps(_mm256_add_ps(across, across), sigma);
-            let bound = _mm256_add_ps(
-                _mm256_mul_ps(_mm256_set1_ps(4.0), _mm256_mul_ps(sigma, two_across_sigma)),
-                _mm256_mul_ps(_mm256_set1_ps(8.02 * f32::EPSILON * 0.5), _mm256_mul_ps(across, across)),
-            );
-            let bound = _mm256_mul_ps(bound, _mm256_set1_ps(1.0 + 2f32.powi(-10)));
-            let below = _mm256_sub_ps(zero, bound);
-            let clear =
-                |x: __m256| (_mm256_cmp_ps::<_CMP_LT_OQ>(x, below), _mm256_cmp_ps::<_CMP_GT_OQ>(x, bound));
-            let ((n0, p0), (n1, p1), (n2, p2)) = (clear(e[0]), clear(e[1]), clear(e[2]));
-            let clearly_mixed =
-                _mm256_and_ps(_mm256_or_ps(_mm256_or_ps(n0, n1), n2), _mm256_or_ps(_mm256_or_ps(p0, p1), p2));
-            // Below 2⁻⁴⁰ the f32 bound may underflow: such lanes go to the scalar test.
-            let sound = _mm256_cmp_ps::<_CMP_GE_OQ>(reach, _mm256_set1_ps(2f32.powi(-40)));
-            (lanes & !(_mm256_movemask_ps(_mm256_and_ps(clearly_mixed, sound)) as u32), seen)
+    fn candidates(&self, triangle: &[Vec3A; 3], lanes: u32) -> (u32, LaneTriangle<V>) {
+        let ((ax, ay, az), (bx, by, bz), (cx, cy, cz)) =
+            (self.sheared(triangle[0]), self.sheared(triangle[1]), self.sheared(triangle[2]));
+        let dz = [az, bz, cz];
+        let edge = |px: V, py: V, qx: V, qy: V| px.mul(qy).sub(py.mul(qx));
+        let e = [edge(cx, cy, bx, by), edge(ax, ay, cx, cy), edge(bx, by, ax, ay)];
+        let seen = LaneTriangle { edges: e, z_unscaled: dz };
+        let signs = EdgeSigns::of(&e);
+        let Some([fixed, per_reach]) = self.slack else {
+            let [some_zero, some_negative, some_positive] =
+                [signs.zero, signs.negative, signs.positive].map(LaneMask::bits);
+            return (lanes & (some_zero | !(some_negative & some_positive)), seen);
+        };
+        // Only lanes whose edge functions have strictly mixed signs can be rejected; the others
+        // go to the scalar test whatever the bound.
+        if signs.negative.and(signs.positive).bits() & lanes == 0 {
+            return (lanes, seen);
         }
+        // `CertifiedRay::classify`'s bound, lane by lane: reach is the largest |x|, |y| and
+        // translated main-axis coordinate, σ = fixed + per_reach·reach, across the largest
+        // |x| and |y|, and the edge functions' bound 2·(2σ(2·across + σ) + 4.01u·across²)
+        // (u = 2⁻²⁴) and 4·2⁻¹⁴⁹ for underflow, which the factor 1 + 2⁻¹⁰ covers where reach
+        // ≥ 2⁻⁴⁰ (σ ≥ 2⁻⁵⁹ there: see `sound`).
+        // SAFETY: a `Packet<V>` exists only where the processor has `V`'s set (`Packet::new`).
+        let splat = |x: f32| unsafe { V::splat(x) };
+        let max3 = |a: V, b: V, c: V| a.abs().max(b.abs()).max(c.abs());
+        let across = max3(ax, bx, cx).max(max3(ay, by, cy));
+        let reach = across.max(max3(dz[0], dz[1], dz[2]));
+        let sigma = fixed.add(per_reach.mul(reach));
+        let two_across_sigma = across.add(across).add(sigma);
+        let bound = splat(4.0)
+            .mul(sigma.mul(two_across_sigma))
+            .add(splat(8.02 * f32::EPSILON * 0.5).mul(across.mul(across)));
+        let bound = bound.mul(splat(1.0 + 2f32.powi(-10)));
+        let below = splat(0.0).sub(bound);
+        let clear = |x: V| (x.lt(below), x.gt(bound));
+        let ((n0, p0), (n1, p1), (n2, p2)) = (clear(e[0]), clear(e[1]), clear(e[2]));
+        let clearly_mixed = n0.or(n1).or(n2).and(p0.or(p1).or(p2));
+        // Below 2⁻⁴⁰ the f32 bound may underflow: such lanes go to the scalar test.
+        let sound = reach.ge(splat(2f32.powi(-40)));
+        (lanes & !clearly_mixed.and(sound).bits(), seen)
     }
 
     /// `WatertightRay::shear` of vertex `v`, lane by lane: translated to the lane's origin, then
     /// sheared; (x, y, the main axis's coordinate not yet scaled).
     #[inline(always)]
-    fn sheared(&self, v: Vec3A) -> (__m256, __m256, __m256) {
+    fn sheared(&self, v: Vec3A) -> (V, V, V) {
         let ([kx, ky, kz], [sx, sy], v) = (self.axes, self.shear, v.to_array());
-        // SAFETY: a `Packet` exists only where the processor has AVX2 (`Packet::new`), and
-        // its walk is compiled for it (`packet_isa.rs`).
-        unsafe {
-            let (dx, dy, dz) = (
-                _mm256_sub_ps(_mm256_set1_ps(v[kx]), self.origin[kx]),
-                _mm256_sub_ps(_mm256_set1_ps(v[ky]), self.origin[ky]),
-                _mm256_sub_ps(_mm256_set1_ps(v[kz]), self.origin[kz]),
-            );
-            (_mm256_sub_ps(dx, _mm256_mul_ps(sx, dz)), _mm256_sub_ps(dy, _mm256_mul_ps(sy, dz)), dz)
-        }
+        // SAFETY: a `Packet<V>` exists only where the processor has `V`'s set (`Packet::new`).
+        let splat = |x: f32| unsafe { V::splat(x) };
+        let (dx, dy, dz) = (
+            splat(v[kx]).sub(self.origin[kx]),
+            splat(v[ky]).sub(self.origin[ky]),
+            splat(v[kz]).sub(self.origin[kz]),
+        );
+        (dx.sub(sx.mul(dz)), dy.sub(sy.mul(dz)), dz)
     }
 
     /// `WatertightRay::intersect` over [0, tmax] for each lane of `lanes`, with the triangle as
@@ -461,93 +457,71 @@ impl Packet {
     #[inline(always)]
     pub(in crate::trace) fn intersect(
         &self,
-        seen: &LaneTriangle,
+        seen: &LaneTriangle<V>,
         lanes: u32,
-        tmax: &[f32; LANES],
-    ) -> LaneHits {
-        // SAFETY: a `Packet` exists only where the processor has AVX2 (`Packet::new`), and
-        // its walk is compiled for it (`packet_isa.rs`).
-        unsafe {
-            // SAFETY: eight f32.
-            let tmax = _mm256_loadu_ps(tmax.as_ptr());
-            let zero = _mm256_setzero_ps();
-            let [u, v, w] = seen.edges;
-            let signs = EdgeSigns::of(&seen.edges);
-            let (some_zero, mixed) = (signs.zero, _mm256_and_ps(signs.negative, signs.positive));
-            let det = _mm256_add_ps(_mm256_add_ps(u, v), w);
-            let [z0, z1, z2] = seen.z_unscaled;
-            let z =
-                [_mm256_mul_ps(self.scale, z0), _mm256_mul_ps(self.scale, z1), _mm256_mul_ps(self.scale, z2)];
-            let t_scaled = _mm256_add_ps(
-                _mm256_add_ps(_mm256_mul_ps(u, z[0]), _mm256_mul_ps(v, z[1])),
-                _mm256_mul_ps(w, z[2]),
-            );
-            let t = _mm256_div_ps(t_scaled, det);
-            let inv_det = _mm256_div_ps(_mm256_set1_ps(1.0), det);
-            let within =
-                _mm256_and_ps(_mm256_cmp_ps::<_CMP_GE_OQ>(t, zero), _mm256_cmp_ps::<_CMP_LE_OQ>(t, tmax));
-            let solved =
-                _mm256_andnot_ps(_mm256_or_ps(mixed, _mm256_cmp_ps::<_CMP_EQ_OQ>(det, zero)), within);
-            let scalar = _mm256_movemask_ps(some_zero) as u32 & lanes;
-            let mut hits = LaneHits {
-                hit: _mm256_movemask_ps(solved) as u32 & lanes & !scalar,
-                scalar,
-                t: [0.0; LANES],
-                barycentric: [[0.0; LANES]; 3],
-            };
-            // Eight f32 each.
-            _mm256_storeu_ps(hits.t.as_mut_ptr(), t);
-            for (b, edge) in hits.barycentric.iter_mut().zip([u, v, w]) {
-                _mm256_storeu_ps(b.as_mut_ptr(), _mm256_mul_ps(edge, inv_det));
-            }
-            hits
+        tmax: &V::Array,
+    ) -> LaneHits<V> {
+        // SAFETY: a `Packet<V>` exists only where the processor has `V`'s set (`Packet::new`).
+        let (tmax, zero, one) = unsafe { (V::load(tmax), V::splat(0.0), V::splat(1.0)) };
+        let [u, v, w] = seen.edges;
+        let signs = EdgeSigns::of(&seen.edges);
+        let det = u.add(v).add(w);
+        let [z0, z1, z2] = seen.z_unscaled;
+        let z = [self.scale.mul(z0), self.scale.mul(z1), self.scale.mul(z2)];
+        let t_scaled = u.mul(z[0]).add(v.mul(z[1])).add(w.mul(z[2]));
+        let t = t_scaled.div(det);
+        let inv_det = one.div(det);
+        let within = t.ge(zero).and(t.le(tmax)).bits();
+        let unsolved = signs.negative.and(signs.positive).or(det.eq(zero)).bits();
+        let scalar = signs.zero.bits() & lanes;
+        let mut hits = LaneHits {
+            hit: within & !unsolved & lanes & !scalar,
+            scalar,
+            t: V::Array::default(),
+            barycentric: Default::default(),
+        };
+        t.store(&mut hits.t);
+        for (b, edge) in hits.barycentric.iter_mut().zip([u, v, w]) {
+            edge.mul(inv_det).store(b);
         }
+        hits
     }
 }
 
 /// A triangle as each lane's watertight test sees it: the edge functions and the vertices' main
 /// axis coordinates, translated to the lane's origin and not yet scaled.
-pub(in crate::trace) struct LaneTriangle {
-    edges: [__m256; 3],
-    z_unscaled: [__m256; 3],
+pub(in crate::trace) struct LaneTriangle<V: LaneVector = L8> {
+    edges: [V; 3],
+    z_unscaled: [V; 3],
 }
 
-/// Lane by lane, whether some of three edge functions is zero, negative, positive (all bits set
-/// where it is).
-struct EdgeSigns {
-    zero: __m256,
-    negative: __m256,
-    positive: __m256,
+/// Lane by lane, whether some of three edge functions is zero, negative, positive.
+struct EdgeSigns<V: LaneVector> {
+    zero: V::Mask,
+    negative: V::Mask,
+    positive: V::Mask,
 }
 
-impl EdgeSigns {
-    /// # Safety
-    /// The caller runs where the processor has AVX2, in code compiled for it.
+impl<V: LaneVector> EdgeSigns<V> {
     #[inline(always)]
-    unsafe fn of(e: &[__m256; 3]) -> EdgeSigns {
-        // SAFETY: the caller's.
-        unsafe {
-            let zero = _mm256_setzero_ps();
-            let any = |a, b, c| _mm256_or_ps(_mm256_or_ps(a, b), c);
-            let eq = |x| _mm256_cmp_ps::<_CMP_EQ_OQ>(x, zero);
-            let lt = |x| _mm256_cmp_ps::<_CMP_LT_OQ>(x, zero);
-            let gt = |x| _mm256_cmp_ps::<_CMP_GT_OQ>(x, zero);
-            EdgeSigns {
-                zero: any(eq(e[0]), eq(e[1]), eq(e[2])),
-                negative: any(lt(e[0]), lt(e[1]), lt(e[2])),
-                positive: any(gt(e[0]), gt(e[1]), gt(e[2])),
-            }
+    fn of(e: &[V; 3]) -> EdgeSigns<V> {
+        // SAFETY: the edge functions exist, so the processor has `V`'s set.
+        let zero = unsafe { V::splat(0.0) };
+        EdgeSigns {
+            zero: e[0].eq(zero).or(e[1].eq(zero)).or(e[2].eq(zero)),
+            negative: e[0].lt(zero).or(e[1].lt(zero)).or(e[2].lt(zero)),
+            positive: e[0].gt(zero).or(e[1].gt(zero)).or(e[2].gt(zero)),
         }
     }
 }
 
 /// What `Packet::intersect` found: the lanes that hit, with their distances and barycentrics,
 /// and the lanes the scalar test must settle.
-pub(in crate::trace) struct LaneHits {
+pub(in crate::trace) struct LaneHits<V: LaneVector = L8> {
     pub(in crate::trace) hit: u32,
     pub(in crate::trace) scalar: u32,
-    pub(in crate::trace) t: [f32; LANES],
-    pub(in crate::trace) barycentric: [[f32; LANES]; 3],
+    pub(in crate::trace) t: V::Array,
+    pub(in crate::trace) barycentric: [V::Array; 3],
 }
 
 /// Calls `f(lane)` for each lane of `lanes`, lowest first, and returns those for which it said
@@ -561,24 +535,6 @@ pub(in crate::trace) fn each_lane(mut lanes: u32, mut f: impl FnMut(usize) -> bo
         finished |= (f(lane) as u32) << lane;
     }
     finished
-}
-
-/// The least and the greatest of the eight lanes of `v`, each in every lane.
-#[inline(always)]
-unsafe fn lane_extremes(v: __m256) -> [__m256; 2] {
-    // SAFETY: the caller runs where the processor has AVX2, in code compiled for it.
-    unsafe {
-        let swapped = _mm256_permute2f128_ps::<1>(v, v);
-        let (lo, hi) = (_mm256_min_ps(v, swapped), _mm256_max_ps(v, swapped));
-        let (lo, hi) = (
-            _mm256_min_ps(lo, _mm256_permute_ps::<0b01_00_11_10>(lo)),
-            _mm256_max_ps(hi, _mm256_permute_ps::<0b01_00_11_10>(hi)),
-        );
-        [
-            _mm256_min_ps(lo, _mm256_permute_ps::<0b10_11_00_01>(lo)),
-            _mm256_max_ps(hi, _mm256_permute_ps::<0b10_11_00_01>(hi)),
-        ]
-    }
 }
 
 /// Pops the entry to visit next of those pushed onto `stack[base..*depth]`; nearest first,
@@ -616,14 +572,14 @@ fn pop_next<const NEAREST: bool>(
 /// them.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-pub(in crate::trace) fn walk_packet<const NEAREST: bool>(
+pub(in crate::trace) fn walk_packet<V: LaneVector, const NEAREST: bool>(
     nodes: &[WideNode],
     triangles: &[[Vec3A; 3]],
     stack: &mut [(ChildRef, u32, f32)],
-    packet: &Packet,
+    packet: &Packet<V>,
     active: &mut u32,
-    tmax: &mut [f32; LANES],
-    mut leaf: impl FnMut(usize, u32, &LaneTriangle, &mut [f32; LANES]) -> u32,
+    tmax: &mut V::Array,
+    mut leaf: impl FnMut(usize, u32, &LaneTriangle<V>, &mut V::Array) -> u32,
 ) {
     if nodes.is_empty() {
         return;
@@ -659,8 +615,10 @@ pub(in crate::trace) fn walk_packet<const NEAREST: bool>(
 
 #[cfg(test)]
 mod tests {
-    use super::Packet;
+    use super::{LANES, Packet};
     use crate::trace::bvh::hit::Hit;
+    use crate::trace::bvh::lane_vector::{L8, L16};
+    use crate::trace::bvh::packet_isa::{PacketQuery, packet_isa_for};
     use crate::trace::bvh::primary_certificate::PrimaryCertainty;
     use crate::trace::splitmix::SplitMix64;
     use crate::trace::{SceneBvh, ShadowRay, WatertightRay};
@@ -714,7 +672,7 @@ mod tests {
         let rays: Vec<WatertightRay> =
             directions[..8].iter().map(|d| WatertightRay::new(origin.into(), (*d).into())).collect();
         // SAFETY: AVX2 checked above.
-        assert!(unsafe { Packet::new(&rays) }.is_some(), "the rays must walk as packets");
+        assert!(unsafe { Packet::<L8>::new(&rays) }.is_some(), "the rays must walk as packets");
     }
 
     /// Certified closest hits walked once (`certified_closest_hits`, whose walk notes the
@@ -765,8 +723,10 @@ mod tests {
     }
 
     /// Packets give the single-ray answers bit for bit: closest hits (triangle, distance,
-    /// barycentrics) of rays fanned out from one origin and their certificates, and occlusion of parallel shadow rays
-    /// (some of them skipping the triangle they start on).
+    /// barycentrics) of rays fanned out from one origin and their certificates, and occlusion
+    /// of parallel shadow rays (some of them skipping the triangle they start on), up to
+    /// sixteen at once: one packet of sixteen where the processor has AVX-512, two of eight
+    /// otherwise.
     #[test]
     fn packets_answer_as_single_rays() {
         if !super::super::node_test::wide_form_testable() {
@@ -776,12 +736,17 @@ mod tests {
         let tris = soup(&mut rng);
         let bvh = SceneBvh::build_from_triangles(&tris);
         let mut scratch = bvh.scratch();
-        let (mut packed, mut hit_count, mut doubts) = (0, 0, 0);
+        let (mut packed, mut packed_sixteen, mut hit_count, mut doubts) = (0, 0, 0, 0);
+        let sixteen = packet_isa_for(PacketQuery::SixteenShadows).is_some();
         let forms_packet = |origins: &[Vec3], dirs: &[Vec3]| {
             let rays: Vec<WatertightRay> =
                 origins.iter().zip(dirs).map(|(o, d)| WatertightRay::new((*o).into(), (*d).into())).collect();
-            // SAFETY: AVX2 checked above.
-            unsafe { Packet::new(&rays) }.is_some()
+            match rays.len() {
+                // SAFETY: AVX2 and FMA checked above.
+                ..=LANES => unsafe { Packet::<L8>::new(&rays) }.is_some(),
+                // SAFETY: AVX-512 checked above.
+                _ => sixteen && unsafe { Packet::<L16>::new(&rays) }.is_some(),
+            }
         };
         for round in 0..3000 {
             let origin = Vec3::from_array(std::array::from_fn(|_| rng.range([-6.0, 6.0]) as f32));
@@ -821,6 +786,7 @@ mod tests {
                 hit_count += single.is_some() as usize;
             }
             let towards = dirs[0];
+            let n = 2 + round % 15;
             // Origins known to within nothing to 10⁻³, so that the certified rejection of the
             // packet and the doubts of the f64 test are both exercised.
             let rays: Vec<ShadowRay> = (0..n)
@@ -839,9 +805,10 @@ mod tests {
                     }
                 })
                 .collect();
-            packed +=
-                forms_packet(&rays.iter().map(|r| r.origin.as_vec3()).collect::<Vec<_>>(), &vec![towards; n])
-                    as usize;
+            let shadow_packet =
+                forms_packet(&rays.iter().map(|r| r.origin.as_vec3()).collect::<Vec<_>>(), &vec![towards; n]);
+            packed += shadow_packet as usize;
+            packed_sixteen += (shadow_packet && n > LANES) as usize;
             let bits = bvh.shadow_answers(&mut scratch, &rays);
             for (k, ray) in rays.iter().enumerate() {
                 let single = bvh.shadow_answer(&mut scratch, ray);
@@ -854,6 +821,12 @@ mod tests {
         assert!(
             packed > 3000 && hit_count > 1000 && doubts > 100,
             "the test needs packets ({packed}), hits ({hit_count}) and uncertain answers ({doubts})"
+        );
+        // Where the processor has AVX-512, batches of nine to sixteen ran as one packet.
+        assert!(!sixteen || packed_sixteen > 1000, "sixteen-lane packets: {packed_sixteen}");
+        eprintln!(
+            "shadow batches of nine to sixteen rays walked as {}",
+            if sixteen { "packets of sixteen (AVX-512)" } else { "two packets of eight (AVX2)" }
         );
     }
 }

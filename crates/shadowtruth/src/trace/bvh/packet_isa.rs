@@ -1,25 +1,31 @@
 //! The vector forms the walks run with here, chosen at run time: whether the 8-lane node test
-//! and packets run at all (`wide_available`: AVX2), and which instruction set the packet walk
-//! (packet.rs) is compiled for: AVX2, or AVX-512 (F, VL, BW, DQ, with BMI1/2, LZCNT and POPCNT)
-//! where the processor has it. The walk's functions are all `#[inline(always)]` with no target
+//! and packets run at all (`wide_available`: AVX2 and FMA), and which instruction set the packet
+//! walk (packet.rs) is compiled for: AVX2 with FMA, or AVX-512 (F, VL, BW, DQ, with BMI1/2, LZCNT
+//! and POPCNT) where the processor has it. The walk's functions are all `#[inline(always)]` with no target
 //! features of their own (stable Rust allows no `inline(always)` beside one): each query runs
 //! them inside one of two entry points (`in_packet_isa`), one compiled for each set, so the same
 //! source is compiled twice. Called outside it, they would make each vector operation a call.
 //! With AVX-512 the compiler has 32 vector registers, mask registers and broadcast operands for
 //! the same 8-lane operations; the operations, and so the answers, are the same bit for bit
-//! (IEEE arithmetic either way, and Rust never fuses a multiply and an add on its own).
-//! Only closest hits take the AVX-512 form (`PacketQuery`): measured on the 200K forest at
-//! 1920×1080, one thread, eight alternating rounds (docs/scale.md), it runs primary rays at
-//! 1.03× the AVX2 compilation's rate, but shadow rays at 0.93× and the certified G-buffer walk
-//! at 0.91×.
+//! (IEEE arithmetic either way, and Rust never fuses a multiply and an add on its own: the node
+//! test's fused operations are written as such). Closest hits take the AVX-512 form for their
+//! eight lanes (`PacketQuery`): measured on the 200K forest at 1920×1080, one thread, eight
+//! alternating rounds (docs/scale.md), it runs primary rays at 1.03× the AVX2 compilation's
+//! rate, but eight-lane shadow rays at 0.93× and the certified G-buffer walk at 0.91×. Shadow
+//! rays take it for sixteen lanes at once (`L16`), where they ran 1.2× as fast as eight in
+//! AVX2.
 
-/// Whether the 8-lane test may run: the processor has AVX2, and `SHADOWTRUTH_NODE_TEST` is not
+/// Whether the 8-lane test may run: the processor has AVX2 and FMA (every processor with AVX2
+/// has FMA but for a few early ones), and `SHADOWTRUTH_NODE_TEST` is not
 /// `portable` (which keeps the portable form, for comparing the two). Decided once per process.
 pub(in crate::trace) fn wide_available() -> bool {
     static WIDE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
     *WIDE.get_or_init(|| {
         let forced_portable = std::env::var("SHADOWTRUTH_NODE_TEST").is_ok_and(|v| v == "portable");
-        !forced_portable && is_x86_feature_detected!("avx2")
+        !forced_portable
+            && is_x86_feature_detected!("avx2")
+            && is_x86_feature_detected!("fma")
+            && is_x86_feature_detected!("fma")
     })
 }
 
@@ -59,8 +65,10 @@ pub(in crate::trace) enum PacketQuery {
     ClosestHits,
     /// Closest hits with their certificates (the G-buffer): AVX2.
     CertifiedHits,
-    /// Shadow rays: AVX2.
+    /// Shadow rays, eight at a time: AVX2.
     Shadows,
+    /// Shadow rays, sixteen at a time: AVX-512 only.
+    SixteenShadows,
 }
 
 /// The set the packet walk of `query` runs with here, or `None` where packets do not run
@@ -69,6 +77,7 @@ pub(in crate::trace) fn packet_isa_for(query: PacketQuery) -> Option<PacketIsa> 
     match query {
         PacketQuery::ClosestHits => packet_isa(),
         PacketQuery::CertifiedHits | PacketQuery::Shadows => packet_isa().map(|_| PacketIsa::Avx2),
+        PacketQuery::SixteenShadows => packet_isa().filter(|&isa| isa == PacketIsa::Avx512),
     }
 }
 
@@ -84,12 +93,12 @@ pub(in crate::trace) fn in_packet_isa<R>(isa: PacketIsa, walk: impl FnOnce() -> 
     }
 }
 
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "avx2,fma")]
 unsafe fn with_avx2<R>(walk: impl FnOnce() -> R) -> R {
     walk()
 }
 
-#[target_feature(enable = "avx2,avx512f,avx512vl,avx512bw,avx512dq,bmi1,bmi2,lzcnt,popcnt")]
+#[target_feature(enable = "avx2,fma,avx512f,avx512vl,avx512bw,avx512dq,bmi1,bmi2,lzcnt,popcnt")]
 unsafe fn with_avx512<R>(walk: impl FnOnce() -> R) -> R {
     walk()
 }

@@ -295,7 +295,7 @@ impl SceneBvh {
         // The certificate's rejection of the leaves' triangles, as `certify_packet` sets it: its
         // slack depends only on the ray's errors (none: the ray is exact), not on the hit.
         let unbounded = |k: usize| CertifiedRay::<f32>::of_walk(&watertight[k], 0.0, 0.0, f64::INFINITY, 0.0);
-        packet.certify(&std::array::from_fn(|k| unbounded(k).sheared_error_coefficients()));
+        packet.certify(&std::array::from_fn::<_, LANES, _>(|k| unbounded(k).sheared_error_coefficients()));
         let mut noted = Noted::new();
         let mut tmax = [f32::INFINITY; LANES];
         let best =

@@ -17,6 +17,8 @@
 use super::flat_tree::FlatTree;
 use super::hit::Hit;
 use super::instances::InstanceLevel;
+#[cfg(target_arch = "x86_64")]
+use super::lane_vector::{L8, L16, LaneVector};
 use super::node_test::NodeRay;
 #[cfg(target_arch = "x86_64")]
 use super::packet::{LANES, LaneTriangle, Packet, each_lane, walk_packet};
@@ -240,17 +242,34 @@ fn segment_margin(lo: Vec3, hi: Vec3) -> f32 {
     ((reach + diagonal) * 2f64.powi(-23)) as f32 + f32::MIN_POSITIVE
 }
 
-/// The most rays `shadow_occluded` takes, and `closest_hits` walks, at once.
+/// The most rays `closest_hits` walks at once.
 pub const RAYS_PER_BATCH: usize = 8;
 
-/// Queries for many rays at once: the single-ray answers, walked eight at a time where the
-/// processor and the rays allow (packet.rs).
+/// The most rays `shadow_answers` takes at once: it walks them as one packet of sixteen where
+/// the processor has AVX-512, as packets of eight otherwise.
+pub const SHADOW_RAYS_PER_BATCH: usize = 16;
+
+/// Queries for many rays at once: the single-ray answers, walked eight at a time (shadow rays
+/// sixteen with AVX-512) where the processor and the rays allow (packet.rs).
 impl SceneBvh {
-    /// `shadow_answer` for each ray, as bits.
+    /// `shadow_answer` for each ray (at most `SHADOW_RAYS_PER_BATCH`), as bits.
     pub fn shadow_answers(&self, scratch: &mut TraversalScratch, rays: &[ShadowRay]) -> ShadowBits {
+        assert!(rays.len() <= SHADOW_RAYS_PER_BATCH, "at most {SHADOW_RAYS_PER_BATCH} shadow rays at once");
         #[cfg(target_arch = "x86_64")]
-        if let Some(bits) = self.shadow_answers_packet(scratch, rays) {
-            return bits;
+        {
+            if let Some(bits) = self.shadow_answers_packet(scratch, rays) {
+                return bits;
+            }
+            if rays.len() > LANES {
+                let (low, high) = (
+                    self.shadow_answers(scratch, &rays[..LANES]),
+                    self.shadow_answers(scratch, &rays[LANES..]),
+                );
+                return ShadowBits {
+                    occluded: low.occluded | high.occluded << LANES,
+                    uncertain: low.uncertain | high.uncertain << LANES,
+                };
+            }
         }
         ShadowBits::of(rays.iter().map(|ray| self.shadow_answer(scratch, ray)))
     }
@@ -286,41 +305,50 @@ impl SceneBvh {
         scratch: &mut TraversalScratch,
         rays: &[ShadowRay],
     ) -> Option<ShadowBits> {
-        let isa = packet_isa_for(PacketQuery::Shadows)?;
-        if rays.len() < 2 || rays.len() > LANES {
-            return None;
+        match rays.len() {
+            // SAFETY: the processor has AVX2 and FMA (`packet_isa_for`), and the walk is
+            // compiled for it.
+            2..=LANES => in_packet_isa(
+                packet_isa_for(PacketQuery::Shadows)?,
+                #[inline(always)]
+                || unsafe { self.shadow_answers_wide::<L8, { L8::LANES }>(scratch, rays) },
+            ),
+            // SAFETY: the processor has AVX-512 (`packet_isa_for`), and the walk is compiled
+            // for it.
+            _ => in_packet_isa(
+                packet_isa_for(PacketQuery::SixteenShadows)?,
+                #[inline(always)]
+                || unsafe { self.shadow_answers_wide::<L16, { L16::LANES }>(scratch, rays) },
+            ),
         }
-        // SAFETY: the processor has AVX2 (`packet_isa_for`), and the walk is compiled for it.
-        in_packet_isa(
-            isa,
-            #[inline(always)]
-            || unsafe { self.shadow_answers_wide(scratch, rays) },
-        )
     }
 
-    /// `shadow_answers_packet` once the processor is known to have AVX2.
+    /// `shadow_answers_packet` in packets of `V` (`N` = `V::LANES` rays, at most), once the
+    /// processor is known to have its instruction set.
     ///
     /// # Safety
-    /// The processor has AVX2, and the caller is compiled for it (`in_packet_isa`).
+    /// The processor has `V`'s instruction set, and the caller is compiled for it
+    /// (`in_packet_isa`).
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    unsafe fn shadow_answers_wide(
+    unsafe fn shadow_answers_wide<V: LaneVector, const N: usize>(
         &self,
         scratch: &mut TraversalScratch,
         rays: &[ShadowRay],
     ) -> Option<ShadowBits> {
+        assert!(N == V::LANES && (1..=N).contains(&rays.len()));
         let lane = |k: usize| k.min(rays.len() - 1);
         // Written in place, in plain loops: the arrays `array::from_fn` and `map` made were
         // copied again (1 % of the shadow rays' instructions).
-        let (mut watertight, mut tmax) = ([WatertightRay::UNUSED; LANES], [0.0; LANES]);
-        for k in 0..LANES {
-            (watertight[k], tmax[k]) = ShadowSearch::walk_ray(&rays[lane(k)]);
+        let (mut watertight, mut tmax) = ([WatertightRay::UNUSED; N], V::Array::default());
+        for k in 0..N {
+            (watertight[k], tmax.as_mut()[k]) = ShadowSearch::walk_ray(&rays[lane(k)]);
         }
         // SAFETY: the caller's.
-        let mut packet = unsafe { Packet::new(&watertight[..rays.len()]) }?;
-        let mut searches: [ShadowSearch; LANES] =
+        let mut packet = unsafe { Packet::<V>::new(&watertight[..rays.len()]) }?;
+        let mut searches: [ShadowSearch; N] =
             std::array::from_fn(|k| ShadowSearch::new(&rays[lane(k)], &watertight[k]));
-        let mut slack = [(0.0, 0.0); LANES];
+        let mut slack = [(0.0, 0.0); N];
         for (slack, search) in slack.iter_mut().zip(&searches) {
             *slack = search.edge_slack();
         }
@@ -337,7 +365,8 @@ impl SceneBvh {
             for k in 0..rays.len() {
                 if active & (1 << k) != 0 {
                     let search = &mut searches[k];
-                    instances.any_triangle(scratch, &watertight[k], reach[k], |id, v| search.test(id, v));
+                    instances
+                        .any_triangle(scratch, &watertight[k], reach.as_ref()[k], |id, v| search.test(id, v));
                 }
             }
         }
@@ -348,15 +377,15 @@ impl SceneBvh {
     /// still active at the end (`walk_packet`'s `leaf` and `tmax`).
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    pub(in crate::trace) fn walk_flat<const NEAREST: bool>(
+    pub(in crate::trace) fn walk_flat<V: LaneVector, const NEAREST: bool>(
         &self,
         scratch: &mut TraversalScratch,
-        packet: &Packet,
-        tmax: &mut [f32; LANES],
-        leaf: impl FnMut(usize, u32, &LaneTriangle, &mut [f32; LANES]) -> u32,
+        packet: &Packet<V>,
+        tmax: &mut V::Array,
+        leaf: impl FnMut(usize, u32, &LaneTriangle<V>, &mut V::Array) -> u32,
     ) -> u32 {
         let mut active = packet.lanes;
-        walk_packet::<NEAREST>(
+        walk_packet::<V, NEAREST>(
             &self.tree.nodes,
             &self.triangles,
             &mut scratch.packet,
@@ -372,16 +401,16 @@ impl SceneBvh {
     /// triangle `i`: true finishes the lane. Returns the lanes still active at the end.
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    pub(in crate::trace) fn walk_flat_any_hit(
+    pub(in crate::trace) fn walk_flat_any_hit<V: LaneVector>(
         &self,
         scratch: &mut TraversalScratch,
-        packet: &Packet,
-        tmax: &mut [f32; LANES],
+        packet: &Packet<V>,
+        tmax: &mut V::Array,
         mut test: impl FnMut(usize, usize) -> bool,
     ) -> u32 {
         // Both closures inlined: where the compiler called them instead, the leaf test ran
         // outside the packet walk's instruction set, and shadow rays ran 7 % slower.
-        self.walk_flat::<ANY_ORDER>(
+        self.walk_flat::<V, ANY_ORDER>(
             scratch,
             packet,
             tmax,
@@ -460,7 +489,7 @@ impl SceneBvh {
                 tmax[k] = look_beyond(h.t);
             }
         };
-        self.walk_flat::<NEAREST_FIRST>(
+        self.walk_flat::<L8, NEAREST_FIRST>(
             scratch,
             packet,
             tmax,
