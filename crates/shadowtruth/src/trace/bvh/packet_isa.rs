@@ -67,8 +67,8 @@ pub(in crate::trace) enum PacketQuery {
     CertifiedHits,
     /// Shadow rays, eight at a time: AVX2.
     Shadows,
-    /// Shadow rays, sixteen at a time: AVX-512 only.
-    SixteenShadows,
+    /// Rays sixteen at a time (shadow rays, primary rays' closest hits): AVX-512 only.
+    SixteenLanes,
 }
 
 /// The set the packet walk of `query` runs with here, or `None` where packets do not run
@@ -77,7 +77,7 @@ pub(in crate::trace) fn packet_isa_for(query: PacketQuery) -> Option<PacketIsa> 
     match query {
         PacketQuery::ClosestHits => packet_isa(),
         PacketQuery::CertifiedHits | PacketQuery::Shadows => packet_isa().map(|_| PacketIsa::Avx2),
-        PacketQuery::SixteenShadows => packet_isa().filter(|&isa| isa == PacketIsa::Avx512),
+        PacketQuery::SixteenLanes => packet_isa().filter(|&isa| isa == PacketIsa::Avx512),
     }
 }
 

@@ -280,8 +280,37 @@ impl SceneBvh {
     }
 
     /// `closest_hit(origin, directions[k], 0, ∞)` into `hits[k]` for each k, for any number of
-    /// rays: neighbouring rays are walked `RAYS_PER_BATCH` at a time.
+    /// rays: neighbouring rays are walked sixteen at a time where the processor has AVX-512,
+    /// otherwise `RAYS_PER_BATCH` at a time.
     pub fn closest_hits(
+        &self,
+        scratch: &mut TraversalScratch,
+        origin: Vec3,
+        directions: &[Vec3],
+        hits: &mut [Option<Hit>],
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        if packet_isa_for(PacketQuery::SixteenLanes).is_some() {
+            for (directions, hits) in directions.chunks(L16::LANES).zip(hits.chunks_mut(L16::LANES)) {
+                let sixteen = directions.len() > LANES
+                    && self.closest_hits_packet::<L16, { L16::LANES }>(
+                        PacketQuery::SixteenLanes,
+                        scratch,
+                        origin,
+                        directions,
+                        hits,
+                    );
+                if !sixteen {
+                    self.closest_hits_by_eight(scratch, origin, directions, hits);
+                }
+            }
+            return;
+        }
+        self.closest_hits_by_eight(scratch, origin, directions, hits);
+    }
+
+    /// `closest_hits`, walked `RAYS_PER_BATCH` at a time.
+    fn closest_hits_by_eight(
         &self,
         scratch: &mut TraversalScratch,
         origin: Vec3,
@@ -290,7 +319,13 @@ impl SceneBvh {
     ) {
         for (directions, hits) in directions.chunks(RAYS_PER_BATCH).zip(hits.chunks_mut(RAYS_PER_BATCH)) {
             #[cfg(target_arch = "x86_64")]
-            if self.closest_hits_packet(scratch, origin, directions, hits) {
+            if self.closest_hits_packet::<L8, { L8::LANES }>(
+                PacketQuery::ClosestHits,
+                scratch,
+                origin,
+                directions,
+                hits,
+            ) {
                 continue;
             }
             for (hit, &direction) in hits.iter_mut().zip(directions) {
@@ -316,7 +351,7 @@ impl SceneBvh {
             // SAFETY: the processor has AVX-512 (`packet_isa_for`), and the walk is compiled
             // for it.
             _ => in_packet_isa(
-                packet_isa_for(PacketQuery::SixteenShadows)?,
+                packet_isa_for(PacketQuery::SixteenLanes)?,
                 #[inline(always)]
                 || unsafe { self.shadow_answers_wide::<L16, { L16::LANES }>(scratch, rays) },
             ),
@@ -425,16 +460,21 @@ impl SceneBvh {
         )
     }
 
+    /// The closest hits of the rays along `directions` as one packet of `V` (`N` = `V::LANES`),
+    /// walked compiled for the instruction set of `query`, which must have `V`'s; false, without
+    /// walking, where they cannot walk so.
     #[cfg(target_arch = "x86_64")]
-    fn closest_hits_packet(
+    #[inline(always)]
+    fn closest_hits_packet<V: LaneVector, const N: usize>(
         &self,
+        query: PacketQuery,
         scratch: &mut TraversalScratch,
         origin: Vec3,
         directions: &[Vec3],
         hits: &mut [Option<Hit>],
     ) -> bool {
-        with_primary_packet(
-            PacketQuery::ClosestHits,
+        with_primary_packet::<V, N>(
+            query,
             origin,
             directions,
             #[inline(always)]
@@ -446,14 +486,15 @@ impl SceneBvh {
     /// `hits`, one per ray.
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    pub(in crate::trace) fn closest_hits_of_packet(
+    pub(in crate::trace) fn closest_hits_of_packet<V: LaneVector, const N: usize>(
         &self,
         scratch: &mut TraversalScratch,
-        watertight: &[WatertightRay; LANES],
-        packet: &Packet,
+        watertight: &[WatertightRay; N],
+        packet: &Packet<V>,
         hits: &mut [Option<Hit>],
     ) {
-        let mut tmax = [f32::INFINITY; LANES];
+        let mut tmax = V::Array::default();
+        tmax.as_mut().fill(f32::INFINITY);
         let best = self.walk_closest_hits(scratch, watertight, packet, &mut tmax, |t| t, |_, _| {});
         hits.copy_from_slice(&best[..hits.len()]);
     }
@@ -466,17 +507,17 @@ impl SceneBvh {
     /// it.
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    pub(in crate::trace) fn walk_closest_hits(
+    pub(in crate::trace) fn walk_closest_hits<V: LaneVector, const N: usize>(
         &self,
         scratch: &mut TraversalScratch,
-        watertight: &[WatertightRay; LANES],
-        packet: &Packet,
-        tmax: &mut [f32; LANES],
+        watertight: &[WatertightRay; N],
+        packet: &Packet<V>,
+        tmax: &mut V::Array,
         look_beyond: impl Fn(f32) -> f32,
         mut seen: impl FnMut(usize, u32),
-    ) -> [Option<Hit>; LANES] {
-        let mut best = [None; LANES];
-        let mut keep = |i: usize, k: usize, h: RayTriangleHit, tmax: &mut [f32; LANES]| {
+    ) -> [Option<Hit>; N] {
+        let mut best = [None; N];
+        let mut keep = |i: usize, k: usize, h: RayTriangleHit, tmax: &mut V::Array| {
             let [v0, v1, v2] = self.triangles[i];
             let hit = Hit {
                 triangle: self.scene_ids[i],
@@ -486,26 +527,27 @@ impl SceneBvh {
             };
             if hit.beats(&best[k]) {
                 best[k] = Some(hit);
-                tmax[k] = look_beyond(h.t);
+                tmax.as_mut()[k] = look_beyond(h.t);
             }
         };
-        self.walk_flat::<L8, NEAREST_FIRST>(
+        self.walk_flat::<V, NEAREST_FIRST>(
             scratch,
             packet,
             tmax,
             #[inline(always)]
             |i, candidates, triangle, tmax| {
                 seen(i, candidates);
-                // Eight lanes solved at once; those the f64 test must settle, one by one.
+                // Every lane solved at once; those the f64 test must settle, one by one.
                 let solved = packet.intersect(triangle, candidates, tmax);
                 each_lane(solved.hit, |k| {
-                    let h = RayTriangleHit { t: solved.t[k], barycentric: solved.barycentric.map(|b| b[k]) };
+                    let barycentric = [0, 1, 2].map(|b| solved.barycentric[b].as_ref()[k]);
+                    let h = RayTriangleHit { t: solved.t.as_ref()[k], barycentric };
                     keep(i, k, h, tmax);
                     false
                 });
                 each_lane(solved.scalar, |k| {
                     let [v0, v1, v2] = self.triangles[i];
-                    if let Some(h) = watertight[k].intersect(v0, v1, v2, 0.0, tmax[k]) {
+                    if let Some(h) = watertight[k].intersect(v0, v1, v2, 0.0, tmax.as_ref()[k]) {
                         keep(i, k, h, tmax);
                     }
                     false
@@ -514,7 +556,7 @@ impl SceneBvh {
         );
         if let Some(instances) = &self.instances {
             each_lane(packet.lanes, |k| {
-                instances.closest_hit(scratch, &watertight[k], 0.0, tmax[k], &mut best[k]);
+                instances.closest_hit(scratch, &watertight[k], 0.0, tmax.as_ref()[k], &mut best[k]);
                 false
             });
         }
@@ -527,11 +569,11 @@ impl SceneBvh {
 /// (`packet_isa_for`); false, without running it, where the rays cannot walk as a packet.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-pub(in crate::trace) fn with_primary_packet(
+pub(in crate::trace) fn with_primary_packet<V: LaneVector, const N: usize>(
     query: PacketQuery,
     origin: Vec3,
     directions: &[Vec3],
-    walk: impl FnOnce(&[WatertightRay; LANES], Packet),
+    walk: impl FnOnce(&[WatertightRay; N], Packet<V>),
 ) -> bool {
     let Some(isa) = packet_isa_for(query) else {
         return false;
@@ -540,8 +582,10 @@ pub(in crate::trace) fn with_primary_packet(
         isa,
         #[inline(always)]
         || {
-            let mut watertight = [WatertightRay::UNUSED; LANES];
-            let Some(packet) = primary_packet(origin, directions, &mut watertight) else {
+            let mut watertight = [WatertightRay::UNUSED; N];
+            // SAFETY: `query`'s set has `V`'s (the caller's).
+            let Some(packet) = (unsafe { primary_packet::<V, N>(origin, directions, &mut watertight) })
+            else {
                 return false;
             };
             walk(&watertight, packet);
@@ -550,23 +594,27 @@ pub(in crate::trace) fn with_primary_packet(
     )
 }
 
-/// The primary rays from `origin` along `directions` (two to eight) as a packet, each lane's
-/// watertight ray written to `watertight` (lanes past the last repeat it), or `None` where
-/// they cannot share a walk or the processor has no AVX2. The rays are written in place, not
-/// returned: moving eight of them and the packet cost a tenth of a packet's walk in copies.
+/// The primary rays from `origin` along `directions` (two to `N` = `V::LANES`) as a packet,
+/// each lane's watertight ray written to `watertight` (lanes past the last repeat it), or `None`
+/// where they cannot share a walk or the processor has no AVX2. The rays are written in place,
+/// not returned: moving eight of them and the packet cost a tenth of a packet's walk in copies.
+///
+/// # Safety
+/// The processor has `V`'s instruction set where it has AVX2.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-pub(in crate::trace) fn primary_packet(
+pub(in crate::trace) unsafe fn primary_packet<V: LaneVector, const N: usize>(
     origin: Vec3,
     directions: &[Vec3],
-    watertight: &mut [WatertightRay; LANES],
-) -> Option<Packet> {
-    if directions.len() < 2 || directions.len() > LANES || !packet_isa::wide_available() {
+    watertight: &mut [WatertightRay; N],
+) -> Option<Packet<V>> {
+    assert_eq!(N, V::LANES);
+    if directions.len() < 2 || directions.len() > N || !packet_isa::wide_available() {
         return None;
     }
     for (k, ray) in watertight.iter_mut().enumerate() {
         *ray = WatertightRay::new(origin.into(), directions[k.min(directions.len() - 1)].into());
     }
-    // SAFETY: the processor has AVX2 (`wide_available`).
-    unsafe { Packet::new(&watertight[..directions.len()]) }
+    // SAFETY: the processor has AVX2 and FMA (`wide_available`), and so `V`'s set (the caller's).
+    unsafe { Packet::<V>::new(&watertight[..directions.len()]) }
 }
