@@ -64,7 +64,6 @@ mod wide {
     use super::OwnCrossing;
     use crate::trace::bvh::certified::Real;
     use crate::trace::bvh::hit::Hit;
-    use crate::trace::bvh::packet::LANES;
     use crate::trace::bvh::watertight::WatertightRay;
     use std::arch::x86_64::*;
 
@@ -73,17 +72,18 @@ mod wide {
     /// same order for the same direction in f64 (the same rule on the same values). Runs inside
     /// a packet walk (packet_isa.rs), where the processor has AVX2.
     #[inline(always)]
-    pub(in crate::trace) fn own_crossings(
-        watertight: &[WatertightRay; LANES],
-        hits: &[Option<Hit>; LANES],
-    ) -> [OwnCrossing; LANES] {
+    pub(in crate::trace) fn own_crossings<const N: usize>(
+        watertight: &[WatertightRay; N],
+        hits: &[Option<Hit>; N],
+    ) -> [OwnCrossing; N] {
         let axes = [watertight[0].kx, watertight[0].ky, watertight[0].kz];
         assert!(
             watertight.iter().all(|w| [w.kx, w.ky, w.kz] == axes),
             "a packet's rays share the watertight test's axis order"
         );
-        let mut out = [OwnCrossing::MISS; LANES];
-        for first in [0, 4] {
+        assert!(N.is_multiple_of(4), "lanes come four at a time");
+        let mut out = [OwnCrossing::MISS; N];
+        for first in (0..N).step_by(4) {
             // SAFETY: the caller runs inside a packet walk, compiled for AVX2 and run where the
             // processor has it.
             let four = unsafe { crossings_of_four(watertight, hits, first, axes) };
@@ -103,9 +103,9 @@ mod wide {
     /// # Safety
     /// The processor has AVX, and the caller is compiled for it.
     #[inline(always)]
-    unsafe fn crossings_of_four(
-        watertight: &[WatertightRay; LANES],
-        hits: &[Option<Hit>; LANES],
+    unsafe fn crossings_of_four<const N: usize>(
+        watertight: &[WatertightRay; N],
+        hits: &[Option<Hit>; N],
         first: usize,
         [kx, ky, kz]: [usize; 3],
     ) -> [OwnCrossing; 4] {

@@ -9,6 +9,8 @@
 
 use super::certified::{CertifiedRay, Crossing, Verdict, in_one_plane};
 use super::hit::Hit;
+#[cfg(target_arch = "x86_64")]
+use super::lane_vector::{L8, L16, LaneVector};
 use super::node_test::NodeRay;
 #[cfg(target_arch = "x86_64")]
 use super::own_crossing::own_crossings;
@@ -16,7 +18,7 @@ use super::own_crossing::{OwnCrossing, in_f64};
 #[cfg(target_arch = "x86_64")]
 use super::packet::{LANES, Packet, each_lane};
 #[cfg(target_arch = "x86_64")]
-use super::packet_isa::PacketQuery;
+use super::packet_isa::{PacketQuery, packet_isa_for};
 #[cfg(target_arch = "x86_64")]
 use super::scene_bvh::with_primary_packet;
 use super::scene_bvh::{RAYS_PER_BATCH, SceneBvh};
@@ -227,7 +229,7 @@ impl SceneBvh {
         hits: &mut [Option<Hit>],
         out: &mut [PrimaryCertainty],
     ) -> bool {
-        with_primary_packet(
+        with_primary_packet::<L8, { L8::LANES }>(
             PacketQuery::CertifiedHits,
             origin,
             directions,
@@ -240,21 +242,21 @@ impl SceneBvh {
     /// them), whose closest hits are `hits`.
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    fn certify_packet(
+    fn certify_packet<V: LaneVector, const N: usize>(
         &self,
         scratch: &mut TraversalScratch,
-        watertight: &[WatertightRay; LANES],
-        mut packet: Packet,
+        watertight: &[WatertightRay; N],
+        mut packet: Packet<V>,
         hits: &mut [Option<Hit>],
         out: &mut [PrimaryCertainty],
     ) {
         let lane = |k: usize| k.min(hits.len() - 1);
-        let own: [Option<Hit>; LANES] = std::array::from_fn(|k| hits[lane(k)]);
+        let own: [Option<Hit>; N] = std::array::from_fn(|k| hits[lane(k)]);
         let crossings = own_crossings(watertight, &own);
-        let mut searches: [PrimarySearch; LANES] =
+        let mut searches: [PrimarySearch; N] =
             std::array::from_fn(|k| PrimarySearch::new(&watertight[k], own[k].as_ref(), crossings[k]));
         packet.certify(&searches.each_ref().map(|s| s.fast.sheared_error_coefficients()));
-        let mut tmax = searches.each_ref().map(|s| s.tmax);
+        let mut tmax = reaches::<V, N>(&searches);
         let active = self.walk_flat_any_hit(
             scratch,
             &packet,
@@ -265,7 +267,8 @@ impl SceneBvh {
         for (k, (out, hit)) in out.iter_mut().zip(hits.iter_mut()).enumerate() {
             let (search, walk_ray) = (&mut searches[k], &watertight[k]);
             if let (Some(instances), true) = (&self.instances, active & (1 << k) != 0) {
-                instances.any_triangle(scratch, walk_ray, tmax[k], |id, v| search.test(walk_ray, id, v));
+                instances
+                    .any_triangle(scratch, walk_ray, tmax.as_ref()[k], |id, v| search.test(walk_ray, id, v));
             }
             *out = search.finish(walk_ray, hit);
         }
@@ -284,34 +287,36 @@ impl SceneBvh {
     /// the walk's, the certificate walks on its own (`certify_packet`).
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    fn certified_hits_of_packet(
+    fn certified_hits_of_packet<V: LaneVector, const N: usize>(
         &self,
         scratch: &mut TraversalScratch,
-        watertight: &[WatertightRay; LANES],
-        mut packet: Packet,
+        watertight: &[WatertightRay; N],
+        mut packet: Packet<V>,
         hits: &mut [Option<Hit>],
         out: &mut [PrimaryCertainty],
     ) {
         // The certificate's rejection of the leaves' triangles, as `certify_packet` sets it: its
         // slack depends only on the ray's errors (none: the ray is exact), not on the hit.
         let unbounded = |k: usize| CertifiedRay::<f32>::of_walk(&watertight[k], 0.0, 0.0, f64::INFINITY, 0.0);
-        packet.certify(&std::array::from_fn::<_, LANES, _>(|k| unbounded(k).sheared_error_coefficients()));
-        let mut noted = Noted::new();
-        let mut tmax = [f32::INFINITY; LANES];
+        packet.certify(&std::array::from_fn::<_, N, _>(|k| unbounded(k).sheared_error_coefficients()));
+        let mut noted = Noted::<N>::new();
+        let mut tmax = V::Array::default();
+        tmax.as_mut().fill(f32::INFINITY);
         let best =
             self.walk_closest_hits(scratch, watertight, &packet, &mut tmax, look_beyond, |i, lanes| {
                 noted.note(i, lanes)
             });
         hits.copy_from_slice(&best[..hits.len()]);
         let crossings = own_crossings(watertight, &best);
-        let mut searches: [PrimarySearch; LANES] =
+        let mut searches: [PrimarySearch; N] =
             std::array::from_fn(|k| PrimarySearch::new(&watertight[k], best[k].as_ref(), crossings[k]));
-        let complete =
-            each_lane(packet.lanes, |k| noted.overflow & (1 << k) == 0 && searches[k].tmax <= tmax[k]);
+        let complete = each_lane(packet.lanes, |k| {
+            noted.overflow & (1 << k) == 0 && searches[k].tmax <= tmax.as_ref()[k]
+        });
         if complete != packet.lanes {
             return self.certify_packet(scratch, watertight, packet, hits, out);
         }
-        let reach = searches.each_ref().map(|s| s.tmax);
+        let reach = reaches::<V, N>(&searches);
         for (k, (out, hit)) in out.iter_mut().zip(hits.iter_mut()).enumerate() {
             let (search, walk_ray) = (&mut searches[k], &watertight[k]);
             debug_assert_eq!(
@@ -328,7 +333,8 @@ impl SceneBvh {
                 }
             }
             if let (Some(instances), false) = (&self.instances, over) {
-                instances.any_triangle(scratch, walk_ray, reach[k], |id, v| search.test(walk_ray, id, v));
+                instances
+                    .any_triangle(scratch, walk_ray, reach.as_ref()[k], |id, v| search.test(walk_ray, id, v));
             }
             *out = search.finish(walk_ray, hit);
         }
@@ -336,8 +342,41 @@ impl SceneBvh {
 
     /// The closest hits of the rays from `origin` along `directions`, certified as
     /// `certify_primaries` certifies them: `closest_hits` then `certify_primaries`, the two walks
-    /// of each `RAYS_PER_BATCH` rays as one where they can (`certified_hits_of_packet`).
+    /// as one where they can (`certified_hits_of_packet`), sixteen rays at a time where the
+    /// processor has AVX-512, otherwise `RAYS_PER_BATCH`.
     pub(in crate::trace) fn certified_closest_hits(
+        &self,
+        scratch: &mut TraversalScratch,
+        origin: Vec3,
+        directions: &[Vec3],
+        hits: &mut [Option<Hit>],
+        certainties: &mut [PrimaryCertainty],
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        if packet_isa_for(PacketQuery::SixteenLanes).is_some() {
+            let chunks = directions.chunks(L16::LANES).zip(hits.chunks_mut(L16::LANES));
+            for ((directions, hits), out) in chunks.zip(certainties.chunks_mut(L16::LANES)) {
+                let sixteen = directions.len() > LANES
+                    && with_primary_packet::<L16, { L16::LANES }>(
+                        PacketQuery::SixteenLanes,
+                        origin,
+                        directions,
+                        #[inline(always)]
+                        |watertight, packet| {
+                            self.certified_hits_of_packet(scratch, watertight, packet, hits, out)
+                        },
+                    );
+                if !sixteen {
+                    self.certified_closest_hits_by_eight(scratch, origin, directions, hits, out);
+                }
+            }
+            return;
+        }
+        self.certified_closest_hits_by_eight(scratch, origin, directions, hits, certainties);
+    }
+
+    /// `certified_closest_hits`, `RAYS_PER_BATCH` rays at a time.
+    fn certified_closest_hits_by_eight(
         &self,
         scratch: &mut TraversalScratch,
         origin: Vec3,
@@ -348,7 +387,7 @@ impl SceneBvh {
         let chunks = directions.chunks(RAYS_PER_BATCH).zip(hits.chunks_mut(RAYS_PER_BATCH));
         for ((directions, hits), out) in chunks.zip(certainties.chunks_mut(RAYS_PER_BATCH)) {
             #[cfg(target_arch = "x86_64")]
-            if with_primary_packet(
+            if with_primary_packet::<L8, { L8::LANES }>(
                 PacketQuery::CertifiedHits,
                 origin,
                 directions,
@@ -372,24 +411,36 @@ fn look_beyond(t: f32) -> f32 {
     t * (1.0 + 2f32.powi(-12))
 }
 
-/// The flat triangles a packet's closest-hit walk noted for each lane's certificate
-/// (`certified_hits_of_packet`).
+/// Each lane's certificate's search radius: the `tmax` of every lane's `PrimarySearch`.
 #[cfg(target_arch = "x86_64")]
-struct Noted {
-    triangles: [[u32; Noted::CAPACITY]; LANES],
-    count: [u8; LANES],
-    /// Lanes that noted more than `CAPACITY`.
+#[inline(always)]
+fn reaches<V: LaneVector, const N: usize>(searches: &[PrimarySearch; N]) -> V::Array {
+    let mut reach = V::Array::default();
+    for (r, search) in reach.as_mut().iter_mut().zip(searches) {
+        *r = search.tmax;
+    }
+    reach
+}
+
+/// A lane's triangles noted at most: a pixel's ray passes through few triangles' outlines
+/// before the walk is done.
+#[cfg(target_arch = "x86_64")]
+const NOTED_CAPACITY: usize = 16;
+
+/// The flat triangles a packet's closest-hit walk noted for each of its `N` lanes'
+/// certificates (`certified_hits_of_packet`).
+#[cfg(target_arch = "x86_64")]
+struct Noted<const N: usize> {
+    triangles: [[u32; NOTED_CAPACITY]; N],
+    count: [u8; N],
+    /// Lanes that noted more than `NOTED_CAPACITY`.
     overflow: u32,
 }
 
 #[cfg(target_arch = "x86_64")]
-impl Noted {
-    /// A lane's triangles noted at most: a pixel's ray passes through few triangles' outlines
-    /// before the walk is done.
-    const CAPACITY: usize = 16;
-
+impl<const N: usize> Noted<N> {
     fn new() -> Self {
-        Noted { triangles: [[0; Noted::CAPACITY]; LANES], count: [0; LANES], overflow: 0 }
+        Noted { triangles: [[0; NOTED_CAPACITY]; N], count: [0; N], overflow: 0 }
     }
 
     /// Notes triangle `i` for each lane of `lanes`.
@@ -397,7 +448,7 @@ impl Noted {
     fn note(&mut self, i: usize, lanes: u32) {
         each_lane(lanes, |k| {
             let n = self.count[k] as usize;
-            if n == Noted::CAPACITY {
+            if n == NOTED_CAPACITY {
                 self.overflow |= 1 << k;
             } else {
                 self.triangles[k][n] = i as u32;
