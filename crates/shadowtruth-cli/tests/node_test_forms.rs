@@ -2,8 +2,8 @@
 //! mask, coverage and area-light reference traced with the 8-lane AVX2 form, and with rays walked
 //! eight at a time (src/trace/bvh/packet.rs), is byte for byte the one traced with the portable form
 //! (`SHADOWTRUTH_NODE_TEST=portable`, which walks rays one by one). On a processor with AVX-512
-//! the packets of closest hits alone (the coverage reference's sub-pixel rays) run compiled for
-//! it and shadow rays walk sixteen to a packet (src/trace/bvh/packet_isa.rs), and the AVX2
+//! rays walk sixteen to a packet and the packets of eight closest hits alone (the coverage
+//! reference's sub-pixel rays) run compiled for it (src/trace/bvh/packet_isa.rs), and the AVX2
 //! compilation with packets of eight (`SHADOWTRUTH_NODE_TEST=avx2`) is compared too. Scenes: the bundled ones (a spot
 //! light among them), the forest with instanced trees (whose mesh walks carry a margin), and a
 //! sun straight down, whose rays do not move along two axes and so take the portable form in

@@ -124,8 +124,7 @@ pub fn node_test_name() -> &'static str {
     #[cfg(target_arch = "x86_64")]
     match super::packet_isa::packet_isa() {
         Some(super::packet_isa::PacketIsa::Avx512) => {
-            return "8 children at a time (AVX2; packets of primary rays compiled for AVX-512, shadow rays \
-                    sixteen to a packet)";
+            return "8 children at a time (AVX2; rays walked sixteen to a packet with AVX-512)";
         }
         Some(super::packet_isa::PacketIsa::Avx2) => return "8 children at a time (AVX2)",
         None => {}

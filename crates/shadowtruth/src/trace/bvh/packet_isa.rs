@@ -8,12 +8,13 @@
 //! With AVX-512 the compiler has 32 vector registers, mask registers and broadcast operands for
 //! the same 8-lane operations; the operations, and so the answers, are the same bit for bit
 //! (IEEE arithmetic either way, and Rust never fuses a multiply and an add on its own: the node
-//! test's fused operations are written as such). Closest hits take the AVX-512 form for their
-//! eight lanes (`PacketQuery`): measured on the 200K forest at 1920×1080, one thread, eight
-//! alternating rounds (docs/scale.md), it runs primary rays at 1.03× the AVX2 compilation's
-//! rate, but eight-lane shadow rays at 0.93× and the certified G-buffer walk at 0.91×. Shadow
-//! rays take it for sixteen lanes at once (`L16`), where they ran 1.2× as fast as eight in
-//! AVX2.
+//! test's fused operations are written as such). With AVX-512 every query walks sixteen rays to
+//! a packet (`L16`, `PacketQuery::SixteenLanes`): on the 200K forest at 1920×1080, one thread,
+//! shadow rays ran 1.27× and primary rays in tiles of 4×4 1.13× as fast as in two packets of
+//! eight in AVX2 (docs/scale.md). Packets of eight remain for what is left over (a batch of at
+//! most eight rays, or one whose sixteen rays cannot share a walk); closest hits take the
+//! AVX-512 compilation for them too, which ran primary rays at 1.03× the AVX2 one's rate, but
+//! shadow rays at 0.93× and the certified G-buffer walk at 0.91×, which so keep AVX2.
 
 /// Whether the 8-lane test may run: the processor has AVX2 and FMA (every processor with AVX2
 /// has FMA but for a few early ones), and `SHADOWTRUTH_NODE_TEST` is not
@@ -61,13 +62,13 @@ pub(in crate::trace) fn packet_isa() -> Option<PacketIsa> {
 /// What a packet walk is for: each runs compiled for the set that runs it fastest.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(in crate::trace) enum PacketQuery {
-    /// Closest hits alone (primary rays): AVX-512 where the processor has it.
+    /// Closest hits alone (primary rays), eight at a time: AVX-512 where the processor has it.
     ClosestHits,
-    /// Closest hits with their certificates (the G-buffer): AVX2.
+    /// Closest hits with their certificates (the G-buffer), eight at a time: AVX2.
     CertifiedHits,
     /// Shadow rays, eight at a time: AVX2.
     Shadows,
-    /// Rays sixteen at a time (shadow rays, primary rays' closest hits): AVX-512 only.
+    /// Any query, sixteen rays at a time: AVX-512 only.
     SixteenLanes,
 }
 

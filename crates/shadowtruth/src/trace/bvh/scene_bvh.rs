@@ -245,16 +245,17 @@ fn segment_margin(lo: Vec3, hi: Vec3) -> f32 {
 /// The most rays `closest_hits` walks at once.
 pub const RAYS_PER_BATCH: usize = 8;
 
-/// The most rays `shadow_answers` takes at once: it walks them as one packet of sixteen where
-/// the processor has AVX-512, as packets of eight otherwise.
-pub const SHADOW_RAYS_PER_BATCH: usize = 16;
+/// The most rays `shadow_answers` takes at once, and the batch in which the references give rays
+/// to `closest_hits`: one packet of sixteen where the processor has AVX-512, packets of eight
+/// otherwise.
+pub const WIDE_BATCH: usize = 16;
 
-/// Queries for many rays at once: the single-ray answers, walked eight at a time (shadow rays
-/// sixteen with AVX-512) where the processor and the rays allow (packet.rs).
+/// Queries for many rays at once: the single-ray answers, walked eight at a time (sixteen with
+/// AVX-512) where the processor and the rays allow (packet.rs).
 impl SceneBvh {
-    /// `shadow_answer` for each ray (at most `SHADOW_RAYS_PER_BATCH`), as bits.
+    /// `shadow_answer` for each ray (at most `WIDE_BATCH`), as bits.
     pub fn shadow_answers(&self, scratch: &mut TraversalScratch, rays: &[ShadowRay]) -> ShadowBits {
-        assert!(rays.len() <= SHADOW_RAYS_PER_BATCH, "at most {SHADOW_RAYS_PER_BATCH} shadow rays at once");
+        assert!(rays.len() <= WIDE_BATCH, "at most {WIDE_BATCH} shadow rays at once");
         #[cfg(target_arch = "x86_64")]
         {
             if let Some(bits) = self.shadow_answers_packet(scratch, rays) {

@@ -1,18 +1,18 @@
-//! Shadow rays gathered to be traced `SHADOW_RAYS_PER_BATCH` at a time (`SceneBvh::shadow_occluded`,
+//! Shadow rays gathered to be traced `WIDE_BATCH` at a time (`SceneBvh::shadow_occluded`,
 //! which walks them together where it can): a tile's pixels in the hard reference, and a row's
 //! light samples or sub-pixel surfaces (`RowShadows`) in the soft references, so that a pixel
 //! with fewer rays than a batch does not trace a batch of its own.
 
-use super::scene_bvh::{SHADOW_RAYS_PER_BATCH, SceneBvh};
+use super::scene_bvh::{SceneBvh, WIDE_BATCH};
 use super::scratch::TraversalScratch;
 use super::shadow_ray::ShadowRay;
 use glam::{DVec3, Vec3};
 
-/// Up to `SHADOW_RAYS_PER_BATCH` shadow rays, each with its caller's tag (a pixel's column, or
+/// Up to `WIDE_BATCH` shadow rays, each with its caller's tag (a pixel's column, or
 /// nothing), waiting to be traced.
 pub(in crate::trace) struct ShadowBatch {
-    tags: [usize; SHADOW_RAYS_PER_BATCH],
-    rays: [ShadowRay; SHADOW_RAYS_PER_BATCH],
+    tags: [usize; WIDE_BATCH],
+    rays: [ShadowRay; WIDE_BATCH],
     len: usize,
 }
 
@@ -30,7 +30,7 @@ const UNUSED_RAY: ShadowRay = ShadowRay {
 
 impl ShadowBatch {
     pub(in crate::trace) fn new() -> Self {
-        ShadowBatch { tags: [0; SHADOW_RAYS_PER_BATCH], rays: [UNUSED_RAY; SHADOW_RAYS_PER_BATCH], len: 0 }
+        ShadowBatch { tags: [0; WIDE_BATCH], rays: [UNUSED_RAY; WIDE_BATCH], len: 0 }
     }
 
     /// Adds `ray`; once the batch is full, traces it and calls `visible(tag, lit, uncertain)`
@@ -47,7 +47,7 @@ impl ShadowBatch {
         self.tags[self.len] = tag;
         self.rays[self.len] = ray;
         self.len += 1;
-        if self.len == SHADOW_RAYS_PER_BATCH {
+        if self.len == WIDE_BATCH {
             self.finish(bvh, scratch, visible);
         }
     }
@@ -71,7 +71,7 @@ impl ShadowBatch {
     }
 }
 
-/// A row's shadow rays, each under its pixel's column, traced `SHADOW_RAYS_PER_BATCH` at a time
+/// A row's shadow rays, each under its pixel's column, traced `WIDE_BATCH` at a time
 /// across the row's pixels, with each column's count of unoccluded rays.
 pub(in crate::trace) struct RowShadows {
     batch: ShadowBatch,

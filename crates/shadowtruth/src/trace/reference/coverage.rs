@@ -14,7 +14,7 @@ use super::hard::{hard_visible, shadow_ray_to_centre};
 use super::sampling::stratum_centre;
 use super::soft_reference::{Estimate, SoftReference, trace_evaluated};
 use crate::scene::{Camera, Light, Scene};
-use crate::trace::bvh::scene_bvh::{RAYS_PER_BATCH, SceneBvh};
+use crate::trace::bvh::scene_bvh::{SceneBvh, WIDE_BATCH};
 use glam::Vec3;
 
 /// Traces the coverage reference on an n×n sub-pixel grid (`grid` = n ≥ 1).
@@ -34,16 +34,16 @@ pub fn trace_coverage_reference(
     let sight = LightSight::of(light);
     trace_evaluated(bvh, gbuffer, grid * grid, |scratch, rays, x, y, i| {
         let mut surfaces = 0u32;
-        // The sub-rays `RAYS_PER_BATCH` at a time; their evaluated surfaces' shadow rays join
-        // the row's.
+        // The sub-rays `WIDE_BATCH` at a time (a pixel's 4×4 at once); their evaluated surfaces'
+        // shadow rays join the row's.
         let samples = grid * grid;
-        for first in (0..samples).step_by(RAYS_PER_BATCH) {
-            let n = (samples - first).min(RAYS_PER_BATCH as u32) as usize;
-            let dirs: [Vec3; RAYS_PER_BATCH] = std::array::from_fn(|k| {
+        for first in (0..samples).step_by(WIDE_BATCH) {
+            let n = (samples - first).min(WIDE_BATCH as u32) as usize;
+            let dirs: [Vec3; WIDE_BATCH] = std::array::from_fn(|k| {
                 let (sx, sy) = stratum_centre(first + k.min(n - 1) as u32, grid);
                 film.direction(x as f64 + sx, y as f64 + sy)
             });
-            let mut primary = [None; RAYS_PER_BATCH];
+            let mut primary = [None; WIDE_BATCH];
             bvh.closest_hits(scratch, camera.position, &dirs[..n], &mut primary[..n]);
             for (k, hit) in primary[..n].iter().enumerate() {
                 let Some(hit) = hit else { continue };

@@ -4,7 +4,7 @@
 
 use super::gbuffer::{GBuffer, LightSight, PixelClass};
 use crate::scene::{Camera, Light, Scene};
-use crate::trace::bvh::scene_bvh::{SHADOW_RAYS_PER_BATCH, SceneBvh};
+use crate::trace::bvh::scene_bvh::{SceneBvh, WIDE_BATCH};
 use crate::trace::bvh::scratch::TraversalScratch;
 use crate::trace::bvh::shadow_batch::ShadowBatch;
 use crate::trace::bvh::shadow_ray::{ShadowRay, SurfacePoint};
@@ -113,7 +113,7 @@ pub(in crate::trace) fn hard_visible(
 /// 1920×1080, blocks of 4×2 ran shadow rays 1.29× as fast as rows of eight on one thread (1.28×
 /// on two), and tiles of two such blocks 1.03× faster again (1.01×) (docs/scale.md).
 const TILE_COLUMNS: usize = 4;
-const TILE_ROWS: usize = SHADOW_RAYS_PER_BATCH / TILE_COLUMNS;
+const TILE_ROWS: usize = WIDE_BATCH / TILE_COLUMNS;
 
 /// Traces one shadow ray per evaluated pixel; the pixels whose answer is not certain are listed
 /// in `uncertain` (docs/reference.md, "The reference's uncertainty").
@@ -229,7 +229,7 @@ pub fn trace_shadow_rays(bvh: &SceneBvh, bands: &[Vec<ShadowRay>]) -> usize {
             || bvh.scratch(),
             |scratch, rays| {
                 let mut occluded = 0;
-                let mut batches = rays.chunks(SHADOW_RAYS_PER_BATCH).peekable();
+                let mut batches = rays.chunks(WIDE_BATCH).peekable();
                 while let Some(batch) = batches.next() {
                     prefetch(batches.peek().copied().unwrap_or_default());
                     occluded += bvh.shadow_answers(scratch, batch).occluded.count_ones() as usize;
