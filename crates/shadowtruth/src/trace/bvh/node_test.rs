@@ -16,7 +16,9 @@
 //! Two forms with the same answers: `intersect_node`, four children at a time on any processor
 //! (simd4.rs), and `intersect_node_wide`, eight at a time with AVX2, chosen at run time
 //! (`packet_isa::wide_available`); each does the same operations in the same order, lane by lane.
-//! tests/node_test_forms.rs compares the two forms' references.
+//! tests/node_test_forms.rs compares the two forms' references. Packets of rays (packet.rs)
+//! take each lane's slab distance with one fused rounding instead of two, as conservatively
+//! (`Packet::lane_test`).
 
 use super::simd4::{F4, Span4};
 use super::wide_bvh::WideNode;

@@ -1,24 +1,24 @@
-//! The vector forms the walks run with here, chosen at run time: whether the 8-lane node test
-//! and packets run at all (`wide_available`: AVX2 and FMA), and which instruction set the packet
-//! walk (packet.rs) is compiled for: AVX2 with FMA, or AVX-512 (F, VL, BW, DQ, with BMI1/2, LZCNT
-//! and POPCNT) where the processor has it. The walk's functions are all `#[inline(always)]` with no target
-//! features of their own (stable Rust allows no `inline(always)` beside one): each query runs
-//! them inside one of two entry points (`in_packet_isa`), one compiled for each set, so the same
-//! source is compiled twice. Called outside it, they would make each vector operation a call.
-//! With AVX-512 the compiler has 32 vector registers, mask registers and broadcast operands for
-//! the same 8-lane operations; the operations, and so the answers, are the same bit for bit
-//! (IEEE arithmetic either way, and Rust never fuses a multiply and an add on its own: the node
-//! test's fused operations are written as such). With AVX-512 every query walks sixteen rays to
-//! a packet (`L16`, `PacketQuery::SixteenLanes`): on the 200K forest at 1920×1080, one thread,
-//! shadow rays ran 1.27× and primary rays in tiles of 4×4 1.13× as fast as in two packets of
-//! eight in AVX2 (docs/scale.md). Packets of eight remain for what is left over (a batch of at
-//! most eight rays, or one whose sixteen rays cannot share a walk); closest hits take the
+//! The vector forms the walks run with here, chosen at run time: whether the 8-lane node test and
+//! packets run at all (`wide_available`: AVX2 and FMA), and which instruction set the packet walk
+//! (packet.rs) is compiled for: AVX2 with FMA, or AVX-512 (F, VL, BW, DQ, with BMI1/2, LZCNT and
+//! POPCNT) where the processor has it. The walk's functions are all `#[inline(always)]` with no
+//! target features of their own (stable Rust allows no `inline(always)` beside one): each query
+//! runs them inside one of two entry points (`in_packet_isa`), one compiled for each set, so the
+//! same source is compiled twice. Called outside it, they would make each vector operation a call.
+//! With AVX-512 the compiler has 32 vector registers, mask registers and broadcast operands for the
+//! same 8-lane operations; the operations, and so the answers, are the same bit for bit (IEEE
+//! arithmetic either way, and Rust never fuses a multiply and an add on its own: the node test's
+//! fused operations are written as such). With AVX-512 every query walks sixteen rays to a packet
+//! (`L16`, `PacketQuery::SixteenLanes`): on the 200K forest at 1920×1080, one thread, shadow rays
+//! ran 1.21×, primary rays in tiles of 4×4 1.12× and the G-buffer 1.09× as fast as in packets of
+//! eight compiled for AVX2 (docs/scale.md). Packets of eight remain for what is left over (a batch
+//! of at most eight rays, or one whose sixteen rays cannot share a walk); closest hits take the
 //! AVX-512 compilation for them too, which ran primary rays at 1.03× the AVX2 one's rate, but
 //! shadow rays at 0.93× and the certified G-buffer walk at 0.91×, which so keep AVX2.
 
-/// Whether the 8-lane test may run: the processor has AVX2 and FMA (every processor with AVX2
-/// has FMA but for a few early ones), and `SHADOWTRUTH_NODE_TEST` is not
-/// `portable` (which keeps the portable form, for comparing the two). Decided once per process.
+/// Whether the 8-lane test may run: the processor has AVX2 and FMA (the packets' node test fuses
+/// a multiply and a subtraction), and `SHADOWTRUTH_NODE_TEST` is not `portable` (which keeps the
+/// portable form, for comparing the two). Decided once per process.
 pub(in crate::trace) fn wide_available() -> bool {
     static WIDE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
     *WIDE.get_or_init(|| {

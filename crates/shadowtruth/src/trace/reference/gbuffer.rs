@@ -258,8 +258,9 @@ impl GBuffer {
 /// Primary rays are walked in tiles of `TILE` × `TILE` pixels, row by row within a tile, bands of
 /// `TILE` rows at a time: sixteen rays whose directions are close in both axes walk as one packet
 /// where the processor has AVX-512, as two packets of 4×2 otherwise. On the 200K forest at
-/// 1920×1080 (one thread), primary rays ran 1.23× as fast in packets of 4×4 as in rows of
-/// sixteen, and 1.1× as fast in packets of 4×2 as in rows of eight (docs/scale.md).
+/// 1920×1080 (one thread), primary rays ran 1.24× as fast in packets of 4×4 as in rows of eight
+/// with AVX-512 (rows of sixteen were no faster than rows of eight), and 1.14× as fast in
+/// packets of 4×2 with AVX2; the G-buffer 1.17× and 1.08× (docs/scale.md).
 const TILE: usize = 4;
 
 /// Calls `f(pixels)` for each tile of a band of `rows` rows (at most `TILE`) of `width` pixels,
