@@ -745,7 +745,10 @@ mod tests {
                 // SAFETY: AVX2 and FMA checked above.
                 ..=LANES => unsafe { Packet::<L8>::new(&rays) }.is_some(),
                 // SAFETY: AVX-512 checked above.
-                _ => sixteen && unsafe { Packet::<L16>::new(&rays) }.is_some(),
+                _ if sixteen => unsafe { Packet::<L16>::new(&rays) }.is_some(),
+                // Two packets of eight, the first always full.
+                // SAFETY: AVX2 and FMA checked above.
+                _ => unsafe { Packet::<L8>::new(&rays[..LANES]) }.is_some(),
             }
         };
         for round in 0..3000 {
