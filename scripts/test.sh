@@ -3,8 +3,9 @@
 # tests use when it is missing, then runs the checks cheapest first and stops at the first failure.
 #
 # Usage: bash scripts/test.sh [--quick]
-#   --quick   leave out the MSRV check, the benchmarks' build, the portable node test's reruns,
-#             the Python package's tests and the Slurm cluster test (and what only they install)
+#   --quick   leave out the MSRV check, the benchmarks' build, the portable and AVX2 node
+#             tests' reruns, the Python package's tests and the Slurm cluster test (and what
+#             only they install)
 #
 # Installing needs root (apt-get) and npm's registry; elsewhere a missing tool fails here, naming what to install.
 # A test never passes by skipping: without its tool it fails.
@@ -140,10 +141,13 @@ step() {
 rust_packages=(--workspace --exclude shadowtruth-py)
 
 # The exactness tests again with the portable node test, which the 8-lane one replaces on
-# processors with AVX2 (crates/shadowtruth/src/trace/node_test.rs).
-portable_node_test() {
+# processors with AVX2 (crates/shadowtruth/src/trace/bvh/node_test.rs), and the packet tests with
+# packets of eight alone, as a processor without AVX-512 walks every batch
+# (crates/shadowtruth/src/trace/bvh/packet_isa.rs).
+other_node_tests() {
   SHADOWTRUTH_NODE_TEST=portable cargo test "${rust_packages[@]}" --release --locked --test trace_traps \
-    --test reference_hard_cases --test reference_exact --test instancing --test adjudicator
+    --test reference_hard_cases --test reference_exact --test instancing --test adjudicator &&
+    SHADOWTRUTH_NODE_TEST=avx2 cargo test "${rust_packages[@]}" --release --locked --lib -- packet
 }
 
 # The Python package built from this tree, and its tests against the release binary (which the
@@ -190,7 +194,7 @@ step "Bevy harness: build" cargo build "${bevy_manifest[@]}" --release --locked
 # The unit, integration and doctests (the README's Rust examples among them).
 step "tests" cargo test "${rust_packages[@]}" --release --locked
 if [[ $quick -eq 0 ]]; then
-  step "tests, portable node test" portable_node_test
+  step "tests, portable and AVX2 node tests" other_node_tests
   step "Python package" python_tests
   step "Slurm cluster" slurm_test
 fi
