@@ -33,7 +33,7 @@ use super::wide_bvh::{ChildRef, WideNode};
 use glam::Vec3A;
 use std::arch::x86_64::*;
 
-/// Rays in a packet of eight, the width every query has (`L8`).
+/// Rays in a packet of eight (`L8`), the width on every processor with AVX2.
 pub(in crate::trace) const LANES: usize = L8::LANES;
 
 /// A packet's rays as the walk needs them, lane by lane.
@@ -657,7 +657,8 @@ mod tests {
         let bvh = SceneBvh::build_from_triangles(&tris);
         let mut scratch = bvh.scratch();
         let origin = vec3(0.0, 0.0, 8.0);
-        // Vertices, edge midpoints and the centres between them, eight to a packet.
+        // Vertices, edge midpoints and the centres between them, sixteen to a packet (eight
+        // without AVX-512).
         let directions: Vec<Vec3> =
             (2..14).flat_map(|x| (2..14).map(move |y| vec3(x as f32 * 0.5, y as f32 * 0.5, -8.0))).collect();
         let mut hits = vec![None; directions.len()];
