@@ -814,6 +814,17 @@ mod tests {
                 forms_packet(&rays.iter().map(|r| r.origin.as_vec3()).collect::<Vec<_>>(), &vec![towards; n]);
             packed += shadow_packet as usize;
             packed_sixteen += (shadow_packet && n > LANES) as usize;
+            if round % 15 == 0 {
+                // One ray alone, and none.
+                let one = bvh.shadow_answers(&mut scratch, &rays[..1]);
+                let single = bvh.shadow_answer(&mut scratch, &rays[0]);
+                assert_eq!(
+                    (one.occluded == 1, one.uncertain == 1),
+                    (single.shadowed(), single.is_uncertain())
+                );
+                let none = bvh.shadow_answers(&mut scratch, &[]);
+                assert_eq!((none.occluded, none.uncertain), (0, 0));
+            }
             let bits = bvh.shadow_answers(&mut scratch, &rays);
             for (k, ray) in rays.iter().enumerate() {
                 let single = bvh.shadow_answer(&mut scratch, ray);

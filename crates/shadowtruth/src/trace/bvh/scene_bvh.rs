@@ -342,6 +342,8 @@ impl SceneBvh {
         rays: &[ShadowRay],
     ) -> Option<ShadowBits> {
         match rays.len() {
+            // One ray walks alone.
+            0..=1 => None,
             // SAFETY: the processor has AVX2 and FMA (`packet_isa_for`), and the walk is
             // compiled for it.
             2..=LANES => in_packet_isa(
