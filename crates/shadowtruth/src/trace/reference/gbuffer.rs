@@ -214,6 +214,8 @@ impl GBuffer {
             .for_each_init(
                 || (bvh.scratch(), vec![Vec3::ZERO; band], TileRays::new()),
                 |(scratch, dirs, tile), (b, (((((cls, pos), bary), nrm), tri), obj))| {
+                    // The last band may have fewer rows.
+                    let dirs = &mut dirs[..cls.len()];
                     band_directions(&film, &columns, b, dirs);
                     for_each_tile(w as usize, cls.len() / w as usize, |pixels| {
                         let (tile_dirs, hits, certainties) = tile.gather(dirs, pixels);
