@@ -242,7 +242,7 @@ pub fn trace_shadow_rays(bvh: &SceneBvh, bands: &[Vec<ShadowRay>]) -> usize {
 
 /// Asks for `rays` to be brought into the cache before they are read. Prepared rays are read once,
 /// in order, a batch at a time; between two batches the walk is long enough that the next one's
-/// first loads had been waiting on memory (about a tenth of the rays' time on the forest at
+/// first loads had been waiting on memory (18 % of the sixteen-lane walk's time on the forest at
 /// 1920×1080; docs/scale.md).
 #[inline(always)]
 fn prefetch(rays: &[ShadowRay]) {
