@@ -394,7 +394,7 @@ impl<V: LaneVector> Packet<V> {
     #[inline(always)]
     fn candidates(&self, triangle: &[Vec3A; 3], lanes: u32) -> (u32, LaneTriangle<V>) {
         let ((ax, ay, az), (bx, by, bz), (cx, cy, cz)) =
-            (self.sheared(triangle[0]), self.sheared(triangle[1]), self.sheared(triangle[2]));
+            (self.sheared(&triangle[0]), self.sheared(&triangle[1]), self.sheared(&triangle[2]));
         let dz = [az, bz, cz];
         let edge = |px: V, py: V, qx: V, qy: V| px.mul(qy).sub(py.mul(qx));
         let e = [edge(cx, cy, bx, by), edge(ax, ay, cx, cy), edge(bx, by, ax, ay)];
@@ -438,8 +438,10 @@ impl<V: LaneVector> Packet<V> {
     /// `WatertightRay::shear` of vertex `v`, lane by lane: translated to the lane's origin, then
     /// sheared; (x, y, the main axis's coordinate not yet scaled).
     #[inline(always)]
-    fn sheared(&self, v: Vec3A) -> (V, V, V) {
-        let ([kx, ky, kz], [sx, sy], v) = (self.axes, self.shear, v.to_array());
+    fn sheared(&self, v: &Vec3A) -> (V, V, V) {
+        // Read where it lies, each coordinate broadcast from memory: a copy of the vertex
+        // indexed by the axis order went through the stack.
+        let ([kx, ky, kz], [sx, sy], v) = (self.axes, self.shear, v.as_ref());
         // SAFETY: a `Packet<V>` exists only where the processor has `V`'s set (`Packet::new`).
         let splat = |x: f32| unsafe { V::splat(x) };
         let (dx, dy, dz) = (

@@ -377,15 +377,20 @@ impl SceneBvh {
         assert!(N == V::LANES && (1..=N).contains(&rays.len()));
         let lane = |k: usize| k.min(rays.len() - 1);
         // Written in place, in plain loops: the arrays `array::from_fn` and `map` made were
-        // copied again (1 % of the shadow rays' instructions).
-        let (mut watertight, mut tmax) = ([WatertightRay::UNUSED; N], V::Array::default());
-        for k in 0..N {
+        // copied again (1 % of the shadow rays' instructions), and so was a constant array to
+        // start from (1.8 KB of searches, 1.3 KB of rays).
+        let (first, first_tmax) = ShadowSearch::walk_ray(&rays[0]);
+        let (mut watertight, mut tmax) = ([first; N], V::Array::default());
+        tmax.as_mut()[0] = first_tmax;
+        for k in 1..N {
             (watertight[k], tmax.as_mut()[k]) = ShadowSearch::walk_ray(&rays[lane(k)]);
         }
         // SAFETY: the caller's.
         let mut packet = unsafe { Packet::<V>::new(&watertight[..rays.len()]) }?;
-        let mut searches: [ShadowSearch; N] =
-            std::array::from_fn(|k| ShadowSearch::new(&rays[lane(k)], &watertight[k]));
+        let mut searches = [ShadowSearch::new(&rays[0], &watertight[0]); N];
+        for (k, search) in searches.iter_mut().enumerate().skip(1) {
+            *search = ShadowSearch::new(&rays[lane(k)], &watertight[k]);
+        }
         let mut slack = [(0.0, 0.0); N];
         for (slack, search) in slack.iter_mut().zip(&searches) {
             *slack = search.edge_slack();

@@ -42,6 +42,7 @@ impl ShadowAnswer {
     }
 }
 
+#[derive(Clone, Copy)]
 pub(in crate::trace) struct ShadowSearch<'r> {
     ray: &'r ShadowRay,
     fast: CertifiedRay<f32>,
