@@ -6,12 +6,13 @@
 //! rays prepared before the clock, as it times them), with the G-buffer, the hard reference and
 //! the coverage and area-light
 //! references per sample beside them; and each way the tracer walks those rays, on one thread:
-//! single rays against packets of eight neighbours, primary and shadow alike.
+//! single rays, packets of eight neighbours, and tiles or batches of sixteen, primary and shadow
+//! alike.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use shadowtruth::scene::{LightKind, load_scene};
 use shadowtruth::trace::{
-    GBuffer, SceneBvh, ShadowRay, hard_shadow_ray, hard_shadow_rays, primary_directions, primary_hits,
+    GBuffer, SceneBvh, ShadowRay, hard_shadow_rays, primary_directions, primary_hits,
     trace_area_light_reference, trace_coverage_reference, trace_hard_reference, trace_shadow_rays,
 };
 use std::path::Path;
@@ -90,20 +91,22 @@ fn trace_outdoor(c: &mut Criterion) {
     trace_modes(c, &scene, &bvh, &gbuffer);
 }
 
-/// The forest's rays walked each way the tracer can, on one thread: one ray at a time, or eight
-/// neighbours at a time (packets where the processor has AVX2). The answers are the same; only
-/// the walk differs.
+/// The forest's rays walked each way the tracer can, on one thread: one ray at a time, eight
+/// neighbours at a time (packets where the processor has AVX2), and as `reference` walks them:
+/// primary rays in tiles of 4×4 and shadow rays in batches of sixteen, one packet of sixteen
+/// where the processor has AVX-512 (two of eight otherwise). The answers are the same; only the
+/// walk differs.
 fn trace_modes(c: &mut Criterion, scene: &shadowtruth::Scene, bvh: &SceneBvh, gbuffer: &GBuffer) {
     let camera = &scene.cameras[0];
     let sun = scene.lights.iter().find(|l| l.name == "sun").expect("the forest has a sun");
     let directions = primary_directions(camera);
-    let shadow_rays: Vec<ShadowRay> = gbuffer
-        .evaluated
-        .iter()
-        .map(|&i| hard_shadow_ray(&gbuffer.surface_point(scene, i as usize), sun))
-        .collect();
+    // In the order the hard reference traces them: tile by tile, band by band.
+    let mut bands = Vec::new();
+    hard_shadow_rays(scene, gbuffer, sun, usize::MAX, |group| bands = group.to_vec());
+    let shadow_rays: Vec<ShadowRay> = bands.concat();
     let mut scratch = bvh.scratch();
     let mut hits = vec![None; 8];
+    let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("a pool of one thread");
 
     let mut g = c.benchmark_group("trace/forest200k/one_thread");
     g.sample_size(10);
@@ -124,6 +127,9 @@ fn trace_modes(c: &mut Criterion, scene: &shadowtruth::Scene, bvh: &SceneBvh, gb
             count
         })
     });
+    g.bench_function("primary_tiles_4x4", |b| {
+        b.iter(|| one_thread.install(|| primary_hits(bvh, camera, &directions)))
+    });
     g.throughput(Throughput::Elements(shadow_rays.len() as u64));
     g.bench_function("shadow_single_rays", |b| {
         b.iter(|| shadow_rays.iter().filter(|r| bvh.shadow_answer(&mut scratch, r).shadowed()).count())
@@ -134,6 +140,9 @@ fn trace_modes(c: &mut Criterion, scene: &shadowtruth::Scene, bvh: &SceneBvh, gb
                 |eight: &[ShadowRay]| bvh.shadow_occluded(&mut scratch, eight).count_ones() as usize;
             shadow_rays.chunks(8).map(occluded).sum::<usize>()
         })
+    });
+    g.bench_function("shadow_batches_of_16", |b| {
+        b.iter(|| one_thread.install(|| trace_shadow_rays(bvh, &bands)))
     });
     g.finish();
 }
