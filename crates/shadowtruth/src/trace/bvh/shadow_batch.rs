@@ -35,7 +35,7 @@ impl ShadowBatch {
 
     /// Adds `ray`; once the batch is full, traces it and calls `visible(tag, lit, uncertain)`
     /// for each ray (`lit` the best guess where `uncertain`).
-    #[inline]
+    #[inline(always)]
     pub(in crate::trace) fn push(
         &mut self,
         bvh: &SceneBvh,
@@ -54,6 +54,7 @@ impl ShadowBatch {
 
     /// Traces the rays waiting, calls `visible(tag, lit, uncertain)` for each, and empties the
     /// batch.
+    #[inline(never)]
     pub(in crate::trace) fn finish(
         &mut self,
         bvh: &SceneBvh,
@@ -84,7 +85,7 @@ impl RowShadows {
     }
 
     /// Adds the shadow ray of the pixel in column `x`.
-    #[inline]
+    #[inline(always)]
     pub(in crate::trace) fn push(
         &mut self,
         bvh: &SceneBvh,
