@@ -9,8 +9,7 @@ use glam::DVec3;
 /// The centre of stratum `k` (row-major) of a `grid`×`grid` split of the unit square.
 #[inline]
 pub fn stratum_centre(k: u32, grid: u32) -> (f64, f64) {
-    let (i, j) = (k % grid, k / grid);
-    ((i as f64 + 0.5) / grid as f64, (j as f64 + 0.5) / grid as f64)
+    stratum_point(k, grid, 0.5, 0.5)
 }
 
 /// A point uniformly distributed in stratum `k` of a `grid`×`grid` split of the unit square; the
@@ -19,8 +18,23 @@ pub fn stratum_centre(k: u32, grid: u32) -> (f64, f64) {
 pub fn jittered_stratum(pixel: u64, k: u32, grid: u32, salt: u64) -> (f64, f64) {
     let h1 = mix64(mix64(pixel ^ salt.rotate_left(32)) ^ k as u64);
     let h2 = mix64(h1);
+    stratum_point(k, grid, unit_f64(h1), unit_f64(h2))
+}
+
+/// The point at (`u`, `v`) ∈ [0, 1)² within stratum `k` (row-major) of a `grid`×`grid` split:
+/// ((k mod grid + u)/grid, (⌊k/grid⌋ + v)/grid). A grid of 2ⁿ (the usual 2×2, 4×4, 8×8) needs
+/// no division: a mask and a shift split k, and dividing by 2ⁿ is multiplying by 2⁻ⁿ exactly
+/// (the sums lie in [0, 2ⁿ]), so the points are the same bits. The divisions had taken a tenth
+/// of the area-light reference's time (docs/scale.md).
+#[inline(always)]
+fn stratum_point(k: u32, grid: u32, u: f64, v: f64) -> (f64, f64) {
+    if grid.is_power_of_two() {
+        let scale = 1.0 / grid as f64;
+        let (i, j) = (k & (grid - 1), k >> grid.trailing_zeros());
+        return ((i as f64 + u) * scale, (j as f64 + v) * scale);
+    }
     let (i, j) = (k % grid, k / grid);
-    ((i as f64 + unit_f64(h1)) / grid as f64, (j as f64 + unit_f64(h2)) / grid as f64)
+    ((i as f64 + u) / grid as f64, (j as f64 + v) / grid as f64)
 }
 
 /// Shirley & Chiu, "A Low Distortion Map Between Disk and Square" (JGT 1997), in the
@@ -67,6 +81,30 @@ mod tests {
         }
         let frac = inside as f64 / (n * n) as f64;
         assert!((frac - 0.25).abs() < 2e-3, "{frac}");
+    }
+
+    /// The division-free path for grids of 2ⁿ gives the very bits of the definition.
+    #[test]
+    fn power_of_two_grids_give_the_divisions_bits() {
+        for grid in [1u32, 2, 4, 8, 16, 64, 1024] {
+            for k in (0..grid * grid).step_by(((grid * grid) / 97).max(1) as usize) {
+                for pixel in [0u64, 1, 12345, u64::MAX] {
+                    let h1 = mix64(mix64(pixel ^ 9u64.rotate_left(32)) ^ k as u64);
+                    let (u, v) = (unit_f64(h1), unit_f64(mix64(h1)));
+                    let by_division =
+                        (((k % grid) as f64 + u) / grid as f64, ((k / grid) as f64 + v) / grid as f64);
+                    let bits = |(x, y): (f64, f64)| (x.to_bits(), y.to_bits());
+                    assert_eq!(
+                        bits(jittered_stratum(pixel, k, grid, 9)),
+                        bits(by_division),
+                        "grid {grid}, k {k}"
+                    );
+                    let centre =
+                        (((k % grid) as f64 + 0.5) / grid as f64, ((k / grid) as f64 + 0.5) / grid as f64);
+                    assert_eq!(bits(stratum_centre(k, grid)), bits(centre), "grid {grid}, k {k}");
+                }
+            }
+        }
     }
 
     #[test]
