@@ -377,8 +377,8 @@ impl SceneBvh {
         assert!(N == V::LANES && (1..=N).contains(&rays.len()));
         let lane = |k: usize| k.min(rays.len() - 1);
         // Written in place, in plain loops: the arrays `array::from_fn` and `map` made were
-        // copied again (1 % of the shadow rays' instructions), and so was a constant array to
-        // start from (1.8 KB of searches, 1.3 KB of rays).
+        // copied again (1 % of the shadow rays' instructions; 1.8 KB of searches), and so was a
+        // constant array of rays to start from (1.3 KB).
         let (first, first_tmax) = ShadowSearch::walk_ray(&rays[0]);
         let (mut watertight, mut tmax) = ([first; N], V::Array::default());
         tmax.as_mut()[0] = first_tmax;
