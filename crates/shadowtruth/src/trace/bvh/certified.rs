@@ -184,6 +184,27 @@ impl<F: Real> CertifiedRay<F> {
         )
     }
 
+    /// A bound on |z − z*| for each vertex's scaled distance along the ray, as (fixed, per unit
+    /// of reach, the largest |x|, |y| and translated main-axis coordinate): the origin's error
+    /// and the scale's, the coordinate's and the product's rounding (|sz| ≤ √3), doubled.
+    /// `crossing_near` evaluates the same bound in another order (the two differ by a few
+    /// roundings, which the packet's use of this one covers: packet.rs).
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub(in crate::trace) fn distance_error_coefficients(&self) -> (f64, f64) {
+        let u = F::UNIT_ROUNDOFF;
+        (
+            2.0 * (2.0 * self.origin_error + self.scale_error * self.origin_error),
+            2.0 * (2.01 * self.scale_error + 8.0 * u),
+        )
+    }
+
+    /// The least the exact segment's length may be (∞ for a ray).
+    #[cfg(target_arch = "x86_64")]
+    pub(in crate::trace) fn least_length(&self) -> f64 {
+        self.length_lo
+    }
+
     /// A bound on |e − e*| for each edge function: two products of sheared coordinates within
     /// `reach_across` (their largest magnitude, not the distance along the ray, which enters
     /// only through `sheared`) whose factors are off by `sheared` each, the products' and the
@@ -269,11 +290,11 @@ impl<F: Real> CertifiedRay<F> {
     #[cold]
     #[inline(never)]
     fn crossing_near(&self, s: &Sheared<F>, edge: f64, segment: bool) -> Crossing {
-        let u = F::UNIT_ROUNDOFF;
         let e = s.e.map(|e| e.into());
         let z = s.z.map(|z| z.into());
-        // z* of each vertex: the origin's error and the scale's, the coordinate's and the
-        // product's rounding (|sz| ≤ √3).
+        let u = F::UNIT_ROUNDOFF;
+        // z* of each vertex: `distance_error_coefficients`' bound, evaluated as the vectorised
+        // crossings evaluate it (own_crossing.rs), so that they are the same bits.
         let z_error = 2.0
             * (2.0 * self.origin_error
                 + self.scale_error * (2.01 * s.reach + self.origin_error)

@@ -46,6 +46,8 @@ pub(in crate::trace) trait LaneVector: Copy {
     fn le(self, o: Self) -> Self::Mask;
     fn ge(self, o: Self) -> Self::Mask;
     fn eq(self, o: Self) -> Self::Mask;
+    /// The lanes whose bits are `bits`, compared as integers (a lane carrying an id).
+    fn bits_equal(self, bits: u32) -> Self::Mask;
     /// Lane by lane, `self` where `m` holds, else `o`.
     fn select(self, m: Self::Mask, o: Self) -> Self;
     /// The least and the greatest of the lanes.
@@ -155,6 +157,13 @@ impl LaneVector for L8 {
     #[inline(always)]
     fn eq(self, o: Self) -> M8 {
         unsafe { M8(_mm256_cmp_ps::<_CMP_EQ_OQ>(self.0, o.0)) }
+    }
+    #[inline(always)]
+    fn bits_equal(self, bits: u32) -> M8 {
+        unsafe {
+            let equal = _mm256_cmpeq_epi32(_mm256_castps_si256(self.0), _mm256_set1_epi32(bits as i32));
+            M8(_mm256_castsi256_ps(equal))
+        }
     }
     #[inline(always)]
     fn select(self, m: M8, o: Self) -> Self {
@@ -274,6 +283,10 @@ impl LaneVector for L16 {
     #[inline(always)]
     fn eq(self, o: Self) -> M16 {
         unsafe { M16(_mm512_cmp_ps_mask::<_CMP_EQ_OQ>(self.0, o.0)) }
+    }
+    #[inline(always)]
+    fn bits_equal(self, bits: u32) -> M16 {
+        unsafe { M16(_mm512_cmpeq_epi32_mask(_mm512_castps_si512(self.0), _mm512_set1_epi32(bits as i32))) }
     }
     #[inline(always)]
     fn select(self, m: M16, o: Self) -> Self {

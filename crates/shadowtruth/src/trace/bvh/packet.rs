@@ -15,7 +15,9 @@
 //!   a closest-hit walk then finishes the test for every lane at once, operation for
 //!   operation as `WatertightRay::intersect` (`Packet::intersect`), and leaves to the scalar
 //!   test only the lanes with an edge function exactly zero, which it settles in f64; a shadow
-//!   ray or a certificate gets its own scalar test (`leaf`), which decides;
+//!   ray or a certificate gets its own scalar test (`leaf`), which decides, except where a
+//!   shadow packet finds a lane certainly hitting, by the scalar test's own bounds on the same
+//!   numbers (`Packet::certify_hits`);
 //! - the closest hit is the least (distance, scene id) over every triangle reached, and the
 //!   any-hit answer whether one occludes, neither of which depends on the order of the visits.
 //!
@@ -63,6 +65,11 @@ pub(in crate::trace) struct Packet<V: LaneVector = L8> {
     /// coordinates' error as (fixed, per unit of reach): a lane is then rejected only where two
     /// edge functions have opposite signs beyond their bound (certified.rs).
     slack: Option<[V; 2]>,
+    /// For shadow rays (`certify_hits`), lane by lane, the certified test's bound on the
+    /// vertices' distances along the ray as (fixed, per unit of reach), and the least length of
+    /// the exact segment rounded down: a lane whose edge functions all share a sign beyond their
+    /// bound, and whose triangle lies wholly within its segment beyond that bound, certainly hits.
+    segment: Option<[V; 3]>,
     /// Bounds of every lane's slab distances, eight children at a time (`Frustum`), where the
     /// rays share an origin.
     frustum: Option<Frustum>,
@@ -191,6 +198,13 @@ impl<V: LaneVector> Lanes<V> {
     }
 }
 
+/// A bound's coefficient `v` in f32, rounded up with room for the f32 evaluation of the bound
+/// (a factor 1 + 2⁻¹⁰).
+#[inline(always)]
+fn round_up(v: f64) -> f32 {
+    (v * (1.0 + 2f64.powi(-10))) as f32
+}
+
 /// |v|·2⁻²² + 2⁻¹⁴⁹, lane by lane: at least two units in the last place of v (and the least
 /// subnormal where v is zero), so that v plus it, rounded, is at least every number that rounds
 /// to v, and v minus it at most every such number.
@@ -259,6 +273,7 @@ impl<V: LaneVector> Packet<V> {
                 lanes: (1u32 << rays.len()) - 1,
                 octant: (negative[0] as usize) << 2 | (negative[1] as usize) << 1 | negative[2] as usize,
                 slack: None,
+                segment: None,
                 frustum,
             })
         }
@@ -270,14 +285,31 @@ impl<V: LaneVector> Packet<V> {
     /// evaluation of the bound in `candidates`).
     #[inline(always)]
     pub(in crate::trace) fn certify(&mut self, coefficients: &[(f64, f64)]) {
-        let up = |v: f64| (v * (1.0 + 2f64.powi(-10))) as f32;
         let (mut fixed, mut per_reach) = (V::Array::default(), V::Array::default());
         for (k, &(f, r)) in coefficients.iter().enumerate().take(V::LANES) {
-            fixed.as_mut()[k] = up(f);
-            per_reach.as_mut()[k] = up(r);
+            fixed.as_mut()[k] = round_up(f);
+            per_reach.as_mut()[k] = round_up(r);
         }
         // SAFETY: a `Packet<V>` exists only where the processor has `V`'s set (`Packet::new`).
         self.slack = Some(unsafe { [V::load(&fixed), V::load(&per_reach)] });
+    }
+
+    /// Makes the leaf test also find the lanes that certainly hit, as the certified shadow test
+    /// would (`CertifiedRay::classify`), from each lane's (fixed, per unit of reach)
+    /// coefficients of its distances' error bound and its segment's least length (`certify` must
+    /// have set the edge functions' bound). The coefficients are rounded up as `certify` rounds
+    /// them, the length down and one f32 step further.
+    #[inline(always)]
+    pub(in crate::trace) fn certify_hits(&mut self, bounds: &[(f64, f64, f64)]) {
+        let down = |v: f64| if v.is_finite() { (v as f32).next_down() } else { v as f32 };
+        let (mut fixed, mut per_reach, mut least) = Default::default();
+        for (k, &(f, r, length)) in bounds.iter().enumerate().take(V::LANES) {
+            V::Array::as_mut(&mut fixed)[k] = round_up(f);
+            V::Array::as_mut(&mut per_reach)[k] = round_up(r);
+            V::Array::as_mut(&mut least)[k] = down(length);
+        }
+        // SAFETY: a `Packet<V>` exists only where the processor has `V`'s set (`Packet::new`).
+        self.segment = Some(unsafe { [V::load(&fixed), V::load(&per_reach), V::load(&least)] });
     }
 
     /// Pushes the children of `node` that some lane of `lanes` may meet within [0, tmax[lane]]
@@ -425,7 +457,8 @@ impl<V: LaneVector> Packet<V> {
 
     /// The lanes of `lanes` whose ray the watertight test might not reject for `triangle`: all
     /// but those whose three edge functions are non-zero and of mixed signs. And the triangle
-    /// as each lane's test sees it (`LaneTriangle`).
+    /// as each lane's test sees it (`LaneTriangle`), with the lanes that certainly hit it where
+    /// the packet knows its segments (`certify_hits`).
     #[inline(always)]
     fn candidates(&self, triangle: &[Vec3A; 3], lanes: u32) -> (u32, LaneTriangle<V>) {
         let ((ax, ay, az), (bx, by, bz), (cx, cy, cz)) =
@@ -433,16 +466,22 @@ impl<V: LaneVector> Packet<V> {
         let dz = [az, bz, cz];
         let edge = |px: V, py: V, qx: V, qy: V| px.mul(qy).sub(py.mul(qx));
         let e = [edge(cx, cy, bx, by), edge(ax, ay, cx, cy), edge(bx, by, ax, ay)];
-        let seen = LaneTriangle { edges: e, z_unscaled: dz };
+        let mut seen = LaneTriangle { edges: e, z_unscaled: dz, certain: 0 };
         let signs = EdgeSigns::of(&e);
         let Some([fixed, per_reach]) = self.slack else {
             let [some_zero, some_negative, some_positive] =
                 [signs.zero, signs.negative, signs.positive].map(LaneMask::bits);
             return (lanes & (some_zero | !(some_negative & some_positive)), seen);
         };
-        // Only lanes whose edge functions have strictly mixed signs can be rejected; the others
-        // go to the scalar test whatever the bound.
-        if signs.negative.and(signs.positive).bits() & lanes == 0 {
+        // Only lanes whose edge functions have strictly mixed signs can be rejected, and only
+        // those whose signs agree can certainly hit; the others go to the scalar test whatever
+        // the bound.
+        let mixed = signs.negative.and(signs.positive).bits() & lanes;
+        let agree = match self.segment {
+            Some(_) => lanes & !mixed & !signs.zero.bits(),
+            None => 0,
+        };
+        if mixed == 0 && agree == 0 {
             return (lanes, seen);
         }
         // `CertifiedRay::classify`'s bound, lane by lane: reach is the largest |x|, |y| and
@@ -467,6 +506,19 @@ impl<V: LaneVector> Packet<V> {
         let clearly_mixed = n0.or(n1).or(n2).and(p0.or(p1).or(p2));
         // Below 2⁻⁴⁰ the f32 bound may underflow: such lanes go to the scalar test.
         let sound = reach.ge(splat(2f32.powi(-40)));
+        if let (Some([z_fixed, z_per_reach, least_length]), true) = (self.segment, agree != 0) {
+            // `CertifiedRay::crossing_near`'s certain hit, lane by lane: every edge function
+            // beyond its bound with one sign, and every vertex's distance (scaled as
+            // `intersect` scales it, so the scalar test's numbers) beyond its bound inside
+            // the segment. The bound is evaluated as the edge functions' is (the factor covers
+            // its rounding), and the sum below the length rounded down stays below the length.
+            let clear = n0.and(n1).and(n2).or(p0.and(p1).and(p2));
+            let z = [self.scale.mul(dz[0]), self.scale.mul(dz[1]), self.scale.mul(dz[2])];
+            let (z_min, z_max) = (z[0].min(z[1]).min(z[2]), z[0].max(z[1]).max(z[2]));
+            let z_error = z_fixed.add(z_per_reach.mul(reach)).mul(splat(1.0 + 2f32.powi(-10)));
+            let inside = z_min.gt(z_error).and(z_max.add(z_error).lt(least_length));
+            seen.certain = clear.and(inside).and(sound).bits() & agree;
+        }
         (lanes & !clearly_mixed.and(sound).bits(), seen)
     }
 
@@ -530,6 +582,8 @@ impl<V: LaneVector> Packet<V> {
 pub(in crate::trace) struct LaneTriangle<V: LaneVector = L8> {
     edges: [V; 3],
     z_unscaled: [V; 3],
+    /// The lanes that certainly hit it (`Packet::certify_hits`).
+    pub(in crate::trace) certain: u32,
 }
 
 /// Lane by lane, whether some of three edge functions is zero, negative, positive.
@@ -604,9 +658,9 @@ fn pop_next<const NEAREST: bool>(
 /// Walks `nodes` with the packet, for the lanes in `*active`, and calls
 /// `leaf(i, candidates, seen, tmax)` for each primitive `i` (in tree order) of the leaves it
 /// reaches, with the lanes that may hit it (`triangles[i]` is its triangle, `seen` as they see
-/// it). `leaf` may shrink `tmax[lane]` (closest hits), and returns the lanes it finished (any
-/// hit), which leave `*active`. Nearest first, children go in the order the lowest lane enters
-/// them.
+/// it), but those of `skipped(i)` (a shadow ray's own triangle). `leaf` may shrink `tmax[lane]`
+/// (closest hits), and returns the lanes it finished (any hit), which leave `*active`. Nearest
+/// first, children go in the order the lowest lane enters them.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(in crate::trace) fn walk_packet<V: LaneVector, const NEAREST: bool>(
@@ -616,6 +670,7 @@ pub(in crate::trace) fn walk_packet<V: LaneVector, const NEAREST: bool>(
     packet: &Packet<V>,
     active: &mut u32,
     tmax: &mut V::Array,
+    skipped: impl Fn(usize) -> u32,
     mut leaf: impl FnMut(usize, u32, &LaneTriangle<V>, &mut V::Array) -> u32,
 ) {
     if nodes.is_empty() {
@@ -627,7 +682,13 @@ pub(in crate::trace) fn walk_packet<V: LaneVector, const NEAREST: bool>(
         let (child, lanes) = (current.0, current.1 & *active);
         if lanes != 0 && child.is_leaf() {
             for i in child.primitives() {
-                let (candidates, seen) = packet.candidates(&triangles[i], lanes & *active);
+                // A triangle left to no lane is not looked at: the tiles' rays start on the same
+                // triangle, whose leaf they all reach (docs/scale.md).
+                let lanes = lanes & *active & !skipped(i);
+                if lanes == 0 {
+                    continue;
+                }
+                let (candidates, seen) = packet.candidates(&triangles[i], lanes);
                 if candidates != 0 {
                     *active &= !leaf(i, candidates, &seen, tmax);
                 }
@@ -659,7 +720,7 @@ mod tests {
     use crate::trace::bvh::primary_certificate::PrimaryCertainty;
     use crate::trace::splitmix::SplitMix64;
     use crate::trace::{SceneBvh, ShadowRay, WatertightRay};
-    use glam::{Vec3, vec3};
+    use glam::{DVec3, Vec3, vec3};
 
     /// A soup of small triangles in a box, with a few large ones across it, so that rays meet
     /// many leaves and share edges.
@@ -758,6 +819,53 @@ mod tests {
             let certain = fused_certainties.iter().filter(|&&c| c == PrimaryCertainty::Certain).count();
             assert!(certain > n / 2, "the layers are told apart ({certain} of {n} certain)");
         }
+    }
+
+    /// A packet calls a hit certain only where the single ray's test does: shadow rays whose
+    /// origins, known to within 10⁻³, lie at distances on either side of that error in front of
+    /// a large triangle (so that the triangle's nearest distance is or is not beyond the
+    /// distances' bound), towards a directional light and, with the segment ending just beyond
+    /// or just before the triangle, towards a point.
+    #[test]
+    fn packets_find_certain_hits_as_single_rays() {
+        if !super::super::node_test::wide_form_testable() {
+            return;
+        }
+        let tris = [
+            [vec3(-20.0, -20.0, 0.0), vec3(20.0, -20.0, 0.0), vec3(0.0, 20.0, 0.0)],
+            [vec3(50.0, 50.0, 50.0), vec3(51.0, 50.0, 50.0), vec3(50.0, 51.0, 50.0)],
+        ];
+        let bvh = SceneBvh::build_from_triangles(&tris);
+        let mut scratch = bvh.scratch();
+        let towards = vec3(0.1, 0.2, 1.0).normalize().as_dvec3();
+        let (mut shadowed, mut uncertain) = (0, 0);
+        for (round, distance) in [1e-4, 1e-3, 2e-3, 3e-3, 4e-3, 6e-3, 1e-2, 0.1].into_iter().enumerate() {
+            for length in [f64::INFINITY, distance * 10.0, distance * 1.01, distance * 0.99] {
+                let rays: Vec<ShadowRay> = (0..16)
+                    .map(|k| ShadowRay {
+                        origin: DVec3::new((k % 4) as f64 - 1.5, (k / 4) as f64 - 1.5, 0.0)
+                            - towards * distance,
+                        origin_error: 1e-3,
+                        direction: towards,
+                        direction_error: 0.0,
+                        length,
+                        length_error: if length.is_finite() { 1e-6 } else { 0.0 },
+                        skip_triangle: 1,
+                        surface: tris[1],
+                    })
+                    .collect();
+                let bits = bvh.shadow_answers(&mut scratch, &rays);
+                for (k, ray) in rays.iter().enumerate() {
+                    let single = bvh.shadow_answer(&mut scratch, ray);
+                    let at = format!("distance {distance}, length {length}, ray {k} (round {round})");
+                    assert_eq!(bits.occluded >> k & 1 == 1, single.shadowed(), "{at}");
+                    assert_eq!(bits.uncertain >> k & 1 == 1, single.is_uncertain(), "{at}");
+                    shadowed += (single.shadowed() && !single.is_uncertain()) as usize;
+                    uncertain += single.is_uncertain() as usize;
+                }
+            }
+        }
+        assert!(shadowed >= 64 && uncertain >= 64, "certain hits {shadowed}, doubts {uncertain}");
     }
 
     /// Packets give the single-ray answers bit for bit: closest hits (triangle, distance,

@@ -252,7 +252,7 @@ impl SceneBvh {
     ) {
         let lane = |k: usize| k.min(hits.len() - 1);
         let own: [Option<Hit>; N] = std::array::from_fn(|k| hits[lane(k)]);
-        let crossings = own_crossings(watertight, &own);
+        let crossings = own_crossings::<V, N>(watertight, &own);
         let mut searches: [PrimarySearch; N] =
             std::array::from_fn(|k| PrimarySearch::new(&watertight[k], own[k].as_ref(), crossings[k]));
         packet.certify(&searches.each_ref().map(|s| s.fast.sheared_error_coefficients()));
@@ -261,6 +261,7 @@ impl SceneBvh {
             scratch,
             &packet,
             &mut tmax,
+            |_| 0,
             #[inline(always)]
             |i, k| searches[k].test(&watertight[k], self.scene_ids[i], &self.triangles[i]),
         );
@@ -307,7 +308,7 @@ impl SceneBvh {
                 noted.note(i, lanes)
             });
         hits.copy_from_slice(&best[..hits.len()]);
-        let crossings = own_crossings(watertight, &best);
+        let crossings = own_crossings::<V, N>(watertight, &best);
         let mut searches: [PrimarySearch; N] =
             std::array::from_fn(|k| PrimarySearch::new(&watertight[k], best[k].as_ref(), crossings[k]));
         let complete = each_lane(packet.lanes, |k| {

@@ -18,7 +18,7 @@ use super::flat_tree::FlatTree;
 use super::hit::Hit;
 use super::instances::InstanceLevel;
 #[cfg(target_arch = "x86_64")]
-use super::lane_vector::{L8, L16, LaneVector};
+use super::lane_vector::{L8, L16, LaneMask, LaneVector};
 use super::node_test::NodeRay;
 #[cfg(target_arch = "x86_64")]
 use super::packet::{LANES, LaneTriangle, Packet, each_lane, walk_packet};
@@ -186,14 +186,14 @@ impl SceneBvh {
     pub fn shadow_answer(&self, scratch: &mut TraversalScratch, shadow: &ShadowRay) -> ShadowAnswer {
         let (ray, mut tmax) = ShadowSearch::walk_ray(shadow);
         let node_ray = NodeRay::new(ray.origin, ray.direction);
-        let mut search = ShadowSearch::new(shadow, &ray);
+        let (mut search, fast) = (ShadowSearch::new(shadow), ShadowSearch::fast_test(shadow, &ray));
         let mut over = false;
         walk::<ANY_ORDER>(&self.tree, &mut scratch.outer, &node_ray, 0.0, &mut tmax, 0.0, |i, _| {
-            over = search.test(self.scene_ids[i], &self.triangles[i]);
+            over = search.test(&fast, self.scene_ids[i], &self.triangles[i]);
             over
         });
         if let (Some(instances), false) = (&self.instances, over) {
-            instances.any_triangle(scratch, &ray, tmax, |id, v| search.test(id, v));
+            instances.any_triangle(scratch, &ray, tmax, |id, v| search.test(&fast, id, v));
         }
         search.answer()
     }
@@ -387,37 +387,58 @@ impl SceneBvh {
         }
         // SAFETY: the caller's.
         let mut packet = unsafe { Packet::<V>::new(&watertight[..rays.len()]) }?;
-        let mut searches = [ShadowSearch::new(&rays[0], &watertight[0]); N];
-        for (k, search) in searches.iter_mut().enumerate().skip(1) {
-            *search = ShadowSearch::new(&rays[lane(k)], &watertight[k]);
-        }
-        let mut slack = [(0.0, 0.0); N];
-        for (slack, search) in slack.iter_mut().zip(&searches) {
-            *slack = search.edge_slack();
+        // Each lane's f32 test is made here for its bounds, and again for each triangle the
+        // packet leaves to it (about one a hundred rays on the forest): kept, the sixteen tests
+        // were 1.5 KB written for every packet.
+        let fast_test = |k: usize| ShadowSearch::fast_test(&rays[lane(k)], &watertight[k]);
+        let (mut slack, mut segments) = ([(0.0, 0.0); N], [(0.0, 0.0, 0.0); N]);
+        for k in 0..N {
+            let fast = fast_test(k);
+            slack[k] = fast.sheared_error_coefficients();
+            let (fixed, per_reach) = fast.distance_error_coefficients();
+            segments[k] = (fixed, per_reach, fast.least_length());
         }
         packet.certify(&slack);
+        packet.certify_hits(&segments);
+        let mut searches = [ShadowSearch::new(&rays[0]); N];
+        for (k, search) in searches.iter_mut().enumerate().skip(1) {
+            *search = ShadowSearch::new(&rays[lane(k)]);
+        }
+        // Each lane's own triangle, which it never tests, found for the whole packet at once: it
+        // was most of the lanes a leaf's rejection left to their own test (docs/scale.md).
+        let mut own = V::Array::default();
+        for (k, own) in own.as_mut().iter_mut().enumerate() {
+            *own = f32::from_bits(rays[lane(k)].skip_triangle);
+        }
+        // SAFETY: the caller's.
+        let own = unsafe { V::load(&own) };
         let reach = tmax;
         let active = self.walk_flat_any_hit(
             scratch,
             &packet,
             &mut tmax,
             #[inline(always)]
-            |i, k| searches[k].test(self.scene_ids[i], &self.triangles[i]),
+            |i| own.bits_equal(self.scene_ids[i]).bits(),
+            #[inline(always)]
+            |i, k| searches[k].test(&fast_test(k), self.scene_ids[i], &self.triangles[i]),
         );
         if let Some(instances) = &self.instances {
             for k in 0..rays.len() {
                 if active & (1 << k) != 0 {
-                    let search = &mut searches[k];
+                    let (search, fast, walk) = (&mut searches[k], fast_test(k), &watertight[k]);
                     instances
-                        .any_triangle(scratch, &watertight[k], reach.as_ref()[k], |id, v| search.test(id, v));
+                        .any_triangle(scratch, walk, reach.as_ref()[k], |id, v| search.test(&fast, id, v));
                 }
             }
         }
-        Some(ShadowBits::of(searches[..rays.len()].iter().map(ShadowSearch::answer)))
+        // A lane that left the walk found a certain occluder, by its own test or the packet's.
+        let occluded = packet.lanes & !active;
+        let bits = ShadowBits::of(searches[..rays.len()].iter().map(ShadowSearch::answer));
+        Some(ShadowBits { occluded: bits.occluded | occluded, uncertain: bits.uncertain & !occluded })
     }
 
     /// Walks the flat triangles' tree with `packet`, from every lane, and returns the lanes
-    /// still active at the end (`walk_packet`'s `leaf` and `tmax`).
+    /// still active at the end (`walk_packet`'s `skipped`, `leaf` and `tmax`).
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     pub(in crate::trace) fn walk_flat<V: LaneVector, const NEAREST: bool>(
@@ -425,23 +446,28 @@ impl SceneBvh {
         scratch: &mut TraversalScratch,
         packet: &Packet<V>,
         tmax: &mut V::Array,
+        skipped: impl Fn(usize) -> u32,
         leaf: impl FnMut(usize, u32, &LaneTriangle<V>, &mut V::Array) -> u32,
     ) -> u32 {
         let mut active = packet.lanes;
+        let (nodes, triangles) = (&self.tree.nodes, &self.triangles);
         walk_packet::<V, NEAREST>(
-            &self.tree.nodes,
-            &self.triangles,
+            nodes,
+            triangles,
             &mut scratch.packet,
             packet,
             &mut active,
             tmax,
+            skipped,
             leaf,
         );
         active
     }
 
     /// `walk_flat` in node order, with `test(i, lane)` for each lane that may hit flat
-    /// triangle `i`: true finishes the lane. Returns the lanes still active at the end.
+    /// triangle `i`, but those of `skipped(i)`: true finishes the lane. A lane the packet found
+    /// certainly hitting it (`Packet::certify_hits`) is finished without its test. Returns the
+    /// lanes still active at the end.
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     pub(in crate::trace) fn walk_flat_any_hit<V: LaneVector>(
@@ -449,6 +475,7 @@ impl SceneBvh {
         scratch: &mut TraversalScratch,
         packet: &Packet<V>,
         tmax: &mut V::Array,
+        skipped: impl Fn(usize) -> u32,
         mut test: impl FnMut(usize, usize) -> bool,
     ) -> u32 {
         // Both closures inlined: where the compiler called them instead, the leaf test ran
@@ -457,13 +484,16 @@ impl SceneBvh {
             scratch,
             packet,
             tmax,
+            skipped,
             #[inline(always)]
-            |i, candidates, _, _| {
-                each_lane(
-                    candidates,
-                    #[inline(always)]
-                    |k| test(i, k),
-                )
+            |i, candidates, seen, _| {
+                let certain = seen.certain & candidates;
+                certain
+                    | each_lane(
+                        candidates & !certain,
+                        #[inline(always)]
+                        |k| test(i, k),
+                    )
             },
         )
     }
@@ -542,6 +572,7 @@ impl SceneBvh {
             scratch,
             packet,
             tmax,
+            |_| 0,
             #[inline(always)]
             |i, candidates, triangle, tmax| {
                 seen(i, candidates);

@@ -42,17 +42,24 @@ impl ShadowAnswer {
     }
 }
 
+/// What one shadow ray's search has found so far. Its f32 test (`fast_test`) is passed to
+/// `test` rather than kept: a packet decides most of its lanes' triangles itself (packet.rs), and
+/// makes a lane's test only for the few it leaves.
 #[derive(Clone, Copy)]
 pub(in crate::trace) struct ShadowSearch<'r> {
     ray: &'r ShadowRay,
-    fast: CertifiedRay<f32>,
     occluder: Option<u32>,
     doubt: Option<(u32, bool)>,
 }
 
 impl<'r> ShadowSearch<'r> {
-    /// The search of `ray`, whose f32 form `walk` is (`walk_ray`).
-    pub(in crate::trace) fn new(ray: &'r ShadowRay, walk: &WatertightRay) -> Self {
+    pub(in crate::trace) fn new(ray: &'r ShadowRay) -> Self {
+        ShadowSearch { ray, occluder: None, doubt: None }
+    }
+
+    /// The f32 certified test of `ray`, whose f32 form `walk` is (`walk_ray`).
+    #[inline(always)]
+    pub(in crate::trace) fn fast_test(ray: &ShadowRay, walk: &WatertightRay) -> CertifiedRay<f32> {
         // Rounding to f32 moves each coordinate by at most 2⁻²⁴ of itself (2⁻¹⁴⁹ below the
         // normal range); a direction already in f32 (a directional light's) does not move.
         let origin_error =
@@ -61,8 +68,7 @@ impl<'r> ShadowSearch<'r> {
             true => ray.direction_error,
             false => ray.direction_error + 2f64.powi(-24),
         };
-        let fast = CertifiedRay::of_walk(walk, origin_error, direction_error, ray.length, ray.length_error);
-        ShadowSearch { ray, fast, occluder: None, doubt: None }
+        CertifiedRay::of_walk(walk, origin_error, direction_error, ray.length, ray.length_error)
     }
 
     /// The f32 ray the walk follows (its node tests are conservative for the exact segment
@@ -74,19 +80,14 @@ impl<'r> ShadowSearch<'r> {
         (walk, tmax)
     }
 
-    /// The f32 test's sheared-coordinate error as (fixed, per unit of reach), for the packet's
-    /// vectorised rejection of certain misses (packet.rs).
-    pub(in crate::trace) fn edge_slack(&self) -> (f64, f64) {
-        self.fast.sheared_error_coefficients()
-    }
-
-    /// Tests the scene triangle `id`; true once the search is over (a certain occluder).
+    /// Tests the scene triangle `id` with the ray's f32 test `fast` (`fast_test`); true once
+    /// the search is over (a certain occluder).
     #[inline(always)]
-    pub(in crate::trace) fn test(&mut self, id: u32, v: &[Vec3A; 3]) -> bool {
+    pub(in crate::trace) fn test(&mut self, fast: &CertifiedRay<f32>, id: u32, v: &[Vec3A; 3]) -> bool {
         if id == self.ray.skip_triangle {
             return false;
         }
-        match self.fast.classify(&v.map(|p| p.to_array())) {
+        match fast.classify(&v.map(|p| p.to_array())) {
             Verdict::Miss => false,
             Verdict::Hit => {
                 self.occluder = Some(id);
