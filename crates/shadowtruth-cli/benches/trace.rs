@@ -23,14 +23,14 @@ fn trace(c: &mut Criterion) {
         load_scene(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/rocks.json")).expect("scene");
     let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
     let bvh = SceneBvh::build(&scene);
-    let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
+    let gbuffer = GBuffer::trace(&bvh, camera, light);
 
     let mut g = c.benchmark_group("trace/rocks");
     g.sample_size(10);
     g.throughput(Throughput::Elements(scene.flat_triangles.len() as u64));
     g.bench_function("bvh_build", |b| b.iter(|| SceneBvh::build(&scene)));
     g.throughput(Throughput::Elements(gbuffer.pixel_count() as u64));
-    g.bench_function("gbuffer", |b| b.iter(|| GBuffer::trace(&scene, &bvh, camera, light)));
+    g.bench_function("gbuffer", |b| b.iter(|| GBuffer::trace(&bvh, camera, light)));
     g.throughput(Throughput::Elements(gbuffer.evaluated.len() as u64));
     g.bench_function("hard_reference", |b| b.iter(|| trace_hard_reference(&scene, &bvh, &gbuffer, light)));
     let mut sun = light.clone();
@@ -63,14 +63,14 @@ fn trace_outdoor(c: &mut Criterion) {
     let camera = &scene.cameras[0];
     let sun = scene.lights.iter().find(|l| l.name == "sun").expect("the forest has a sun");
     let bvh = SceneBvh::build(&scene);
-    let gbuffer = GBuffer::trace(&scene, &bvh, camera, sun);
+    let gbuffer = GBuffer::trace(&bvh, camera, sun);
 
     let mut g = c.benchmark_group("trace/forest200k");
     g.sample_size(10);
     g.throughput(Throughput::Elements(gbuffer.pixel_count() as u64));
     let directions = primary_directions(camera);
     g.bench_function("primary_rays", |b| b.iter(|| primary_hits(&bvh, camera, &directions)));
-    g.bench_function("gbuffer", |b| b.iter(|| GBuffer::trace(&scene, &bvh, camera, sun)));
+    g.bench_function("gbuffer", |b| b.iter(|| GBuffer::trace(&bvh, camera, sun)));
     g.throughput(Throughput::Elements(gbuffer.evaluated.len() as u64));
     let mut shadow_rays = Vec::new();
     hard_shadow_rays(&scene, &gbuffer, sun, usize::MAX, |rays| shadow_rays = rays.to_vec());

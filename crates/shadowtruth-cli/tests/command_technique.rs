@@ -103,7 +103,7 @@ fn flipped_rows_score_what_the_library_scores_for_the_flipped_mask() {
     let loaded = shadowtruth::load_scene(&scene).unwrap();
     let bvh = SceneBvh::build(&loaded);
     let (camera, light) = (&loaded.cameras[0], &loaded.lights[0]);
-    let gbuffer = GBuffer::trace(&loaded, &bvh, camera, light);
+    let gbuffer = GBuffer::trace(&bvh, camera, light);
     let reference = trace_hard_reference(&loaded, &bvh, &gbuffer, light);
     let flipped = read_visibility(&mask, &ReadOptions { channel: None, flip_y: true }).unwrap();
     let expected = score_imported(&gbuffer, camera, &reference, &flipped, None, 1e-3).unwrap();

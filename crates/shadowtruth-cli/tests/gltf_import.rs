@@ -222,7 +222,7 @@ fn export_and_reload(dir: &Path, camera: &str, light: &str) -> (Scene, Scene) {
 fn mask(scene: &Scene, camera: &shadowtruth::Camera, light: &str) -> Vec<u8> {
     let bvh = SceneBvh::build(scene);
     let light = scene.light(light).unwrap();
-    let g = GBuffer::trace(scene, &bvh, camera, light);
+    let g = GBuffer::trace(&bvh, camera, light);
     trace_hard_reference(scene, &bvh, &g, light).mask_codes(&g)
 }
 

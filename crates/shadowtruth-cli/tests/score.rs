@@ -53,7 +53,7 @@ struct View {
 fn trace(path: &Path) -> View {
     let scene = shadowtruth::load_scene(path).unwrap();
     let bvh = SceneBvh::build(&scene);
-    let gbuffer = GBuffer::trace(&scene, &bvh, &scene.cameras[0], &scene.lights[0]);
+    let gbuffer = GBuffer::trace(&bvh, &scene.cameras[0], &scene.lights[0]);
     let reference = trace_hard_reference(&scene, &bvh, &gbuffer, &scene.lights[0]);
     View { scene, gbuffer, reference }
 }

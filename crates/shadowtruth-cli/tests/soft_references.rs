@@ -63,7 +63,7 @@ fn analytic_lit_fraction(x: f64, theta: f64) -> f64 {
 fn slab_trace() -> (Scene, SceneBvh, GBuffer) {
     let scene = slab_scene(Some(4.0));
     let bvh = SceneBvh::build(&scene);
-    let g = GBuffer::trace(&scene, &bvh, &scene.cameras[0], &scene.lights[0]);
+    let g = GBuffer::trace(&bvh, &scene.cameras[0], &scene.lights[0]);
     (scene, bvh, g)
 }
 
@@ -169,7 +169,7 @@ fn coverage_is_hard_away_from_boundaries_and_the_shadow_area_fraction_across_the
     let scene = slab_scene(None);
     let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
     let bvh = SceneBvh::build(&scene);
-    let g = GBuffer::trace(&scene, &bvh, camera, light);
+    let g = GBuffer::trace(&bvh, camera, light);
     let hard = trace_hard_reference(&scene, &bvh, &g, light);
     // A 1×1 grid is the pixel-centre ray: the hard reference, bit for bit.
     let one = trace_coverage_reference(&scene, &bvh, &g, camera, light, 1);
@@ -272,24 +272,24 @@ fn coverage_sub_pixel_rays_hit_their_own_surfaces() {
     let scene = floating_box();
     let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
     let bvh = SceneBvh::build(&scene);
-    let g = GBuffer::trace(&scene, &bvh, camera, light);
+    let g = GBuffer::trace(&bvh, camera, light);
     let hard = trace_hard_reference(&scene, &bvh, &g, light);
     let cov = trace_coverage_reference(&scene, &bvh, &g, camera, light, 4);
     let (ground, boxed) = (0, 1);
+    let object = |i: usize| g.object(&scene, i);
     let w = g.width as usize;
     // Pixels whose centre sees the lit ground beside a pixel showing the box's side face: the
     // centre's own point is lit, so only sub-rays that hit the box itself can lower the value.
     let (mut candidates, mut mixed) = (0, 0);
     for i in 0..g.pixel_count() {
         let (x, y) = (i % w, i / w);
-        if g.object[i] != ground || hard.lit[i] != 1 || x == 0 || x + 1 == w || y == 0 {
+        if object(i) != ground || hard.lit[i] != 1 || x == 0 || x + 1 == w || y == 0 {
             continue;
         }
         let beside_box =
-            [i - 1, i + 1].iter().any(|&j| g.object[j] == boxed && g.class[j] == PixelClass::FacingAway);
+            [i - 1, i + 1].iter().any(|&j| object(j) == boxed && g.class[j] == PixelClass::FacingAway);
         // Rows where the box's vertical sides stand against the far ground (not its shadow).
-        if !beside_box
-            || g.object[i - w] == ground && g.object[i - w - 1] != boxed && g.object[i - w + 1] != boxed
+        if !beside_box || object(i - w) == ground && object(i - w - 1) != boxed && object(i - w + 1) != boxed
         {
             continue;
         }
@@ -335,7 +335,7 @@ fn soft_references_are_identical_on_one_and_two_threads() {
         let (scene, camera, light) = sized(name);
         let run = || {
             let bvh = SceneBvh::build(&scene);
-            let g = GBuffer::trace(&scene, &bvh, &camera, &light);
+            let g = GBuffer::trace(&bvh, &camera, &light);
             let area = trace_area_light_reference(&scene, &bvh, &g, &light, 4).unwrap();
             let coverage = trace_coverage_reference(&scene, &bvh, &g, &camera, &light, 3);
             (bits(&area), bits(&coverage))
@@ -360,7 +360,7 @@ fn cached_soft_references_are_bit_identical_to_fresh_ones() {
     for name in ["plane_box", "spot"] {
         let (scene, camera, mut light) = sized(name);
         let bvh = SceneBvh::build(&scene);
-        let g = GBuffer::trace(&scene, &bvh, &camera, &light);
+        let g = GBuffer::trace(&bvh, &camera, &light);
         let (_, from_cache) = cache.hard_reference(&scene, &bvh, &g, &camera, &light).unwrap();
         assert!(!from_cache);
         let fresh_area = trace_area_light_reference(&scene, &bvh, &g, &light, 4).unwrap();
@@ -421,7 +421,7 @@ fn a_sizeless_light_is_an_error_naming_the_light_and_the_field() {
         let mut camera = scene.cameras[0].clone();
         (camera.width, camera.height) = (32, 24);
         let bvh = SceneBvh::build(&scene);
-        let g = GBuffer::trace(&scene, &bvh, &camera, light);
+        let g = GBuffer::trace(&bvh, &camera, light);
         let err = trace_area_light_reference(&scene, &bvh, &g, light, 4).unwrap_err();
         assert_eq!(err, AreaLightError::NoSize { light: light.name.clone(), field });
         let message = err.to_string();
@@ -436,7 +436,7 @@ fn a_sizeless_light_is_an_error_naming_the_light_and_the_field() {
     }
     let (scene, camera, light) = sized("plane_box");
     let bvh = SceneBvh::build(&scene);
-    let g = GBuffer::trace(&scene, &bvh, &camera, &light);
+    let g = GBuffer::trace(&bvh, &camera, &light);
     assert!(matches!(
         trace_area_light_reference(&scene, &bvh, &g, &light, 0),
         Err(AreaLightError::NoSamples { .. })

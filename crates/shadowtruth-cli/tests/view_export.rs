@@ -68,7 +68,7 @@ fn matrix(object: &Value, name: &str) -> DMat4 {
 
 fn gbuffer(e: &Export, camera: &str, light: &str) -> GBuffer {
     let bvh = SceneBvh::build(&e.scene);
-    GBuffer::trace(&e.scene, &bvh, e.scene.camera(camera).unwrap(), e.scene.light(light).unwrap())
+    GBuffer::trace(&bvh, e.scene.camera(camera).unwrap(), e.scene.light(light).unwrap())
 }
 
 /// (px, py) from the image's top-left corner where `clip` lands under `api`'s viewport rules.
@@ -303,7 +303,17 @@ fn the_exrs_are_the_gbuffer_bit_for_bit() {
         _ => panic!("{name} is not u32"),
     };
     assert_eq!(u32s("triangle"), g.triangle);
-    assert_eq!(u32s("object"), g.object);
+    // Each pixel's object found from the objects' triangle ranges, not from the G-buffer.
+    let object_of = |triangle: u32| {
+        let objects = e.scene.objects.iter();
+        let holds = |o: &&shadowtruth::scene::Object| {
+            (o.first_triangle..o.first_triangle + o.triangle_count).contains(&triangle)
+        };
+        objects.clone().position(|o| holds(&o)).map_or(u32::MAX, |k| k as u32)
+    };
+    let objects: Vec<u32> = g.triangle.iter().map(|&t| object_of(t)).collect();
+    assert!(objects.iter().any(|&o| o != u32::MAX) && objects.iter().any(|&o| o != objects[0]));
+    assert_eq!(u32s("object"), objects);
     let classes: Vec<u32> = g
         .class
         .iter()

@@ -313,7 +313,7 @@ fn cube_faces_match_the_cpu() {
     let light = &scene.lights[0];
     let cube = shadowtruth::cube_map(light, 512).unwrap();
     assert_eq!(cube.guard_texels, 8);
-    let g = GBuffer::trace(&scene, &shadowtruth::SceneBvh::build(&scene), &scene.cameras[0], light);
+    let g = GBuffer::trace(&shadowtruth::SceneBvh::build(&scene), &scene.cameras[0], light);
     println!(
         "{:4} {:>8} {:>9} {:>9} {:72} {:>8} {:>8}",
         "face", "pixels", "coverage", "outside", "technique", "counted", "full"

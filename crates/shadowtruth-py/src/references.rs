@@ -31,7 +31,7 @@ pub fn hard_reference<'py>(
     let scene = scene.get();
     let (camera, light) = (view::camera(&scene.scene, camera)?, view::light(&scene.scene, light)?);
     let codes = py.detach(|| {
-        let gbuffer = GBuffer::trace(&scene.scene, scene.bvh(), camera, light);
+        let gbuffer = GBuffer::trace(scene.bvh(), camera, light);
         trace_hard_reference(&scene.scene, scene.bvh(), &gbuffer, light).mask_codes(&gbuffer)
     });
     image_array(py, camera.width, codes)

@@ -62,7 +62,7 @@ pub fn score<'py>(
         let overlap =
             trace_shadow_overlap(&scene.scene, scene.bvh(), &gbuffer, light, |i| reference.lit[i] == 0);
         let uv = LightUv::new(&gbuffer, &view);
-        let attribution = attribute(&gbuffer, &reference, &evaluated, &uv, Some(&overlap));
+        let attribution = attribute(&scene.scene, &gbuffer, &reference, &evaluated, &uv, Some(&overlap));
         Ok(score_hard(&gbuffer, &reference, &evaluated).with_attribution(attribution))
     });
     score_dict(py, &counts.map_err(library_error)?)

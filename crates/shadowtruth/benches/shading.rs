@@ -41,7 +41,7 @@ fn shading(c: &mut Criterion) {
         load_scene(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/rocks.json")).expect("scene");
     let (camera, sun) = (&scene.cameras[0], &scene.lights[0]);
     let bvh = SceneBvh::build(&scene);
-    let gbuffer = GBuffer::trace(&scene, &bvh, camera, sun);
+    let gbuffer = GBuffer::trace(&bvh, camera, sun);
     let view = LightView::new(sun, scene.bounds(), 2048);
     let order = ShadeOrder::new(&gbuffer, &view);
     let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("a thread pool");

@@ -161,7 +161,7 @@ pub fn shade_technique(
 /// # use shadowtruth::{GBuffer, SceneBvh, trace_hard_reference};
 /// # let scene = shadowtruth::load_scene(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/plane_box.json"))?;
 /// # let bvh = SceneBvh::build(&scene);
-/// # let gbuffer = GBuffer::trace(&scene, &bvh, &scene.cameras[0], &scene.lights[0]);
+/// # let gbuffer = GBuffer::trace(&bvh, &scene.cameras[0], &scene.lights[0]);
 /// # let reference = trace_hard_reference(&scene, &bvh, &gbuffer, &scene.lights[0]);
 /// // The reference scored against itself: no pixel is wrong.
 /// let exact: Vec<f32> = reference.lit.iter().map(|&lit| lit as f32).collect();

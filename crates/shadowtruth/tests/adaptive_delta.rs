@@ -101,7 +101,7 @@ fn per_tap_adaptive_and_delta_agree_on_every_pixel_under_a_directional_light() {
                 "{epsilon} at {resolution}²: {} of {} pixels differ, e.g. object {} by {}",
                 differing.len(),
                 a.len(),
-                g.object[g.evaluated[differing[0]] as usize],
+                g.object(&scene, g.evaluated[differing[0]] as usize),
                 (a[differing[0]] - d[differing[0]]).abs()
             );
             // Not vacuous: filtered cast shadows.

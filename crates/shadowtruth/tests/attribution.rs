@@ -23,7 +23,7 @@ fn run(
 ) -> (Counts, Attribution) {
     let (counts, v) = common::score_technique(scene, g, r, spec, resolution, DepthFormat::F32);
     let view = LightView::new(&scene.lights[0], scene.bounds(), resolution);
-    let a = attribute(g, r, &v, &LightUv::new(g, &view), None);
+    let a = attribute(scene, g, r, &v, &LightUv::new(g, &view), None);
     (counts.with_attribution(a), a)
 }
 

@@ -324,7 +324,7 @@ fn every_pixel_is_shaded_through_the_face_of_its_directions_major_axis() {
     let position = light.position().unwrap().as_dvec3();
     let (mut per_face, mut ties) = ([0usize; 6], 0);
     for camera in &scene.cameras {
-        let g = GBuffer::trace(&scene, &bvh, camera, light);
+        let g = GBuffer::trace(&bvh, camera, light);
         let orders = CascadeOrders::of_faces(&g, &cube.faces, &faces_of(&g, &cube));
         for (k, &i) in g.evaluated.iter().enumerate() {
             let p = g.position[i as usize];

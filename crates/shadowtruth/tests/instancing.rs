@@ -100,8 +100,8 @@ fn instancing_gives_the_flattened_scenes_gbuffer_reference_and_verdicts() {
     let (bvh_i, bvh_f) = (SceneBvh::build(&instanced), SceneBvh::build(&flat));
     let camera = &flat.cameras[0];
     for light in &flat.lights {
-        let gi = GBuffer::trace(&instanced, &bvh_i, camera, light);
-        let gf = GBuffer::trace(&flat, &bvh_f, camera, light);
+        let gi = GBuffer::trace(&bvh_i, camera, light);
+        let gf = GBuffer::trace(&bvh_f, camera, light);
         assert_eq!(gi.class, gf.class, "{}", light.name);
         assert_eq!(bits(&gi.position), bits(&gf.position), "{}", light.name);
         assert_eq!(bits(&gi.normal), bits(&gf.normal), "{}", light.name);

@@ -51,7 +51,7 @@ fn a_point_lights_hard_shadow_is_the_central_projection_of_its_occluder() {
     let scene = square_scene();
     let light = &scene.lights[0];
     let bvh = SceneBvh::build(&scene);
-    let g = GBuffer::trace(&scene, &bvh, &scene.cameras[0], light);
+    let g = GBuffer::trace(&bvh, &scene.cameras[0], light);
     let reference = trace_hard_reference(&scene, &bvh, &g, light);
     let l = light.position().unwrap().as_dvec3();
     let ((x0, x1), (z0, z1), height) = square_bounds(&scene);
@@ -68,7 +68,7 @@ fn a_point_lights_hard_shadow_is_the_central_projection_of_its_occluder() {
     let (mut lit, mut shadowed, mut skipped) = (0, 0, 0);
     for &i in &g.evaluated {
         let i = i as usize;
-        if g.object[i] != 0 {
+        if g.object(&scene, i) != 0 {
             continue;
         }
         let p = g.position[i].as_dvec3();
@@ -104,7 +104,7 @@ fn a_point_light_reaches_exactly_the_points_within_its_range() {
     let scene = square_scene();
     let light = &scene.lights[0];
     let bvh = SceneBvh::build(&scene);
-    let g = GBuffer::trace(&scene, &bvh, &scene.cameras[0], light);
+    let g = GBuffer::trace(&bvh, &scene.cameras[0], light);
     let l = light.position().unwrap().as_dvec3();
     let range2 = (RANGE as f64).powi(2);
     let (mut outside, mut inside) = (0, 0);
@@ -247,7 +247,7 @@ fn a_sphere_light_half_hidden_by_an_edge_through_its_centre_is_half_visible() {
     let scene = sphere_scene(Occluder::Edge);
     let light = &scene.lights[0];
     let bvh = SceneBvh::build(&scene);
-    let g = GBuffer::trace(&scene, &bvh, &scene.cameras[0], light);
+    let g = GBuffer::trace(&bvh, &scene.cameras[0], light);
     assert_eq!(g.evaluated.len(), g.pixel_count(), "every pixel shows the lit floor");
     let soft = trace_area_light_reference(&scene, &bvh, &g, light, GRID).unwrap();
     assert_eq!(soft.samples, GRID * GRID);
@@ -295,7 +295,7 @@ fn a_sphere_light_open_to_the_sky_is_wholly_visible_and_covered_wholly_hidden() 
         let scene = sphere_scene(occluder);
         let light = &scene.lights[0];
         let bvh = SceneBvh::build(&scene);
-        let g = GBuffer::trace(&scene, &bvh, &scene.cameras[0], light);
+        let g = GBuffer::trace(&bvh, &scene.cameras[0], light);
         assert_eq!(g.evaluated.len(), g.pixel_count(), "{occluder:?}: every pixel shows the floor");
         let soft = trace_area_light_reference(&scene, &bvh, &g, light, GRID).unwrap();
         for &i in &g.evaluated {

@@ -15,7 +15,7 @@ fn reference_is_identical_on_one_and_two_threads() {
         let scene = bundled(name);
         let run = || {
             let bvh = SceneBvh::build(&scene);
-            let g = GBuffer::trace(&scene, &bvh, &scene.cameras[0], &scene.lights[0]);
+            let g = GBuffer::trace(&bvh, &scene.cameras[0], &scene.lights[0]);
             let r = trace_hard_reference(&scene, &bvh, &g, &scene.lights[0]);
             let bits: Vec<u32> = g.position.iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect();
             (r.mask_codes(&g), bits, g.triangle.clone())

@@ -68,7 +68,7 @@ fn box_over_plane_matches_the_shadow_polygon() {
     for &i in &g.evaluated {
         let i = i as usize;
         let lit = r.lit[i] != 0;
-        if g.object[i] == 1 {
+        if g.object(&scene, i) == 1 {
             // A lit-facing face of a convex box with nothing above it is lit.
             assert!(lit, "box pixel {i} is shadowed");
             box_lit += 1;

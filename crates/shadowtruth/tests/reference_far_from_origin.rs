@@ -170,7 +170,7 @@ fn check(case: &str, scene: &Scene, distance: f64) -> Tally {
         for light in &scene.lights {
             let what = format!("{case}, camera {}, light {}", camera.name, light.name);
             let trace = || {
-                let g = GBuffer::trace(scene, &bvh, camera, light);
+                let g = GBuffer::trace(&bvh, camera, light);
                 let r = trace_hard_reference(scene, &bvh, &g, light);
                 let traced = Traced {
                     class: g.class.clone(),
@@ -294,7 +294,7 @@ fn coplanar_quads_far_from_the_origin() {
         let bvh = SceneBvh::build(&s);
         for camera in &s.cameras {
             for light in &s.lights {
-                let g = GBuffer::trace(&s, &bvh, camera, light);
+                let g = GBuffer::trace(&bvh, camera, light);
                 let r = trace_hard_reference(&s, &bvh, &g, light);
                 let shadowed: Vec<u32> =
                     g.evaluated.iter().copied().filter(|&i| r.lit[i as usize] == 0).collect();
@@ -375,7 +375,7 @@ fn a_light_exactly_in_a_surface_plane_far_from_the_origin() {
         let s = load(&json, offset(distance), &far_folder());
         let (camera, light) = (&s.cameras[0], &s.lights[0]);
         let bvh = SceneBvh::build(&s);
-        let g = GBuffer::trace(&s, &bvh, camera, light);
+        let g = GBuffer::trace(&bvh, camera, light);
         let r = trace_hard_reference(&s, &bvh, &g, light);
         let on_plane: Vec<PixelClass> =
             (0..g.pixel_count()).filter(|&i| g.triangle[i] == 0).map(|i| g.class[i]).collect();

@@ -41,7 +41,7 @@ fn check(case: &str, scene: &Scene, occluded: bool, max_band_fraction: f64) -> V
                 );
                 assert!(v.passed(), "{what}");
                 assert!(v.evaluated > 500, "{what}: only {} evaluated pixels", v.evaluated);
-                let g = GBuffer::trace(scene, &bvh, camera, light);
+                let g = GBuffer::trace(&bvh, camera, light);
                 assert_eq!(
                     v.checked,
                     v.evaluated + g.count(PixelClass::Uncertain),
@@ -71,7 +71,7 @@ fn check(case: &str, scene: &Scene, occluded: bool, max_band_fraction: f64) -> V
     }
     let g_and_r = |camera: usize, light: usize| {
         let bvh = SceneBvh::build(scene);
-        let g = GBuffer::trace(scene, &bvh, &scene.cameras[camera], &scene.lights[light]);
+        let g = GBuffer::trace(&bvh, &scene.cameras[camera], &scene.lights[light]);
         let r = trace_hard_reference(scene, &bvh, &g, &scene.lights[light]);
         let lit = g.evaluated.iter().filter(|&&i| r.lit[i as usize] != 0).count();
         (lit, g.evaluated.len() - lit)
@@ -344,11 +344,11 @@ fn closed_meshes_with_shared_edges_have_no_cracks() {
     let bvh = SceneBvh::build(&s);
     let mut through_ball = 0;
     for light in &s.lights {
-        let g = GBuffer::trace(&s, &bvh, &s.cameras[0], light);
+        let g = GBuffer::trace(&bvh, &s.cameras[0], light);
         let r = trace_hard_reference(&s, &bvh, &g, light);
         for &i in &g.evaluated {
             let i = i as usize;
-            if g.object[i] != 0 {
+            if g.object(&s, i) != 0 {
                 continue;
             }
             let p = g.position[i].as_dvec3();
@@ -461,7 +461,7 @@ fn soft_references_show_no_self_shadow_speckle_on_a_large_plane() {
     append(&mut s, "sea_overlay", vec![[vec3(-h, 0.0, -h), vec3(-h, 0.0, h), vec3(h, 0.0, 0.0)]], false);
     let bvh = SceneBvh::build(&s);
     for light in &s.lights {
-        let g = GBuffer::trace(&s, &bvh, &s.cameras[0], light);
+        let g = GBuffer::trace(&bvh, &s.cameras[0], light);
         assert!(g.evaluated.len() > 3000);
         let area = trace_area_light_reference(&s, &bvh, &g, light, 4).unwrap();
         // Sub-pixel samples past a spot light's cone count as shadowed: coverage under the sun.

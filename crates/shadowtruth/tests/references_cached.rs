@@ -32,7 +32,7 @@ fn cached_masks_are_bit_identical_to_fresh_ones() {
                     light.name
                 );
                 let cached = cache.load(view, &digest).expect("cached mask decodes");
-                let g = GBuffer::trace(&scene, &bvh, camera, light);
+                let g = GBuffer::trace(&bvh, camera, light);
                 let fresh = trace_hard_reference(&scene, &bvh, &g, light).mask_codes(&g);
                 let differ = fresh.iter().zip(&cached.codes).filter(|(a, b)| a != b).count();
                 assert_eq!(

@@ -20,7 +20,7 @@ fn each_view(mut check: impl FnMut(&Scene, &SceneBvh, &GBuffer, &Light, &str)) {
         let bvh = SceneBvh::build(&scene);
         for camera in &scene.cameras {
             for light in &scene.lights {
-                let g = GBuffer::trace(&scene, &bvh, camera, light);
+                let g = GBuffer::trace(&bvh, camera, light);
                 check(&scene, &bvh, &g, light, &format!("{name}/{}/{}", camera.name, light.name));
             }
         }

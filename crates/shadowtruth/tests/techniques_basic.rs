@@ -57,7 +57,7 @@ fn a_large_constant_bias_leaks_light_at_the_contact_shadow() {
         let i = i as usize;
         if r.lit[i] == 0 && v[k] >= 0.5 {
             let p = g.position[i];
-            assert!(p.y.abs() < 1e-6 || g.object[i] == 1, "leak away from the ground and box at {p}");
+            assert!(p.y.abs() < 1e-6 || g.object(&scene, i) == 1, "leak away from the ground and box at {p}");
             assert!(p.x.abs() < 1.5 && p.z.abs() < 1.5, "false-lit pixel at {p} is far from the contact");
         }
     }

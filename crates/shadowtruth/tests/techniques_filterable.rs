@@ -198,8 +198,8 @@ fn false_lit_next_to_overlapping_occluders_is_light_bleeding() {
     let v = shade_technique(&scene, &g, &vsm, RESOLUTION, DepthFormat::F32);
     let view = LightView::new(&scene.lights[0], scene.bounds(), RESOLUTION);
     let uv = LightUv::new(&g, &view);
-    let with = attribute(&g, &r, &v, &uv, Some(&overlap));
-    let without = attribute(&g, &r, &v, &uv, None);
+    let with = attribute(&scene, &g, &r, &v, &uv, Some(&overlap));
+    let without = attribute(&scene, &g, &r, &v, &uv, None);
     println!("with the overlap map: {with:?}; without: {without:?}");
     assert!(with.light_bleeding > 10 && with.light_bleeding > 4 * with.leak, "{with:?}");
     assert_eq!(without.light_bleeding, 0);

@@ -115,10 +115,7 @@ fn watertight_test_hits_exactly_on_a_shared_edge() {
         let p = vec3(s, 0.0, s);
         let dir = vec3(0.3, -1.0, 0.2).normalize();
         let ray = WatertightRay::new((p - dir * 2.0).into(), dir.into());
-        let hits = [
-            ray.intersect(a.into(), b.into(), c.into(), 0.0, 10.0),
-            ray.intersect(a.into(), c.into(), d.into(), 0.0, 10.0),
-        ];
+        let hits = [ray.intersect(a, b, c, 0.0, 10.0), ray.intersect(a, c, d, 0.0, 10.0)];
         assert!(
             hits.iter().any(Option::is_some),
             "ray through the shared edge at s = {s} missed both triangles"

@@ -71,7 +71,7 @@ fn generate_scenes_cast_shadows_into_the_view() {
         let bvh = SceneBvh::build(&scene);
         let camera = &scene.cameras[0];
         for light in &scene.lights {
-            let gbuffer = GBuffer::trace(&scene, &bvh, camera, light);
+            let gbuffer = GBuffer::trace(&bvh, camera, light);
             let reference = trace_hard_reference(&scene, &bvh, &gbuffer, light);
             let evaluated = gbuffer.count(PixelClass::Evaluated);
             let lit = gbuffer.evaluated.iter().filter(|&&i| reference.lit[i as usize] != 0).count();
@@ -104,7 +104,7 @@ fn generate_instanced_forest_holds_one_tree_and_casts_shadows() {
     assert!(held * 10 < written as usize, "{held} triangles held for {written}");
     let bvh = SceneBvh::build(&scene);
     for light in &scene.lights {
-        let gbuffer = GBuffer::trace(&scene, &bvh, &scene.cameras[0], light);
+        let gbuffer = GBuffer::trace(&bvh, &scene.cameras[0], light);
         let reference = trace_hard_reference(&scene, &bvh, &gbuffer, light);
         let lit = gbuffer.evaluated.iter().filter(|&&i| reference.lit[i as usize] != 0).count();
         let shadowed = gbuffer.evaluated.len() - lit;

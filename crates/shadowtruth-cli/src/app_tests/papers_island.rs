@@ -76,10 +76,11 @@ fn papers_island_loads_with_its_cameras_light_and_featured_trunk_in_view() {
     assert!(scene.objects[trunk as usize].closed);
 
     let bvh = SceneBvh::build(&scene);
-    let front = GBuffer::trace(&scene, &bvh, scene.camera("front").unwrap(), light);
-    let trunk_pixels = front.object.iter().filter(|&&o| o == trunk).count();
+    let front = GBuffer::trace(&bvh, scene.camera("front").unwrap(), light);
+    let on_trunk = |i: usize| front.object(&scene, i) == trunk;
+    let trunk_pixels = (0..front.pixel_count()).filter(|&i| on_trunk(i)).count();
     let (xs, ys): (Vec<u32>, Vec<u32>) = (0..front.pixel_count() as u32)
-        .filter(|&i| front.object[i as usize] == trunk)
+        .filter(|&i| on_trunk(i as usize))
         .map(|i| (i % front.width, i / front.width))
         .unzip();
     eprintln!(
@@ -90,9 +91,8 @@ fn papers_island_loads_with_its_cameras_light_and_featured_trunk_in_view() {
         ys.iter().max()
     );
     assert!(trunk_pixels >= 300, "the featured trunk covers {trunk_pixels} pixels of the front view");
-    let lit_trunk = (0..front.pixel_count())
-        .filter(|&i| front.object[i] == trunk && front.class[i] == PixelClass::Evaluated)
-        .count();
+    let lit_trunk =
+        (0..front.pixel_count()).filter(|&i| on_trunk(i) && front.class[i] == PixelClass::Evaluated).count();
     assert!(lit_trunk >= 100, "the featured trunk faces the light in {lit_trunk} pixels");
 }
 
@@ -141,7 +141,7 @@ fn view_stats(scene: &Scene, camera: &str) -> ViewStats {
     let light = scene.light("sun_spot").unwrap();
     let LightKind::Spot { position, .. } = light.kind else { unreachable!() };
     let bvh = SceneBvh::build(scene);
-    let g = GBuffer::trace(scene, &bvh, scene.camera(camera).unwrap(), light);
+    let g = GBuffer::trace(&bvh, scene.camera(camera).unwrap(), light);
     let r = trace_hard_reference(scene, &bvh, &g, light);
     let n = g.pixel_count() as f64;
     let share = |c| g.count(c) as f64 / n;

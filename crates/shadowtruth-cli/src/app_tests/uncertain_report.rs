@@ -24,7 +24,7 @@ fn plane_box() -> (Scene, GBuffer, HardReference, u32) {
     let scene = load_scene(&repo().join("scenes/plane_box.json")).unwrap();
     let bvh = SceneBvh::build(&scene);
     let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
-    let g = GBuffer::trace(&scene, &bvh, camera, light);
+    let g = GBuffer::trace(&bvh, camera, light);
     let hard = trace_hard_reference(&scene, &bvh, &g, light);
     assert!(hard.uncertain.is_empty() && g.count(PixelClass::Uncertain) == 0, "plane_box is decided");
     let shadowed = *g.evaluated.iter().find(|&&i| hard.lit[i as usize] == 0).expect("a shadowed pixel");

@@ -68,7 +68,7 @@ pub(super) fn time_tracer(
     let directions = primary_directions(camera);
     let (_, primary_ms) =
         timed_median(repeats, || std::hint::black_box(primary_hits(bvh, camera, &directions)));
-    let (g, gbuffer_ms) = timed_median(repeats, || GBuffer::trace(scene, bvh, camera, light));
+    let (g, gbuffer_ms) = timed_median(repeats, || GBuffer::trace(bvh, camera, light));
     let shadow_ms = time_shadow_rays(scene, bvh, &g, light, repeats);
     let (_, reference_ms) =
         timed_median(repeats, || std::hint::black_box(trace_hard_reference(scene, bvh, &g, light)));

@@ -245,7 +245,6 @@ mod tests {
             barycentric: vec![[0.0; 2]; n],
             normal: vec![Vec3::Y; n],
             triangle: vec![0; n],
-            object: vec![0; n],
             evaluated: (0..n as u32).collect(),
             footprint: PixelFootprint::of(&Camera {
                 name: "c".into(),

@@ -47,7 +47,8 @@ impl<'a> View<'a> {
     /// accepts by name.
     pub fn on_objects(&self, keep: impl Fn(&str) -> bool) -> Vec<bool> {
         let kept: Vec<bool> = self.scene.objects.iter().map(|o| keep(&o.name)).collect();
-        self.gbuffer.evaluated.iter().map(|&i| kept[self.gbuffer.object[i as usize] as usize]).collect()
+        let object = |i: u32| self.gbuffer.object(self.scene, i as usize) as usize;
+        self.gbuffer.evaluated.iter().map(|&i| kept[object(i)]).collect()
     }
 
     /// Per evaluated pixel: whether it lies inside `rect`.
@@ -67,7 +68,8 @@ impl<'a> View<'a> {
         let index = self.scene.objects.iter().position(|o| o.name == name)? as u32;
         let (w, h) = (self.gbuffer.width, self.gbuffer.height);
         let (mut x0, mut y0, mut x1, mut y1) = (u32::MAX, u32::MAX, 0, 0);
-        for (i, _) in self.gbuffer.object.iter().enumerate().filter(|&(_, &o)| o == index) {
+        let pixels = 0..self.gbuffer.pixel_count();
+        for i in pixels.filter(|&i| self.gbuffer.object(self.scene, i) == index) {
             let (x, y) = (i as u32 % w, i as u32 / w);
             (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
         }
@@ -129,7 +131,7 @@ pub(super) fn shade(
     let (visibility, shade_ms) =
         timed_median(repeats, || shade_evaluated(technique.as_ref(), &map.order, &ctx));
     // The papers' leaks are every false lit away from a boundary: no light-bleeding class.
-    let counts = crate::plan::score_against(&v.gbuffer, &v.reference, &visibility, &map.uv, None);
+    let counts = crate::plan::score_against(v.scene, &v.gbuffer, &v.reference, &visibility, &map.uv, None);
     let ns_per_pixel = shade_ms * 1e6 / visibility.len().max(1) as f64;
     Shaded { visibility, counts, ns_per_pixel }
 }
@@ -158,7 +160,7 @@ pub(super) fn artefacts_in(v: &View, map: &LightMap, visibility: &[f32], region:
         .zip(visibility.iter().zip(region))
         .map(|(&i, (&value, &inside))| if inside { value } else { v.reference.lit[i as usize] as f32 })
         .collect();
-    let a = attribute(&v.gbuffer, &v.reference, &masked, &map.uv, None);
+    let a = attribute(v.scene, &v.gbuffer, &v.reference, &masked, &map.uv, None);
     let evaluated = region.iter().filter(|&&r| r).count() as u64;
     Artefacts { evaluated, acne: a.acne, leak: a.leak, aliasing: a.aliasing }
 }

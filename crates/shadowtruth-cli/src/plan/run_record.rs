@@ -17,8 +17,14 @@ pub(super) fn run_record(
 ) -> RunRecord {
     let gbuffer = traced.gbuffer;
     let (scored_against, soft_reference, reference_used) = traced.references.for_kind(spec.reference_kind());
-    let counts =
-        score_against(gbuffer, scored_against, visibility, map.light_uv, Some(&traced.references.overlap));
+    let counts = score_against(
+        traced.scene,
+        gbuffer,
+        scored_against,
+        visibility,
+        map.light_uv,
+        Some(&traced.references.overlap),
+    );
     RunRecord {
         scene: traced.scene.name.clone(),
         camera: traced.camera.name.clone(),

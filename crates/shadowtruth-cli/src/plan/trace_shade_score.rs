@@ -13,7 +13,8 @@ use shadowtruth::trace::{GBuffer, HardReference, ReferenceCache, SceneBvh, Shado
 
 /// The G-buffer of the (camera, light) view and the references `plan`'s techniques are scored
 /// against (read from `cache` when given), the pixels the hard reference cannot decide left out
-/// of the G-buffer; `stage` is told each step (`G-buffer`, `reference`) as it begins.
+/// of the G-buffer and its barycentrics released (`GBuffer::release_barycentrics`); `stage` is
+/// told each step (`G-buffer`, `reference`) as it begins.
 pub fn trace_view(
     plan: &Plan,
     cache: Option<&ReferenceCache>,
@@ -23,9 +24,11 @@ pub fn trace_view(
     stage: &mut dyn FnMut(&str) -> Result<(), PlanError>,
 ) -> Result<(GBuffer, ViewReferences), PlanError> {
     stage("G-buffer")?;
-    let mut gbuffer = GBuffer::trace(scene, bvh, camera, light);
+    let mut gbuffer = GBuffer::trace(bvh, camera, light);
     stage("reference")?;
     let references = ViewReferences::new(plan, cache, scene, bvh, &mut gbuffer, camera, light)?;
+    // Every ray from the view's surface points is traced: the maps take the room.
+    gbuffer.release_barycentrics();
     Ok((gbuffer, references))
 }
 
@@ -44,6 +47,7 @@ pub fn shade_through(
 /// (acne, leak, light bleeding where `overlap` says occluders overlap, aliasing) through the
 /// light-map positions `light_uv`.
 pub fn score_against(
+    scene: &Scene,
     gbuffer: &GBuffer,
     reference: &HardReference,
     visibility: &[f32],
@@ -51,5 +55,5 @@ pub fn score_against(
     overlap: Option<&ShadowOverlap>,
 ) -> Counts {
     score_hard(gbuffer, reference, visibility)
-        .with_attribution(attribute(gbuffer, reference, visibility, light_uv, overlap))
+        .with_attribution(attribute(scene, gbuffer, reference, visibility, light_uv, overlap))
 }

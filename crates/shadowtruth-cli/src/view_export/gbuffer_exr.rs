@@ -4,6 +4,7 @@
 
 use exr::prelude::*;
 use glam::Vec3;
+use shadowtruth::Scene;
 use shadowtruth::trace::{EXR_ENCODING, GBuffer, PixelClass};
 use std::io::Cursor;
 
@@ -23,10 +24,14 @@ pub(crate) fn class_code(class: PixelClass) -> u32 {
 }
 
 /// (file name, EXR bytes) of the three files.
-pub(crate) fn gbuffer_exrs(gbuffer: &GBuffer) -> std::io::Result<Vec<(&'static str, Vec<u8>)>> {
+pub(crate) fn gbuffer_exrs(
+    scene: &Scene,
+    gbuffer: &GBuffer,
+) -> std::io::Result<Vec<(&'static str, Vec<u8>)>> {
+    let object = (0..gbuffer.pixel_count()).map(|i| gbuffer.object(scene, i)).collect();
     let ids = vec![
         AnyChannel::new("triangle", FlatSamples::U32(gbuffer.triangle.clone())),
-        AnyChannel::new("object", FlatSamples::U32(gbuffer.object.clone())),
+        AnyChannel::new("object", FlatSamples::U32(object)),
         AnyChannel::new("class", FlatSamples::U32(gbuffer.class.iter().map(|&c| class_code(c)).collect())),
     ];
     Ok(vec![

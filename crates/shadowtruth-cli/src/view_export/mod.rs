@@ -72,7 +72,7 @@ pub(crate) fn write_view_export(
     let bvh = SceneBvh::build(scene);
     // The bounds the BVH was built from: the scene's triangles walked once.
     let bounds = bvh.scene_bounds();
-    let gbuffer = GBuffer::trace(scene, &bvh, camera, light);
+    let gbuffer = GBuffer::trace(&bvh, camera, light);
     let views = light_views(light, bounds, resolution);
 
     progress("tracing the other cameras' depth ranges");
@@ -84,7 +84,7 @@ pub(crate) fn write_view_export(
             let (near, far) = if std::ptr::eq(c, camera) {
                 camera_depth_range(c, &gbuffer, bounds)
             } else {
-                camera_depth_range(c, &GBuffer::trace(scene, &bvh, c, light), bounds)
+                camera_depth_range(c, &GBuffer::trace(&bvh, c, light), bounds)
             };
             GlbCamera { camera: c, near, far }
         })
@@ -118,7 +118,7 @@ pub(crate) fn write_view_export(
     let mut text = serde_json::to_string_pretty(&document)?;
     text.push('\n');
     write(VIEW_FILE, text.as_bytes())?;
-    let exrs = gbuffer_exr::gbuffer_exrs(&gbuffer)
+    let exrs = gbuffer_exr::gbuffer_exrs(scene, &gbuffer)
         .with_context(|| format!("encoding the G-buffer EXRs for {}", dir.display()))?;
     for (name, bytes) in exrs {
         write(name, &bytes)?;

@@ -85,7 +85,6 @@ mod tests {
             barycentric: vec![[0.0; 2]; 2],
             normal: vec![Vec3::Z; 2],
             triangle: vec![0, 1],
-            object: vec![0, 0],
             evaluated: vec![0, 1],
             footprint: PixelFootprint::of(&camera),
         };

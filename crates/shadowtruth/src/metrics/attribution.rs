@@ -52,6 +52,7 @@
 
 use super::classify::Counts;
 use crate::raster::LightView;
+use crate::scene::Scene;
 use crate::trace::{GBuffer, HardReference, PixelClass, ShadowOverlap};
 use glam::Vec3;
 use rayon::prelude::*;
@@ -191,10 +192,11 @@ impl LightUv {
 }
 
 /// Classes every false pixel of `visibility` (one value per evaluated pixel, in
-/// `gbuffer.evaluated` order) as aliasing, seam (where `light_uv` says so), acne, light bleeding
+/// `gbuffer.evaluated` order; `gbuffer` traced in `scene`) as aliasing, seam (where `light_uv` says so), acne, light bleeding
 /// (where `overlap` says occluders overlap; never without it) or leak; see the module
 /// documentation.
 pub fn attribute(
+    scene: &Scene,
     gbuffer: &GBuffer,
     reference: &HardReference,
     visibility: &[f32],
@@ -220,7 +222,7 @@ pub fn attribute(
     let table = OppositeTable::new(light_uv, reference);
     let (w, h) = (light_uv.width as usize, light_uv.height as usize);
     let overlap = overlap.map(|o| (o, CountTable::new(w, h, |i| o.at(i) && light_uv.texel(i).is_some())));
-    let search = Search { gbuffer, lit: &reference.lit, uv: light_uv, table: &table, overlap };
+    let search = Search { scene, gbuffer, lit: &reference.lit, uv: light_uv, table: &table, overlap };
 
     gbuffer
         .evaluated
@@ -309,6 +311,7 @@ impl OppositeTable {
 }
 
 struct Search<'a> {
+    scene: &'a Scene,
     gbuffer: &'a GBuffer,
     lit: &'a [u8],
     uv: &'a LightUv,
@@ -322,7 +325,7 @@ impl Search<'_> {
     fn window(&self, i: usize, texels: f32) -> (usize, usize, usize, usize) {
         let (w, h) = (self.uv.width as usize, self.uv.height as usize);
         let (x, y) = (i % w, i / w);
-        let r = window_radius(self.gbuffer, self.uv, x, y, texels);
+        let r = window_radius(self.scene, self.gbuffer, self.uv, x, y, texels);
         (x.saturating_sub(r), y.saturating_sub(r), (x + r).min(w - 1), (y + r).min(h - 1))
     }
 
@@ -393,13 +396,13 @@ impl Search<'_> {
 /// `ceil(texels / s_min) + 1` clamped to [1, 64], `s_min` the smallest uv step per pixel (in
 /// texels, max over u and v) to a 4-neighbour that is evaluated, projects and shows the same
 /// object; 64 when there is none.
-fn window_radius(gbuffer: &GBuffer, uv: &LightUv, x: usize, y: usize, texels: f32) -> usize {
+fn window_radius(scene: &Scene, gbuffer: &GBuffer, uv: &LightUv, x: usize, y: usize, texels: f32) -> usize {
     let (w, h) = (uv.width as usize, uv.height as usize);
     let i = y * w + x;
     let Some(tp) = uv.texel(i) else {
         return MAX_RADIUS;
     };
-    let object = gbuffer.object[i];
+    let object = gbuffer.object(scene, i);
     let mut smallest = f32::INFINITY;
     let neighbours = [
         (x > 0).then(|| i - 1),
@@ -408,7 +411,7 @@ fn window_radius(gbuffer: &GBuffer, uv: &LightUv, x: usize, y: usize, texels: f3
         (y + 1 < h).then(|| i + w),
     ];
     for q in neighbours.into_iter().flatten() {
-        if gbuffer.object[q] != object {
+        if gbuffer.object(scene, q) != object {
             continue;
         }
         if let Some(tq) = uv.texel(q) {
@@ -473,7 +476,6 @@ mod tests {
             barycentric: vec![[0.0; 2]; pixels.len()],
             normal: vec![Vec3::Z; pixels.len()],
             triangle: vec![u32::MAX; pixels.len()],
-            object: vec![u32::MAX; pixels.len()],
             evaluated: Vec::new(),
             footprint: PixelFootprint::of(&Camera {
                 name: "c".into(),
@@ -490,12 +492,20 @@ mod tests {
             if let Px::At(object, tu, tv) = *px {
                 g.class[i] = PixelClass::Evaluated;
                 g.position[i] = Vec3::new(tu, tv, 0.0);
-                g.triangle[i] = 0;
-                g.object[i] = object;
+                g.triangle[i] = object;
                 g.evaluated.push(i as u32);
             }
         }
         g
+    }
+
+    /// The scene of the hand-made G-buffers: triangle k belongs to object k (the objects
+    /// `Px::At` names; the geometry is never read).
+    fn objects() -> Scene {
+        let mut scene = Scene::empty("objects".into(), std::path::Path::new(""), Vec::new(), Vec::new());
+        scene.flat_triangles = vec![[Vec3::ZERO, Vec3::X, Vec3::Y]; 4];
+        scene.flat_triangle_object = (0..4).collect();
+        scene
     }
 
     fn reference(lit: &[u8], g: &GBuffer) -> HardReference {
@@ -517,7 +527,7 @@ mod tests {
     fn run(g: &GBuffer, lit: &[u8], visibility_of: impl Fn(usize) -> f32) -> Attribution {
         let r = reference(lit, g);
         let v: Vec<f32> = g.evaluated.iter().map(|&i| visibility_of(i as usize)).collect();
-        attribute(g, &r, &v, &LightUv::new(g, &view()), None)
+        attribute(&objects(), g, &r, &v, &LightUv::new(g, &view()), None)
     }
 
     #[test]
@@ -534,19 +544,19 @@ mod tests {
     fn radius_follows_the_smallest_uv_step_and_the_cap() {
         let g = scene((1.0, 1.0));
         let uv = LightUv::new(&g, &view());
-        assert_eq!(window_radius(&g, &uv, 2, 0, 1.0), 3, "half a texel per pixel");
+        assert_eq!(window_radius(&objects(), &g, &uv, 2, 0, 1.0), 3, "half a texel per pixel");
         // Object 1 stands alone (its neighbours are background or another object).
-        assert_eq!(window_radius(&g, &uv, 3, 1, 1.0), MAX_RADIUS);
+        assert_eq!(window_radius(&objects(), &g, &uv, 3, 1, 1.0), MAX_RADIUS);
         // Four texels per pixel: ceil(1/4) + 1 = 2.
         let px: Vec<Px> = (0..3).map(|k| Px::At(0, 4.0 * k as f32, 0.0)).collect();
         let g = gbuffer(3, 1, &px);
         let uv = LightUv::new(&g, &view());
-        assert_eq!(window_radius(&g, &uv, 1, 0, 1.0), 2);
+        assert_eq!(window_radius(&objects(), &g, &uv, 1, 0, 1.0), 2);
         // A tiny step (a texel covers many pixels) is clamped to the cap.
         let px: Vec<Px> = (0..3).map(|k| Px::At(0, 1e-3 * k as f32, 0.0)).collect();
         let g = gbuffer(3, 1, &px);
         let uv = LightUv::new(&g, &view());
-        assert_eq!(window_radius(&g, &uv, 1, 0, 1.0), MAX_RADIUS);
+        assert_eq!(window_radius(&objects(), &g, &uv, 1, 0, 1.0), MAX_RADIUS);
     }
 
     /// The first row is lit in truth except as noted; pixel 11 (object 1) carries the other
@@ -632,7 +642,7 @@ mod tests {
                 .iter()
                 .map(|&i| if i as usize == p { 0.0 } else { lit[i as usize] as f32 })
                 .collect();
-            attribute(&g, &reference(&lit, &g), &v, &uv, None)
+            attribute(&objects(), &g, &reference(&lit, &g), &v, &uv, None)
         };
         assert_eq!(at(3), Attribution { seam: 1, ..Attribution::default() });
         assert_eq!(at(6), Attribution { aliasing: 1, ..Attribution::default() });
@@ -641,7 +651,7 @@ mod tests {
         let v: Vec<f32> =
             g.evaluated.iter().map(|&i| if i == 3 { 0.0 } else { lit[i as usize] as f32 }).collect();
         assert_eq!(
-            attribute(&g, &reference(&lit, &g), &v, &far, None),
+            attribute(&objects(), &g, &reference(&lit, &g), &v, &far, None),
             Attribution { acne: 1, ..Attribution::default() }
         );
     }

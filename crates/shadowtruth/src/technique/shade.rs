@@ -110,15 +110,22 @@ pub fn shade_evaluated(technique: &dyn Technique, order: &ShadeOrder, ctx: &Shad
 /// Samples per parallel task, shaded as one run (`Technique::visibility_of_run`).
 const SHADE_RUN: usize = 4096;
 
+/// Samples shaded in parallel before they are put in `gbuffer.evaluated` order: a buffer of this
+/// many rather than one the size of the image (64 MiB at 4096², beside the visibility it fills).
+const SHADE_BLOCK: usize = 256 * SHADE_RUN;
+
 /// Shades the pixels of `order` into `visibility` (indexed as `gbuffer.evaluated`), leaving the
 /// other entries as they are.
 pub fn shade_into(technique: &dyn Technique, order: &ShadeOrder, ctx: &ShadeContext, visibility: &mut [f32]) {
-    let mut shaded = vec![0.0; order.samples.len()];
-    shaded
-        .par_chunks_mut(SHADE_RUN)
-        .zip(order.samples.par_chunks(SHADE_RUN))
-        .for_each(|(out, samples)| technique.visibility_of_run(samples, ctx, out));
-    for (&k, v) in order.slot.iter().zip(shaded) {
-        visibility[k as usize] = v;
+    let mut shaded = vec![0.0; order.samples.len().min(SHADE_BLOCK)];
+    for (samples, slots) in order.samples.chunks(SHADE_BLOCK).zip(order.slot.chunks(SHADE_BLOCK)) {
+        let shaded = &mut shaded[..samples.len()];
+        shaded
+            .par_chunks_mut(SHADE_RUN)
+            .zip(samples.par_chunks(SHADE_RUN))
+            .for_each(|(out, samples)| technique.visibility_of_run(samples, ctx, out));
+        for (&k, &v) in slots.iter().zip(shaded.iter()) {
+            visibility[k as usize] = v;
+        }
     }
 }

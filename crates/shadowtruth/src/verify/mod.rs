@@ -258,7 +258,7 @@ pub fn verify_view(
     selection: PixelSelection,
 ) -> ViewVerification {
     let start = std::time::Instant::now();
-    let g = GBuffer::trace(scene, bvh, camera, light);
+    let g = GBuffer::trace(bvh, camera, light);
     let reference = trace_hard_reference(scene, bvh, &g, light);
     let n = g.pixel_count();
     let primary_flagged: Vec<bool> = g.class.iter().map(|&c| c == PixelClass::Uncertain).collect();

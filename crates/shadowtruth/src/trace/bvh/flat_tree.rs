@@ -16,7 +16,7 @@ use rayon::prelude::*;
 /// input) and its deepest level (the traversal stack never holds more entries).
 pub(in crate::trace) struct FlatTree {
     pub(in crate::trace) tree: WideBvh,
-    pub(in crate::trace) triangles: Vec<[Vec3A; 3]>,
+    pub(in crate::trace) triangles: Vec<[Vec3; 3]>,
     pub(in crate::trace) scene_ids: Vec<u32>,
     pub(in crate::trace) depth: usize,
 }
@@ -33,16 +33,10 @@ impl FlatTree {
             };
         }
         let cwbvh = build_cwbvh(BoundedTriangle::wrap_slice(tris));
-        let triangles: Vec<[Vec3A; 3]> = cwbvh
-            .primitive_indices
-            .par_iter()
-            .map(|&i| {
-                let t = &tris[i as usize];
-                [t[0].into(), t[1].into(), t[2].into()]
-            })
-            .collect();
+        let triangles: Vec<[Vec3; 3]> =
+            cwbvh.primitive_indices.par_iter().map(|&i| tris[i as usize]).collect();
         let tree = WideBvh::from_cwbvh(&cwbvh, |i| {
-            let [a, b, c] = triangles[i];
+            let [a, b, c] = triangles[i].map(Vec3A::from);
             let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
             match widen > 0.0 {
                 true => (outwards(lo, -widen), outwards(hi, widen)),

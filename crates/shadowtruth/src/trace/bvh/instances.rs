@@ -17,7 +17,7 @@ use super::walk::{ANY_ORDER, NEAREST_FIRST, WalkState, walk};
 use super::watertight::WatertightRay;
 use super::wide_bvh::{WideBvh, tree_depth};
 use crate::scene::{Scene, SharedMesh, box_corners, is_degenerate, world_vertex};
-use glam::{DAffine3, DVec3, Vec3, Vec3A};
+use glam::{DAffine3, DVec3, Vec3};
 use obvhs::aabb::Aabb;
 
 /// Relative widening of an instance's world box and of the margin's rounding bound: far above
@@ -134,7 +134,7 @@ impl InstanceLevel {
         scratch: &mut TraversalScratch,
         ray: &WatertightRay,
         tmax: f32,
-        mut visit: impl FnMut(u32, &[Vec3A; 3]) -> bool,
+        mut visit: impl FnMut(u32, &[Vec3; 3]) -> bool,
     ) -> bool {
         let TraversalScratch { outer, inner, .. } = scratch;
         let top_ray = NodeRay::new(ray.origin, ray.direction);
@@ -155,7 +155,7 @@ impl InstanceLevel {
 /// A triangle of an instance met by the walk: its scene id and world vertices.
 struct LocalTriangle {
     id: u32,
-    world: [Vec3A; 3],
+    world: [Vec3; 3],
 }
 
 impl LocalTriangle {
@@ -234,8 +234,7 @@ impl Placement {
             &mut local_tmax,
             margin,
             |i, local_tmax| {
-                let [a, b, c] =
-                    mesh.local_triangles[i].map(|p| Vec3A::from(world_vertex(&self.world_from_local, p)));
+                let [a, b, c] = mesh.local_triangles[i].map(|p| world_vertex(&self.world_from_local, p));
                 let world = if self.mirrored { [a, c, b] } else { [a, b, c] };
                 let triangle = LocalTriangle { id: self.first_triangle + mesh.local_ids[i], world };
                 stopped = leaf(&triangle, tmax);

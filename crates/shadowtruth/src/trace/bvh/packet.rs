@@ -32,7 +32,7 @@ use super::lane_vector::{L8, LaneMask, LaneVector};
 use super::node_test::{SLACK, plane_offsets};
 use super::watertight::WatertightRay;
 use super::wide_bvh::{ChildRef, WideNode};
-use glam::Vec3A;
+use glam::{Vec3, Vec3A};
 use std::arch::x86_64::*;
 
 /// Rays in a packet of eight (`L8`), the width on every processor with AVX2.
@@ -460,7 +460,7 @@ impl<V: LaneVector> Packet<V> {
     /// as each lane's test sees it (`LaneTriangle`), with the lanes that certainly hit it where
     /// the packet knows its segments (`certify_hits`).
     #[inline(always)]
-    fn candidates(&self, triangle: &[Vec3A; 3], lanes: u32) -> (u32, LaneTriangle<V>) {
+    fn candidates(&self, triangle: &[Vec3; 3], lanes: u32) -> (u32, LaneTriangle<V>) {
         let ((ax, ay, az), (bx, by, bz), (cx, cy, cz)) =
             (self.sheared(&triangle[0]), self.sheared(&triangle[1]), self.sheared(&triangle[2]));
         let dz = [az, bz, cz];
@@ -525,7 +525,7 @@ impl<V: LaneVector> Packet<V> {
     /// `WatertightRay::shear` of vertex `v`, lane by lane: translated to the lane's origin, then
     /// sheared; (x, y, the main axis's coordinate not yet scaled).
     #[inline(always)]
-    fn sheared(&self, v: &Vec3A) -> (V, V, V) {
+    fn sheared(&self, v: &Vec3) -> (V, V, V) {
         // Read where it lies, each coordinate broadcast from memory: a copy of the vertex
         // indexed by the axis order went through the stack.
         let ([kx, ky, kz], [sx, sy], v) = (self.axes, self.shear, v.as_ref());
@@ -665,7 +665,7 @@ fn pop_next<const NEAREST: bool>(
 #[allow(clippy::too_many_arguments)]
 pub(in crate::trace) fn walk_packet<V: LaneVector, const NEAREST: bool>(
     nodes: &[WideNode],
-    triangles: &[[Vec3A; 3]],
+    triangles: &[[Vec3; 3]],
     stack: &mut [(ChildRef, u32, f32)],
     packet: &Packet<V>,
     active: &mut u32,

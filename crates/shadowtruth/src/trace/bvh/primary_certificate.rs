@@ -52,7 +52,7 @@ impl RayForms {
     }
 
     /// Whether the ray crosses `v`: f32 first, then f64 where f32 is in doubt.
-    fn crossing(&self, v: &[Vec3A; 3]) -> Crossing {
+    fn crossing(&self, v: &[Vec3; 3]) -> Crossing {
         match self.in_f32(f64::INFINITY, 0.0).crossing(&v.map(|p| p.to_array())) {
             Crossing::Doubt { .. } => {
                 self.in_f64(f64::INFINITY, 0.0).crossing(&v.map(|p| p.as_dvec3().to_array()))
@@ -93,7 +93,7 @@ impl<'h> PrimarySearch<'h> {
     /// Tests the scene triangle `id`; true once the search is over: the verdict is uncertain,
     /// for a triangle certainly crossed before the hit or one that may be (an exact tie in the
     /// hit's plane is noted instead).
-    fn test(&mut self, walk: &WatertightRay, id: u32, v: &[Vec3A; 3]) -> bool {
+    fn test(&mut self, walk: &WatertightRay, id: u32, v: &[Vec3; 3]) -> bool {
         if self.uncertain {
             return true;
         }
@@ -135,7 +135,7 @@ impl<'h> PrimarySearch<'h> {
 
     #[cold]
     #[inline(never)]
-    fn classify_precisely(&self, walk: &WatertightRay, v: &[Vec3A; 3]) -> Verdict {
+    fn classify_precisely(&self, walk: &WatertightRay, v: &[Vec3; 3]) -> Verdict {
         let precise = forms(walk).in_f64(self.length, self.length_error);
         precise.classify(&v.map(|p| p.as_dvec3().to_array()))
     }

@@ -33,14 +33,14 @@ use super::watertight::RayTriangleHit;
 use super::watertight::WatertightRay;
 use super::wide_bvh::{ChildRef, WideBvh};
 use crate::scene::Scene;
-use glam::{Vec3, Vec3A};
+use glam::Vec3;
 
 /// The BVH of a scene: its flat triangles in traversal order, and its instanced meshes
 /// behind a second level (src/trace/bvh/instances.rs).
 pub struct SceneBvh {
     pub(in crate::trace) tree: WideBvh,
     /// Triangles in BVH order: `triangles[i]` is scene triangle `scene_ids[i]`.
-    pub(in crate::trace) triangles: Vec<[Vec3A; 3]>,
+    pub(in crate::trace) triangles: Vec<[Vec3; 3]>,
     pub(in crate::trace) scene_ids: Vec<u32>,
     /// Where each triangle's leaf hangs in the tree (`WideBvh::leaf_slots`), for the packet
     /// walks' certificates.

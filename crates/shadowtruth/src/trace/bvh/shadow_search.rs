@@ -9,7 +9,7 @@ use super::certified::{CertifiedRay, Verdict, in_one_plane, known_in_one_plane};
 use super::shadow_ray::ShadowRay;
 use super::watertight::WatertightRay;
 use crate::scene::is_degenerate;
-use glam::{Vec3, Vec3A};
+use glam::Vec3;
 
 /// The hard answer for one shadow ray.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -83,7 +83,7 @@ impl<'r> ShadowSearch<'r> {
     /// Tests the scene triangle `id` with the ray's f32 test `fast` (`fast_test`); true once
     /// the search is over (a certain occluder).
     #[inline(always)]
-    pub(in crate::trace) fn test(&mut self, fast: &CertifiedRay<f32>, id: u32, v: &[Vec3A; 3]) -> bool {
+    pub(in crate::trace) fn test(&mut self, fast: &CertifiedRay<f32>, id: u32, v: &[Vec3; 3]) -> bool {
         if id == self.ray.skip_triangle {
             return false;
         }
@@ -99,7 +99,7 @@ impl<'r> ShadowSearch<'r> {
 
     #[cold]
     #[inline(never)]
-    fn test_precisely(&mut self, id: u32, v: &[Vec3A; 3]) -> bool {
+    fn test_precisely(&mut self, id: u32, v: &[Vec3; 3]) -> bool {
         let ray = self.ray;
         // The pixels under a decal ask of the same coplanar pair, ray after ray.
         if known_in_one_plane(&ray.surface, &v.map(Vec3::from)) {

@@ -94,8 +94,15 @@ impl WatertightRay {
 
     /// The hit with t in the closed interval [tmin, tmax], from either side of the triangle.
     #[inline]
-    pub fn intersect(&self, v0: Vec3A, v1: Vec3A, v2: Vec3A, tmin: f32, tmax: f32) -> Option<RayTriangleHit> {
-        let s = self.shear(v0, v1, v2);
+    pub fn intersect(
+        &self,
+        v0: impl Into<Vec3A>,
+        v1: impl Into<Vec3A>,
+        v2: impl Into<Vec3A>,
+        tmin: f32,
+        tmax: f32,
+    ) -> Option<RayTriangleHit> {
+        let s = self.shear(v0.into(), v1.into(), v2.into());
         let solved = solve(&s)?;
         (solved.hit.t >= tmin && solved.hit.t <= tmax).then_some(solved.hit)
     }

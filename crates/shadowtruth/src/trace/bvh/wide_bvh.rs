@@ -251,7 +251,7 @@ mod tests {
     }
 
     /// The exact box of node `index`'s triangles, checking each child's stored box on the way.
-    fn subtree_box(tree: &WideBvh, index: usize, tris: &[[Vec3A; 3]], seen: &mut [u32]) -> (Vec3A, Vec3A) {
+    fn subtree_box(tree: &WideBvh, index: usize, tris: &[[Vec3; 3]], seen: &mut [u32]) -> (Vec3A, Vec3A) {
         let node = &tree.nodes[index];
         let mut all = EMPTY_BOX;
         for c in 0..8 {
@@ -265,7 +265,7 @@ mod tests {
             } else if child.is_leaf() {
                 child.primitives().fold(EMPTY_BOX, |b, i| {
                     seen[i] += 1;
-                    let [p, q, r] = tris[i];
+                    let [p, q, r] = tris[i].map(Vec3A::from);
                     union(b, (p.min(q).min(r), p.max(q).max(r)))
                 })
             } else {

@@ -50,8 +50,6 @@ pub struct GBuffer {
     pub normal: Vec<Vec3>,
     /// Scene triangle id (u32::MAX for background).
     pub triangle: Vec<u32>,
-    /// Object id (u32::MAX for background).
-    pub object: Vec<u32>,
     /// Indices of the evaluated pixels, ascending: the loop every technique runs over.
     pub evaluated: Vec<u32>,
     /// The camera's pixel footprint, for the techniques that filter over it.
@@ -79,6 +77,22 @@ impl GBuffer {
             barycentric: self.barycentric[i],
             vertices,
         }
+    }
+
+    /// The object pixel `i` shows in `scene` (`u32::MAX` for none): its triangle's, looked up
+    /// rather than stored (64 MiB at 4096²).
+    pub fn object(&self, scene: &Scene, i: usize) -> u32 {
+        match self.triangle[i] {
+            u32::MAX => u32::MAX,
+            triangle => scene.object_of(triangle),
+        }
+    }
+
+    /// Gives back the barycentrics' memory (8 bytes a pixel, 128 MiB at 4096²) once every ray
+    /// from the surface points has been traced: shading and scoring read the positions. After
+    /// this, [`GBuffer::surface_point`] panics.
+    pub fn release_barycentrics(&mut self) {
+        self.barycentric = Vec::new();
     }
 
     /// Leaves `pixels` (evaluated ones, ascending) out of every score: their class becomes
@@ -190,7 +204,7 @@ pub(in crate::trace) fn surface_sample(hit: &Hit, dir: Vec3, light: &LightSight)
 
 impl GBuffer {
     /// Traces the pixel-centre ray of every pixel of `camera` and classifies it for `light`.
-    pub fn trace(scene: &Scene, bvh: &SceneBvh, camera: &Camera, light: &Light) -> GBuffer {
+    pub fn trace(bvh: &SceneBvh, camera: &Camera, light: &Light) -> GBuffer {
         let (w, h) = (camera.width, camera.height);
         let n = camera.pixel_count();
         let film = camera.film();
@@ -201,7 +215,6 @@ impl GBuffer {
         let mut barycentric = filled([0.0f32; 2], n);
         let mut normal = filled(Vec3::ZERO, n);
         let mut triangle = filled(u32::MAX, n);
-        let mut object = filled(u32::MAX, n);
         let band = w as usize * TILE;
         class
             .par_chunks_mut(band)
@@ -209,11 +222,10 @@ impl GBuffer {
             .zip(barycentric.par_chunks_mut(band))
             .zip(normal.par_chunks_mut(band))
             .zip(triangle.par_chunks_mut(band))
-            .zip(object.par_chunks_mut(band))
             .enumerate()
             .for_each_init(
                 || (bvh.scratch(), vec![Vec3::ZERO; band], TileRays::new()),
-                |(scratch, dirs, tile), (b, (((((cls, pos), bary), nrm), tri), obj))| {
+                |(scratch, dirs, tile), (b, ((((cls, pos), bary), nrm), tri))| {
                     // The last band may have fewer rows.
                     let dirs = &mut dirs[..cls.len()];
                     band_directions(&film, &columns, b, dirs);
@@ -235,25 +247,16 @@ impl GBuffer {
                             bary[j] = p.barycentric;
                             nrm[j] = p.normal;
                             tri[j] = p.triangle;
-                            obj[j] = scene.object_of(p.triangle);
                         }
                     });
                 },
             );
-        let evaluated = (0..n as u32).filter(|&i| class[i as usize] == PixelClass::Evaluated).collect();
+        // Counted first: grown by doubling, the list would hold up to twice the room it needs.
+        let is_evaluated = |&i: &u32| class[i as usize] == PixelClass::Evaluated;
+        let mut evaluated = Vec::with_capacity((0..n as u32).filter(is_evaluated).count());
+        evaluated.extend((0..n as u32).filter(is_evaluated));
         let footprint = PixelFootprint::of(camera);
-        GBuffer {
-            width: w,
-            height: h,
-            class,
-            position,
-            barycentric,
-            normal,
-            triangle,
-            object,
-            evaluated,
-            footprint,
-        }
+        GBuffer { width: w, height: h, class, position, barycentric, normal, triangle, evaluated, footprint }
     }
 }
 
@@ -400,7 +403,7 @@ mod tests {
             let scene = load_scene(&path).expect("bundled scene");
             let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
             let bvh = SceneBvh::build(&scene);
-            let g = GBuffer::trace(&scene, &bvh, camera, light);
+            let g = GBuffer::trace(&bvh, camera, light);
             let directions = primary_directions(camera);
             let records = primary_hits(&bvh, camera, &directions);
             assert_eq!(records.len(), g.pixel_count());

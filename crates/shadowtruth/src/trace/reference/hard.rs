@@ -271,7 +271,7 @@ pub fn trace_scored_view(
     camera: &Camera,
     light: &Light,
 ) -> (GBuffer, HardReference) {
-    let mut gbuffer = GBuffer::trace(scene, bvh, camera, light);
+    let mut gbuffer = GBuffer::trace(bvh, camera, light);
     let reference = trace_hard_reference(scene, bvh, &gbuffer, light);
     gbuffer.leave_out(&reference.uncertain);
     (gbuffer, reference)
