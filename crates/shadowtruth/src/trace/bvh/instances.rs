@@ -110,12 +110,8 @@ impl InstanceLevel {
                 else {
                     return false;
                 };
-                let hit = Hit {
-                    triangle: local.id,
-                    t: h.t,
-                    barycentric: h.barycentric,
-                    vertices: local.world.map(Vec3::from),
-                };
+                let hit =
+                    Hit { triangle: local.id, t: h.t, barycentric: h.barycentric, vertices: local.world };
                 if hit.beats(best) && !local.degenerate() {
                     *best = Some(hit);
                     *best_t = h.t;
@@ -161,7 +157,7 @@ struct LocalTriangle {
 impl LocalTriangle {
     /// Degenerate in world space: flattening would have dropped it, so it occludes nothing.
     fn degenerate(&self) -> bool {
-        is_degenerate(&self.world.map(Vec3::from))
+        is_degenerate(&self.world)
     }
 }
 

@@ -109,7 +109,7 @@ impl<'h> PrimarySearch<'h> {
                 Verdict::Doubt { .. } => true,
             },
         };
-        let triangle = v.map(Vec3::from);
+        let triangle = *v;
         if in_doubt && is_degenerate(&triangle) {
             return false;
         }

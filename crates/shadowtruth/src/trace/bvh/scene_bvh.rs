@@ -138,7 +138,7 @@ impl SceneBvh {
                         triangle: self.scene_ids[i],
                         t: h.t,
                         barycentric: h.barycentric,
-                        vertices: [v0, v1, v2].map(Vec3::from),
+                        vertices: [v0, v1, v2],
                     };
                     if hit.beats(&best) {
                         best = Some(hit);
@@ -561,7 +561,7 @@ impl SceneBvh {
                 triangle: self.scene_ids[i],
                 t: h.t,
                 barycentric: h.barycentric,
-                vertices: [v0, v1, v2].map(Vec3::from),
+                vertices: [v0, v1, v2],
             };
             if hit.beats(&best[k]) {
                 best[k] = Some(hit);

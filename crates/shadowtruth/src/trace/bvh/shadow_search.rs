@@ -102,7 +102,7 @@ impl<'r> ShadowSearch<'r> {
     fn test_precisely(&mut self, id: u32, v: &[Vec3; 3]) -> bool {
         let ray = self.ray;
         // The pixels under a decal ask of the same coplanar pair, ray after ray.
-        if known_in_one_plane(&ray.surface, &v.map(Vec3::from)) {
+        if known_in_one_plane(&ray.surface, v) {
             return false;
         }
         // Made here rather than kept: a packet holds eight searches, and doubts are rare.
@@ -121,7 +121,7 @@ impl<'r> ShadowSearch<'r> {
                 true
             }
             Verdict::Doubt { likely_hit } => {
-                let triangle = v.map(Vec3::from);
+                let triangle = *v;
                 // In the surface's plane: the segment, which leaves that plane at its start, meets such
                 // a triangle at most at the surface point, which the definition does not count.
                 if !is_degenerate(&triangle) && !in_one_plane(&ray.surface, &triangle) {
