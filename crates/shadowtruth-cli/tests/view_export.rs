@@ -305,11 +305,10 @@ fn the_exrs_are_the_gbuffer_bit_for_bit() {
     assert_eq!(u32s("triangle"), g.triangle);
     // Each pixel's object found from the objects' triangle ranges, not from the G-buffer.
     let object_of = |triangle: u32| {
-        let objects = e.scene.objects.iter();
-        let holds = |o: &&shadowtruth::scene::Object| {
+        let holds = |o: &shadowtruth::scene::Object| {
             (o.first_triangle..o.first_triangle + o.triangle_count).contains(&triangle)
         };
-        objects.clone().position(|o| holds(&o)).map_or(u32::MAX, |k| k as u32)
+        e.scene.objects.iter().position(holds).map_or(u32::MAX, |k| k as u32)
     };
     let objects: Vec<u32> = g.triangle.iter().map(|&t| object_of(t)).collect();
     assert!(objects.iter().any(|&o| o != u32::MAX) && objects.iter().any(|&o| o != objects[0]));

@@ -109,12 +109,11 @@ impl<'h> PrimarySearch<'h> {
                 Verdict::Doubt { .. } => true,
             },
         };
-        let triangle = *v;
-        if in_doubt && is_degenerate(&triangle) {
+        if in_doubt && is_degenerate(v) {
             return false;
         }
         if let (true, Some(own)) = (in_doubt, self.own)
-            && in_one_plane(&own.vertices, &triangle)
+            && in_one_plane(&own.vertices, v)
         {
             // Crossed, if at all, at the hit's own point: an exact tie, lowest id first.
             if id > own.triangle || self.tie.is_some_and(|(t, _)| t < id) {
@@ -123,7 +122,7 @@ impl<'h> PrimarySearch<'h> {
             match forms(walk).crossing(v) {
                 Crossing::Miss => return false,
                 Crossing::Through { .. } => {
-                    self.tie = Some((id, triangle));
+                    self.tie = Some((id, *v));
                     return false;
                 }
                 Crossing::Doubt { .. } => {}

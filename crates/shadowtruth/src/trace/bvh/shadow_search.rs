@@ -121,10 +121,9 @@ impl<'r> ShadowSearch<'r> {
                 true
             }
             Verdict::Doubt { likely_hit } => {
-                let triangle = *v;
                 // In the surface's plane: the segment, which leaves that plane at its start, meets such
                 // a triangle at most at the surface point, which the definition does not count.
-                if !is_degenerate(&triangle) && !in_one_plane(&ray.surface, &triangle) {
+                if !is_degenerate(v) && !in_one_plane(&ray.surface, v) {
                     let doubt = self.doubt.get_or_insert((id, likely_hit));
                     doubt.1 |= likely_hit;
                 }
