@@ -7,7 +7,7 @@
 const GAMMA: u64 = 0x9E37_79B9_7F4A_7C15;
 
 /// The finalizer: a bijective avalanche of 64 bits.
-#[inline]
+#[inline(always)]
 pub fn finalizer(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
@@ -16,13 +16,13 @@ pub fn finalizer(mut z: u64) -> u64 {
 
 /// The first output of a generator seeded with `z` (the finalizer of `z + GAMMA`): a bijective
 /// hash whose outputs for consecutive inputs are statistically independent enough for jitter.
-#[inline]
+#[inline(always)]
 pub fn mix64(z: u64) -> u64 {
     finalizer(z.wrapping_add(GAMMA))
 }
 
 /// A uniform number in [0, 1) from the top 53 bits of `h`.
-#[inline]
+#[inline(always)]
 pub fn unit_f64(h: u64) -> f64 {
     (h >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
 }

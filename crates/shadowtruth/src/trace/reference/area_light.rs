@@ -24,7 +24,7 @@
 
 use super::gbuffer::{GBuffer, PixelClass};
 use super::hard::in_groups;
-use super::sampling::{concentric_disk, jittered_stratum, orthonormal_frame};
+use super::sampling::{concentric_disk, concentric_polar, jittered_stratum, orthonormal_frame};
 use super::soft_reference::{Estimate, SoftReference, trace_evaluated};
 use crate::scene::{Light, LightKind, Scene};
 use crate::trace::bvh::scene_bvh::SceneBvh;
@@ -45,8 +45,8 @@ pub enum AreaLightError {
 /// The light's shape as sampled.
 #[derive(Clone, Copy, Debug)]
 enum Emitter {
-    /// Towards-light unit direction `axis`; `one_minus_cos` = 1 − cos(half-angle).
-    Cap { axis: DVec3, tangent: DVec3, bitangent: DVec3, one_minus_cos: f64 },
+    /// A directional light's cap of directions.
+    Cap(Cap),
     /// Disk centre, its frame and radius.
     Disk { centre: DVec3, tangent: DVec3, bitangent: DVec3, radius: f64 },
     /// Sphere centre and radius.
@@ -71,7 +71,7 @@ fn emitter(light: &Light, grid: u32) -> Result<Emitter, AreaLightError> {
             let (tangent, bitangent) = orthonormal_frame(axis);
             // 1 − cos θ as 2 sin²(θ/2): no cancellation for small suns.
             let s = (0.25 * (alpha as f64).to_radians()).sin();
-            Ok(Emitter::Cap { axis, tangent, bitangent, one_minus_cos: 2.0 * s * s })
+            Ok(Emitter::Cap(Cap { axis, tangent, bitangent, one_minus_cos: 2.0 * s * s }))
         }
         LightKind::Spot { position, direction, .. } => {
             let radius = size.value();
@@ -145,35 +145,86 @@ fn pixel_rays(
     let point = gbuffer.surface_point(scene, i);
     let (p64, n64) = (point.position.as_dvec3(), point.normal.as_dvec3());
     let m = grid * grid;
+    if let Emitter::Cap(cap) = emitter {
+        let mut directions = [DVec3::ZERO; CAP_BLOCK];
+        for first in (0..m).step_by(CAP_BLOCK) {
+            cap_block(i as u64, first, grid, cap, &mut directions);
+            for &dir in &directions[..(m - first).min(CAP_BLOCK as u32) as usize] {
+                if n64.dot(dir) > 0.0 {
+                    emit(ShadowRay::along(&point, dir));
+                }
+            }
+        }
+        return Estimate::Mean { samples: m };
+    }
     for k in 0..m {
         let (u, v) = jittered_stratum(i as u64, k, grid, LIGHT_SALT);
         let (dx, dy) = concentric_disk(u, v);
-        let ray = match *emitter {
-            Emitter::Cap { axis, tangent, bitangent, one_minus_cos } => {
-                // Uniform in solid angle: the disk's r² is the cap's area fraction,
-                // 1 − cos θ = r²(1 − cos θmax); sin θ / r = √(k(2 − r²k)).
-                let dir = cap_direction((dx, dy), axis, (tangent, bitangent), one_minus_cos);
-                (n64.dot(dir) > 0.0).then(|| ShadowRay::along(&point, dir))
-            }
-            Emitter::Sphere { centre, radius } => {
-                let q = sphere_point(p64, (dx, dy), centre, radius);
-                (n64.dot(q - p64) > 0.0).then(|| ShadowRay::to_point(&point, q))
-            }
+        let target = match *emitter {
+            Emitter::Sphere { centre, radius } => sphere_point(p64, (dx, dy), centre, radius),
             Emitter::Disk { centre, tangent, bitangent, radius } => {
-                let q = centre + radius * (dx * tangent + dy * bitangent);
-                (n64.dot(q - p64) > 0.0).then(|| ShadowRay::to_point(&point, q))
+                centre + radius * (dx * tangent + dy * bitangent)
             }
+            Emitter::Cap(_) => unreachable!("a cap's samples are taken a block at a time"),
         };
-        if let Some(ray) = ray {
-            emit(ray);
+        if n64.dot(target - p64) > 0.0 {
+            emit(ShadowRay::to_point(&point, target));
         }
     }
     Estimate::Mean { samples: m }
 }
 
+/// The directions towards a directional light's disk: the cap of half-angle θmax around the
+/// unit `axis` (towards the light), with `one_minus_cos` = 1 − cos θmax.
+#[derive(Clone, Copy, Debug)]
+struct Cap {
+    axis: DVec3,
+    tangent: DVec3,
+    bitangent: DVec3,
+    one_minus_cos: f64,
+}
+
+/// Samples a pixel's cap directions are computed for at once.
+const CAP_BLOCK: usize = 16;
+
+/// The cap directions of samples `first..first + CAP_BLOCK` of pixel `pixel` (those past the
+/// grid's last are computed and ignored): `jittered_stratum`, `concentric_disk` and
+/// `cap_direction`, the same operations in the same order, so the same bits, but written as
+/// loops over the block so that the compiler can take them a vector of samples at a time (only
+/// the sine and cosine stay one by one). Compiled for the packets' instruction set where the
+/// processor has one (`in_packet_isa`).
+fn cap_block(pixel: u64, first: u32, grid: u32, cap: &Cap, out: &mut [DVec3; CAP_BLOCK]) {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(isa) = crate::trace::bvh::packet_isa::packet_isa() {
+        return crate::trace::bvh::packet_isa::in_packet_isa(
+            isa,
+            #[inline(always)]
+            || cap_block_loops(pixel, first, grid, cap, out),
+        );
+    }
+    cap_block_loops(pixel, first, grid, cap, out)
+}
+
+#[inline(always)]
+fn cap_block_loops(pixel: u64, first: u32, grid: u32, cap: &Cap, out: &mut [DVec3; CAP_BLOCK]) {
+    let (mut r, mut phi) = ([0.0f64; CAP_BLOCK], [0.0f64; CAP_BLOCK]);
+    for j in 0..CAP_BLOCK {
+        let (u, v) = jittered_stratum(pixel, first + j as u32, grid, LIGHT_SALT);
+        (r[j], phi[j]) = concentric_polar(u, v);
+    }
+    let (mut dx, mut dy) = ([0.0f64; CAP_BLOCK], [0.0f64; CAP_BLOCK]);
+    for j in 0..CAP_BLOCK {
+        (dx[j], dy[j]) = (r[j] * phi[j].cos(), r[j] * phi[j].sin());
+    }
+    for j in 0..CAP_BLOCK {
+        out[j] = cap_direction((dx[j], dy[j]), cap.axis, (cap.tangent, cap.bitangent), cap.one_minus_cos);
+    }
+}
+
 /// The direction of concentric-disk point (dx, dy) on the cap of `one_minus_cos` = 1 − cos θmax
 /// around the unit `axis`, uniform in solid angle: the disk's r² is the cap's area fraction,
 /// 1 − cos θ = r²(1 − cos θmax); sin θ / r = √(k(2 − r²k)).
+#[inline(always)]
 fn cap_direction(
     (dx, dy): (f64, f64),
     axis: DVec3,
@@ -207,6 +258,36 @@ fn sphere_point(p: DVec3, disk: (f64, f64), centre: DVec3, radius: f64) -> DVec3
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A block of cap directions is each sample's direction as one sample at a time computes
+    /// it, bit for bit, over grids whose sample count is and is not a multiple of the block.
+    #[test]
+    fn cap_blocks_give_each_samples_bits() {
+        let axis = DVec3::new(0.6, 0.45, 0.35).normalize();
+        let (tangent, bitangent) = orthonormal_frame(axis);
+        let s = (0.25 * 0.53f64.to_radians()).sin();
+        let cap = Cap { axis, tangent, bitangent, one_minus_cos: 2.0 * s * s };
+        for grid in [1u32, 3, 4, 5, 8] {
+            for pixel in [0u64, 17, 123_456_789] {
+                let mut block = [DVec3::ZERO; CAP_BLOCK];
+                for first in (0..grid * grid).step_by(CAP_BLOCK) {
+                    cap_block(pixel, first, grid, &cap, &mut block);
+                    for (j, got) in
+                        block.iter().enumerate().take(((grid * grid - first) as usize).min(CAP_BLOCK))
+                    {
+                        let (u, v) = jittered_stratum(pixel, first + j as u32, grid, LIGHT_SALT);
+                        let one = cap_direction(
+                            concentric_disk(u, v),
+                            axis,
+                            (tangent, bitangent),
+                            cap.one_minus_cos,
+                        );
+                        assert_eq!(got.to_array().map(f64::to_bits), one.to_array().map(f64::to_bits));
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn sphere_samples_lie_on_the_sphere_and_cover_its_visible_cap() {

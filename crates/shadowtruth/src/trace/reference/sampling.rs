@@ -14,7 +14,7 @@ pub fn stratum_centre(k: u32, grid: u32) -> (f64, f64) {
 
 /// A point uniformly distributed in stratum `k` of a `grid`×`grid` split of the unit square; the
 /// jitter is a hash of (`pixel`, `k`, `salt`) and nothing else.
-#[inline]
+#[inline(always)]
 pub fn jittered_stratum(pixel: u64, k: u32, grid: u32, salt: u64) -> (f64, f64) {
     let h1 = mix64(mix64(pixel ^ salt.rotate_left(32)) ^ k as u64);
     let h2 = mix64(h1);
@@ -42,13 +42,29 @@ fn stratum_point(k: u32, grid: u32, u: f64, v: f64) -> (f64, f64) {
 /// fractions (uniform in, uniform out) and keeping strata compact, so stratification survives.
 #[inline]
 pub fn concentric_disk(u: f64, v: f64) -> (f64, f64) {
-    let (a, b) = (2.0 * u - 1.0, 2.0 * v - 1.0);
-    if a == 0.0 && b == 0.0 {
-        return (0.0, 0.0);
-    }
-    let q = std::f64::consts::FRAC_PI_4;
-    let (r, phi) = if a.abs() > b.abs() { (a, q * (b / a)) } else { (b, 2.0 * q - q * (a / b)) };
+    let (r, phi) = concentric_polar(u, v);
     (r * phi.cos(), r * phi.sin())
+}
+
+/// `concentric_disk`'s point as (r, φ): the point is (r·cos φ, r·sin φ). Both divisions are made
+/// and one kept, without a branch, so that a block of samples is computed a vector at a time
+/// (area_light.rs); the centre (a = b = 0) gives r = 0 and φ = 0, so the point (0, 0).
+#[inline(always)]
+pub fn concentric_polar(u: f64, v: f64) -> (f64, f64) {
+    let (a, b) = (2.0 * u - 1.0, 2.0 * v - 1.0);
+    let q = std::f64::consts::FRAC_PI_4;
+    let (phi_a, phi_b) = (q * (b / a), 2.0 * q - q * (a / b));
+    let centre = a == 0.0 && b == 0.0;
+    let by_a = a.abs() > b.abs();
+    let r = if by_a { a } else { b };
+    let phi = if centre {
+        0.0
+    } else if by_a {
+        phi_a
+    } else {
+        phi_b
+    };
+    (r, phi)
 }
 
 /// Two unit vectors completing unit `n` to a right-handed orthonormal frame, without a branch
@@ -81,6 +97,36 @@ mod tests {
         }
         let frac = inside as f64 / (n * n) as f64;
         assert!((frac - 0.25).abs() < 2e-3, "{frac}");
+    }
+
+    /// The branch-free polar form gives the bits of the map as Shirley & Chiu write it, one
+    /// branch per half: at the centre, on the diagonals |a| = |b|, on the axes and in between.
+    #[test]
+    fn concentric_polar_gives_the_branching_maps_bits() {
+        let branching = |u: f64, v: f64| {
+            let (a, b) = (2.0 * u - 1.0, 2.0 * v - 1.0);
+            if a == 0.0 && b == 0.0 {
+                return (0.0, 0.0);
+            }
+            let q = std::f64::consts::FRAC_PI_4;
+            let (r, phi) = if a.abs() > b.abs() { (a, q * (b / a)) } else { (b, 2.0 * q - q * (a / b)) };
+            (r * phi.cos(), r * phi.sin())
+        };
+        let mut points =
+            vec![(0.5, 0.5), (0.0, 0.0), (1.0, 1.0), (0.0, 1.0), (0.25, 0.75), (0.5, 0.0), (0.5, 1.0)];
+        let mut h = 1u64;
+        for _ in 0..20_000 {
+            h = mix64(h);
+            points.push((unit_f64(h), unit_f64(mix64(h ^ 7))));
+        }
+        for k in 0..=64 {
+            let t = k as f64 / 64.0;
+            points.extend([(t, t), (t, 1.0 - t), (t, 0.5), (0.5, t)]);
+        }
+        let bits = |(x, y): (f64, f64)| (x.to_bits(), y.to_bits());
+        for (u, v) in points {
+            assert_eq!(bits(concentric_disk(u, v)), bits(branching(u, v)), "({u}, {v})");
+        }
     }
 
     /// The division-free path for grids of 2ⁿ gives the very bits of the definition.
