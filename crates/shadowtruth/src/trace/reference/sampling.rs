@@ -13,7 +13,8 @@ pub fn stratum_centre(k: u32, grid: u32) -> (f64, f64) {
 }
 
 /// A point uniformly distributed in stratum `k` of a `grid`×`grid` split of the unit square; the
-/// jitter is a hash of (`pixel`, `k`, `salt`) and nothing else.
+/// jitter is a hash of (`pixel`, `k`, `salt`) and nothing else. Always inlined, with the hash,
+/// so that the area-light reference's blocks compile it for their instruction set (`cap_block`).
 #[inline(always)]
 pub fn jittered_stratum(pixel: u64, k: u32, grid: u32, salt: u64) -> (f64, f64) {
     let h1 = mix64(mix64(pixel ^ salt.rotate_left(32)) ^ k as u64);
