@@ -67,11 +67,9 @@ fn emitter(light: &Light, grid: u32) -> Result<Emitter, AreaLightError> {
     match &light.kind {
         LightKind::Directional { direction, .. } => {
             let alpha = size.value();
-            let axis = -direction.as_dvec3().normalize();
-            let (tangent, bitangent) = orthonormal_frame(axis);
             // 1 − cos θ as 2 sin²(θ/2): no cancellation for small suns.
             let s = (0.25 * (alpha as f64).to_radians()).sin();
-            Ok(Emitter::Cap(Cap { axis, tangent, bitangent, one_minus_cos: 2.0 * s * s }))
+            Ok(Emitter::Cap(Cap::around(-direction.as_dvec3().normalize(), 2.0 * s * s)))
         }
         LightKind::Spot { position, direction, .. } => {
             let radius = size.value();
@@ -189,7 +187,7 @@ const CAP_BLOCK: usize = 16;
 
 /// The cap directions of samples `first..first + CAP_BLOCK` of pixel `pixel` (those past the
 /// grid's last are computed and ignored): `jittered_stratum`, `concentric_disk` and
-/// `cap_direction`, the same operations in the same order, so the same bits, but written as
+/// `Cap::direction`, the same operations in the same order, so the same bits, but written as
 /// loops over the block so that the compiler can take them a vector of samples at a time (only
 /// the sine and cosine stay one by one). Compiled for the packets' instruction set where the
 /// processor has one (`in_packet_isa`).
@@ -217,23 +215,26 @@ fn cap_block_loops(pixel: u64, first: u32, grid: u32, cap: &Cap, out: &mut [DVec
         (dx[j], dy[j]) = (r[j] * phi[j].cos(), r[j] * phi[j].sin());
     }
     for j in 0..CAP_BLOCK {
-        out[j] = cap_direction((dx[j], dy[j]), cap.axis, (cap.tangent, cap.bitangent), cap.one_minus_cos);
+        out[j] = cap.direction((dx[j], dy[j]));
     }
 }
 
-/// The direction of concentric-disk point (dx, dy) on the cap of `one_minus_cos` = 1 − cos θmax
-/// around the unit `axis`, uniform in solid angle: the disk's r² is the cap's area fraction,
-/// 1 − cos θ = r²(1 − cos θmax); sin θ / r = √(k(2 − r²k)).
-#[inline(always)]
-fn cap_direction(
-    (dx, dy): (f64, f64),
-    axis: DVec3,
-    (tangent, bitangent): (DVec3, DVec3),
-    one_minus_cos: f64,
-) -> DVec3 {
-    let r2k = (dx * dx + dy * dy) * one_minus_cos;
-    let sin_over_r = (one_minus_cos * (2.0 - r2k)).sqrt();
-    ((1.0 - r2k) * axis + sin_over_r * (dx * tangent + dy * bitangent)).normalize()
+impl Cap {
+    /// The cap of `one_minus_cos` = 1 − cos θmax around the unit `axis`.
+    fn around(axis: DVec3, one_minus_cos: f64) -> Self {
+        let (tangent, bitangent) = orthonormal_frame(axis);
+        Cap { axis, tangent, bitangent, one_minus_cos }
+    }
+
+    /// The direction of concentric-disk point (dx, dy), uniform in solid angle: the disk's r² is
+    /// the cap's area fraction, 1 − cos θ = r²(1 − cos θmax); sin θ / r = √(k(2 − r²k)).
+    #[inline(always)]
+    fn direction(&self, (dx, dy): (f64, f64)) -> DVec3 {
+        let k = self.one_minus_cos;
+        let r2k = (dx * dx + dy * dy) * k;
+        let sin_over_r = (k * (2.0 - r2k)).sqrt();
+        ((1.0 - r2k) * self.axis + sin_over_r * (dx * self.tangent + dy * self.bitangent)).normalize()
+    }
 }
 
 /// Where the direction of disk point (dx, dy), uniform in solid angle over the cone a sphere
@@ -247,8 +248,7 @@ fn sphere_point(p: DVec3, disk: (f64, f64), centre: DVec3, radius: f64) -> DVec3
     }
     // 1 − cos θmax = sin²/(1 + cos): no cancellation for small or distant spheres.
     let one_minus_cos = s2 / (1.0 + (1.0 - s2).sqrt());
-    let axis = to_centre / d2.sqrt();
-    let dir = cap_direction(disk, axis, orthonormal_frame(axis), one_minus_cos);
+    let dir = Cap::around(to_centre / d2.sqrt(), one_minus_cos).direction(disk);
     // The nearer root of |p + t·dir − centre| = R; a grazing direction rounds to the tangent point.
     let b = dir.dot(to_centre);
     let t = b - (b * b - (d2 - radius * radius)).max(0.0).sqrt();
@@ -263,10 +263,8 @@ mod tests {
     /// it, bit for bit, over grids whose sample count is and is not a multiple of the block.
     #[test]
     fn cap_blocks_give_each_samples_bits() {
-        let axis = DVec3::new(0.6, 0.45, 0.35).normalize();
-        let (tangent, bitangent) = orthonormal_frame(axis);
         let s = (0.25 * 0.53f64.to_radians()).sin();
-        let cap = Cap { axis, tangent, bitangent, one_minus_cos: 2.0 * s * s };
+        let cap = Cap::around(DVec3::new(0.6, 0.45, 0.35).normalize(), 2.0 * s * s);
         for grid in [1u32, 3, 4, 5, 8] {
             for pixel in [0u64, 17, 123_456_789] {
                 let mut block = [DVec3::ZERO; CAP_BLOCK];
@@ -276,12 +274,7 @@ mod tests {
                         block.iter().enumerate().take(((grid * grid - first) as usize).min(CAP_BLOCK))
                     {
                         let (u, v) = jittered_stratum(pixel, first + j as u32, grid, LIGHT_SALT);
-                        let one = cap_direction(
-                            concentric_disk(u, v),
-                            axis,
-                            (tangent, bitangent),
-                            cap.one_minus_cos,
-                        );
+                        let one = cap.direction(concentric_disk(u, v));
                         assert_eq!(got.to_array().map(f64::to_bits), one.to_array().map(f64::to_bits));
                     }
                 }
