@@ -23,6 +23,13 @@ pub(in crate::trace) struct OwnCrossing {
 }
 
 impl OwnCrossing {
+    /// How far the certificate looks along the ray: the exact distance's upper bound, rounded
+    /// up to f32 (∞ for a miss).
+    pub(in crate::trace) fn reach(&self) -> f32 {
+        let reach = self.length + self.length_error;
+        if reach.is_finite() { (reach as f32).next_up() } else { f32::INFINITY }
+    }
+
     /// A ray that hits nothing.
     const MISS: OwnCrossing =
         OwnCrossing { length: f64::INFINITY, length_error: 0.0, uncertain: false, refined: None };

@@ -83,10 +83,9 @@ impl<'h> PrimarySearch<'h> {
     /// pixel's direction), whose crossing of its own triangle is `own` (`OwnCrossing::of`);
     /// already uncertain when the hit itself is not certainly crossed.
     fn new(walk: &WatertightRay, hit: Option<&'h Hit>, own: OwnCrossing) -> Self {
+        let tmax = own.reach();
         let OwnCrossing { length, length_error, uncertain, refined } = own;
         let fast = CertifiedRay::of_walk(walk, 0.0, 0.0, length, length_error);
-        let reach = length + length_error;
-        let tmax = if reach.is_finite() { (reach as f32).next_up() } else { f32::INFINITY };
         PrimarySearch { tmax, own: hit, fast, length, length_error, uncertain, tie: None, refined }
     }
 
@@ -142,9 +141,7 @@ impl<'h> PrimarySearch<'h> {
     /// The verdict, and `hit` as the G-buffer keeps it: its barycentrics computed in f64, or the
     /// exact tie that replaces it.
     fn finish(&self, walk: &WatertightRay, hit: &mut Option<Hit>) -> PrimaryCertainty {
-        if let (Some(hit), Some(b)) = (hit.as_mut(), self.refined) {
-            hit.barycentric = b;
-        }
+        keep_refined(hit, self.refined);
         match (self.uncertain, self.tie) {
             (true, _) => PrimaryCertainty::Uncertain,
             (false, None) => PrimaryCertainty::Certain,
@@ -157,6 +154,19 @@ impl<'h> PrimarySearch<'h> {
                 None => PrimaryCertainty::Uncertain,
             },
         }
+    }
+}
+
+/// `PrimarySearch::finish` for a search that had nothing to test: the hit's own crossing decides.
+fn settle_untested(own: OwnCrossing, hit: &mut Option<Hit>) -> PrimaryCertainty {
+    keep_refined(hit, own.refined);
+    if own.uncertain { PrimaryCertainty::Uncertain } else { PrimaryCertainty::Certain }
+}
+
+/// The hit with its barycentrics computed in f64, where they were.
+fn keep_refined(hit: &mut Option<Hit>, refined: Option<[f32; 3]>) {
+    if let (Some(hit), Some(b)) = (hit.as_mut(), refined) {
+        hit.barycentric = b;
     }
 }
 
@@ -255,7 +265,7 @@ impl SceneBvh {
         let mut searches: [PrimarySearch; N] =
             std::array::from_fn(|k| PrimarySearch::new(&watertight[k], own[k].as_ref(), crossings[k]));
         packet.certify(&searches.each_ref().map(|s| s.fast.sheared_error_coefficients()));
-        let mut tmax = reaches::<V, N>(&searches);
+        let mut tmax = reaches::<V, N>(&crossings);
         let active = self.walk_flat_any_hit(
             scratch,
             &packet,
@@ -308,23 +318,31 @@ impl SceneBvh {
             });
         hits.copy_from_slice(&best[..hits.len()]);
         let crossings = own_crossings::<V, N>(watertight, &best);
-        let mut searches: [PrimarySearch; N] =
-            std::array::from_fn(|k| PrimarySearch::new(&watertight[k], best[k].as_ref(), crossings[k]));
+        let reach = reaches::<V, N>(&crossings);
         let complete = each_lane(packet.lanes, |k| {
-            noted.overflow & (1 << k) == 0 && searches[k].tmax <= tmax.as_ref()[k]
+            noted.overflow & (1 << k) == 0 && reach.as_ref()[k] <= tmax.as_ref()[k]
         });
         if complete != packet.lanes {
             return self.certify_packet(scratch, watertight, packet, hits, out);
         }
-        let reach = reaches::<V, N>(&searches);
         for (k, (out, hit)) in out.iter_mut().zip(hits.iter_mut()).enumerate() {
-            let (search, walk_ray) = (&mut searches[k], &watertight[k]);
+            // Most of what a lane notes is its hit's own triangle, which the certificate passes
+            // over: a lane left nothing else to test is settled without a search.
+            let own_id = hit.map(|h| h.triangle);
+            let mut others =
+                noted.of(k).iter().filter(|&&i| Some(self.scene_ids[i as usize]) != own_id).peekable();
+            if others.peek().is_none() && self.instances.is_none() {
+                *out = settle_untested(crossings[k], hit);
+                continue;
+            }
+            let walk_ray = &watertight[k];
+            let mut search = PrimarySearch::new(walk_ray, best[k].as_ref(), crossings[k]);
             debug_assert_eq!(
                 search.fast.sheared_error_coefficients(),
                 unbounded(k).sheared_error_coefficients()
             );
             let mut over = false;
-            for &i in noted.of(k) {
+            for &i in others {
                 let (node, slot) = self.tree.leaf_box(self.leaf_slots[i as usize]);
                 let reached = packet.lanes_meeting(node, slot, &reach) & (1 << k) != 0;
                 if reached && search.test(walk_ray, self.scene_ids[i as usize], &self.triangles[i as usize]) {
@@ -411,13 +429,13 @@ fn look_beyond(t: f32) -> f32 {
     t * (1.0 + 2f32.powi(-12))
 }
 
-/// Each lane's certificate's search radius: the `tmax` of every lane's `PrimarySearch`.
+/// Each lane's certificate's search radius (`OwnCrossing::reach`).
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn reaches<V: LaneVector, const N: usize>(searches: &[PrimarySearch; N]) -> V::Array {
+fn reaches<V: LaneVector, const N: usize>(crossings: &[OwnCrossing; N]) -> V::Array {
     let mut reach = V::Array::default();
-    for (r, search) in reach.as_mut().iter_mut().zip(searches) {
-        *r = search.tmax;
+    for (r, own) in reach.as_mut().iter_mut().zip(crossings) {
+        *r = own.reach();
     }
     reach
 }
