@@ -158,6 +158,7 @@ impl<'h> PrimarySearch<'h> {
 }
 
 /// `PrimarySearch::finish` for a search that had nothing to test: the hit's own crossing decides.
+#[cfg(target_arch = "x86_64")]
 fn settle_untested(own: OwnCrossing, hit: &mut Option<Hit>) -> PrimaryCertainty {
     keep_refined(hit, own.refined);
     if own.uncertain { PrimaryCertainty::Uncertain } else { PrimaryCertainty::Certain }

@@ -199,6 +199,7 @@ fn distance_error_bound(s: &Sheared, solved: &Solved) -> f64 {
 }
 
 /// The point of a hit from the triangle's vertices and barycentrics, in f64 (not origin + t·dir).
+#[inline(always)]
 pub fn barycentric_point(v: &[glam::Vec3; 3], barycentric: [f32; 3]) -> DVec3 {
     let (v0, v1, v2) = (v[0].as_dvec3(), v[1].as_dvec3(), v[2].as_dvec3());
     let (b1, b2) = (barycentric[1] as f64, barycentric[2] as f64);

@@ -32,6 +32,7 @@ pub(in crate::trace) struct Plane<'t> {
 }
 
 impl<'t> Plane<'t> {
+    #[inline(always)]
     pub(in crate::trace) fn new(t: &'t [Vec3; 3]) -> Self {
         let (e1, e2) = (t[1].as_dvec3() - t[0].as_dvec3(), t[2].as_dvec3() - t[0].as_dvec3());
         let (a1, a2) = (e1.abs(), e2.abs());
@@ -41,18 +42,21 @@ impl<'t> Plane<'t> {
     }
 
     /// The normal (v1 − v0) × (v2 − v0), in f64, not normalized.
+    #[inline(always)]
     pub(in crate::trace) fn normal(&self) -> DVec3 {
         self.normal
     }
 
     /// The side of the plane (that of its normal) the primary ray `view` comes from:
     /// `Greater` when the normal faces the camera.
+    #[inline(always)]
     pub(in crate::trace) fn camera_side(&self, view: Vec3) -> Ordering {
         self.side(view, Vec3::ZERO).reverse()
     }
 
     /// Whether the light lies strictly on the side the camera sees (`camera_side`). A surface
     /// seen exactly edge-on, or with the light exactly in its plane, does not face it.
+    #[inline(always)]
     pub(in crate::trace) fn faces_light(&self, camera: Ordering, light: LightPlace) -> bool {
         let light = match light {
             LightPlace::Point(l) => self.side(l, self.t[0]),
@@ -64,6 +68,7 @@ impl<'t> Plane<'t> {
     /// The sign of det[v1 − v0, v2 − v0, a − b] = n·(a − b), expanded along a − b as
     /// Shewchuk's orient3d is along its third coordinate, with his bound (7 + 56ε)ε·permanent
     /// (ε = 2⁻⁵³), rounded up to 8ε; where that cannot decide, in big integers.
+    #[inline(always)]
     fn side(&self, a: Vec3, b: Vec3) -> Ordering {
         let w = a.as_dvec3() - b.as_dvec3();
         let det = self.normal.dot(w);
