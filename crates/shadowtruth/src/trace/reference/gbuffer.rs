@@ -266,7 +266,7 @@ struct TileOut<'a> {
 /// Each pixel of a tile from its certified hit (`surface_sample`): its class, surface point,
 /// barycentrics, normal and triangle, and `u32::MAX` for a pixel whose ray hits nothing.
 /// Compiled for the packets' instruction set where the processor has one (`in_packet_isa`),
-/// everything it calls inlined: 1.035× the G-buffer's rate on the forest (docs/scale.md).
+/// everything it calls inlined: 1.02–1.06× the G-buffer's rate on the forest (docs/scale.md).
 fn shade_tile(
     pixels: &[usize],
     tile_dirs: &[Vec3],
