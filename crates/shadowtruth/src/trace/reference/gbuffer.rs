@@ -241,7 +241,8 @@ impl GBuffer {
                         let (tile_dirs, hits, certainties) = tile.gather(dirs, pixels);
                         bvh.certified_closest_hits(scratch, camera.position, tile_dirs, hits, certainties);
                         let out = TileOut { cls, pos, bary, nrm, tri };
-                        shade_tile(pixels, tile_dirs, hits, certainties, &sight, out);
+                        let walked = TileHits { pixels, directions: tile_dirs, hits, certainties };
+                        shade_tile(walked, &sight, out);
                     });
                 },
             );
@@ -252,6 +253,16 @@ impl GBuffer {
         let footprint = PixelFootprint::of(camera);
         GBuffer { width: w, height: h, class, position, barycentric, normal, triangle, evaluated, footprint }
     }
+}
+
+/// A tile's walked rays: each pixel's index in the band, direction, certified hit and its
+/// certainty.
+#[derive(Clone, Copy)]
+struct TileHits<'a> {
+    pixels: &'a [usize],
+    directions: &'a [Vec3],
+    hits: &'a [Option<Hit>],
+    certainties: &'a [PrimaryCertainty],
 }
 
 /// A band's G-buffer arrays, which a tile's pixels are written to.
@@ -267,34 +278,21 @@ struct TileOut<'a> {
 /// barycentrics, normal and triangle, and `u32::MAX` for a pixel whose ray hits nothing.
 /// Compiled for the packets' instruction set where the processor has one (`in_packet_isa`),
 /// everything it calls inlined: 1.02–1.06× the G-buffer's rate on the forest (docs/scale.md).
-fn shade_tile(
-    pixels: &[usize],
-    tile_dirs: &[Vec3],
-    hits: &[Option<Hit>],
-    certainties: &[PrimaryCertainty],
-    sight: &LightSight,
-    out: TileOut,
-) {
+fn shade_tile(walked: TileHits, sight: &LightSight, out: TileOut) {
     #[cfg(target_arch = "x86_64")]
     if let Some(isa) = crate::trace::bvh::packet_isa::packet_isa() {
         return crate::trace::bvh::packet_isa::in_packet_isa(
             isa,
             #[inline(always)]
-            || shade_tile_pixels(pixels, tile_dirs, hits, certainties, sight, out),
+            || shade_tile_pixels(walked, sight, out),
         );
     }
-    shade_tile_pixels(pixels, tile_dirs, hits, certainties, sight, out)
+    shade_tile_pixels(walked, sight, out)
 }
 
 #[inline(always)]
-fn shade_tile_pixels(
-    pixels: &[usize],
-    tile_dirs: &[Vec3],
-    hits: &[Option<Hit>],
-    certainties: &[PrimaryCertainty],
-    sight: &LightSight,
-    out: TileOut,
-) {
+fn shade_tile_pixels(walked: TileHits, sight: &LightSight, out: TileOut) {
+    let TileHits { pixels, directions, hits, certainties } = walked;
     let TileOut { cls, pos, bary, nrm, tri } = out;
     for (k, &j) in pixels.iter().enumerate() {
         let uncertain = certainties[k] == PrimaryCertainty::Uncertain;
@@ -305,7 +303,7 @@ fn shade_tile_pixels(
             }
             continue;
         };
-        let sample = surface_sample(hit, tile_dirs[k], sight);
+        let sample = surface_sample(hit, directions[k], sight);
         let p = sample.point;
         cls[j] = if uncertain { PixelClass::Uncertain } else { sample.class };
         pos[j] = p.position;
