@@ -411,6 +411,8 @@ impl PrimaryHit {
 /// tile by tile as the G-buffer walks them (`TILE`), without the surface work the G-buffer adds:
 /// the tracer's own share of primary rays, which `reference --timing` times.
 pub fn primary_hits(bvh: &SceneBvh, camera: &Camera, directions: &[Vec3]) -> Vec<PrimaryHit> {
+    // Every record is written by its tile, so the directions must be the camera's pixels.
+    assert_eq!(directions.len(), camera.pixel_count(), "one direction per pixel of the camera");
     let w = camera.width as usize;
     // Zeroed memory, which the tiles write, as the G-buffer's.
     let mut records: Vec<PrimaryHit> = zeroed_vec(directions.len());
@@ -441,15 +443,22 @@ mod tests {
     use std::path::Path;
 
     /// The rays `reference --timing` times as primary rays are the G-buffer's, with the same
-    /// hits: the same triangle per pixel, and the same surface point from its barycentrics once
-    /// they are computed again in f64 (`refine_barycentrics`), as the G-buffer does.
+    /// hits: the same triangle per pixel as a single ray's walk, and the same surface point from
+    /// its barycentrics once they are computed again in f64 (`refine_barycentrics`), as the
+    /// G-buffer does. Also at a size that is no multiple of the tiles' in either axis, so that
+    /// partial tiles and a short last band write every pixel too.
     #[test]
     fn primary_hits_are_the_gbuffer_hits() {
-        for name in ["rocks", "spot"] {
+        for (name, size) in [("rocks", None), ("spot", None), ("rocks", Some((157, 91)))] {
             let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../scenes/{name}.json"));
             let scene = load_scene(&path).expect("bundled scene");
-            let (camera, light) = (&scene.cameras[0], &scene.lights[0]);
+            let (mut camera, light) = (scene.cameras[0].clone(), &scene.lights[0]);
+            if let Some((width, height)) = size {
+                (camera.width, camera.height) = (width, height);
+            }
+            let camera = &camera;
             let bvh = SceneBvh::build(&scene);
+            let mut scratch = bvh.scratch();
             let g = GBuffer::trace(&bvh, camera, light);
             let directions = primary_directions(camera);
             let records = primary_hits(&bvh, camera, &directions);
@@ -457,6 +466,9 @@ mod tests {
             let mut hits = 0;
             for (i, r) in records.iter().enumerate() {
                 assert_eq!(r.triangle, g.triangle[i], "{name}: pixel {i}");
+                let single =
+                    bvh.closest_hit(&mut scratch, camera.position, directions[i], 0.0, f32::INFINITY);
+                assert_eq!(r.triangle, single.map_or(u32::MAX, |h| h.triangle), "{name}: pixel {i}");
                 if r.triangle != u32::MAX {
                     let vertices = scene.triangle(r.triangle);
                     let mut hit = Hit { triangle: r.triangle, t: r.t, barycentric: r.barycentric, vertices };
