@@ -36,3 +36,16 @@ pub use scratch::TraversalScratch;
 pub use shadow_ray::{ShadowRay, SurfacePoint, exact_point, position_error};
 pub use shadow_search::ShadowAnswer;
 pub use watertight::{RayTriangleHit, WatertightRay};
+
+/// Runs `work` compiled for the packet walk's instruction set where the processor has one
+/// (`packet_isa::in_packet_isa`), portable otherwise: loops of f64 arithmetic beside the walks
+/// (a tile's surface points, a block of light samples) then take its vector registers too.
+/// Everything `work` calls must be `#[inline(always)]` for that.
+#[inline(always)]
+pub(in crate::trace) fn in_packet_isa_where_available<R>(work: impl FnOnce() -> R) -> R {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(isa) = packet_isa::packet_isa() {
+        return packet_isa::in_packet_isa(isa, work);
+    }
+    work()
+}

@@ -27,6 +27,7 @@ use super::hard::in_groups;
 use super::sampling::{concentric_disk, concentric_polar, jittered_stratum, orthonormal_frame};
 use super::soft_reference::{Estimate, SoftReference, trace_evaluated};
 use crate::scene::{Light, LightKind, Scene};
+use crate::trace::bvh::in_packet_isa_where_available;
 use crate::trace::bvh::scene_bvh::SceneBvh;
 use crate::trace::bvh::shadow_ray::ShadowRay;
 use glam::DVec3;
@@ -190,17 +191,12 @@ const CAP_BLOCK: usize = 16;
 /// `Cap::direction`, the same operations in the same order, so the same bits, but written as
 /// loops over the block so that the compiler can take them a vector of samples at a time (only
 /// the sine and cosine stay one by one). Compiled for the packets' instruction set where the
-/// processor has one (`in_packet_isa`).
+/// processor has one (`in_packet_isa_where_available`).
 fn cap_block(pixel: u64, first: u32, grid: u32, cap: &Cap, out: &mut [DVec3; CAP_BLOCK]) {
-    #[cfg(target_arch = "x86_64")]
-    if let Some(isa) = crate::trace::bvh::packet_isa::packet_isa() {
-        return crate::trace::bvh::packet_isa::in_packet_isa(
-            isa,
-            #[inline(always)]
-            || cap_block_loops(pixel, first, grid, cap, out),
-        );
-    }
-    cap_block_loops(pixel, first, grid, cap, out)
+    in_packet_isa_where_available(
+        #[inline(always)]
+        || cap_block_loops(pixel, first, grid, cap, out),
+    )
 }
 
 #[inline(always)]

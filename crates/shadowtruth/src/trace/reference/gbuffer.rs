@@ -3,6 +3,7 @@
 
 use crate::scene::{Camera, Film, Light, LightKind, PixelFootprint, Scene};
 use crate::trace::bvh::hit::Hit;
+use crate::trace::bvh::in_packet_isa_where_available;
 use crate::trace::bvh::primary_certificate::PrimaryCertainty;
 use crate::trace::bvh::scene_bvh::SceneBvh;
 use crate::trace::bvh::shadow_ray::SurfacePoint;
@@ -242,7 +243,10 @@ impl GBuffer {
                         bvh.certified_closest_hits(scratch, camera.position, tile_dirs, hits, certainties);
                         let out = TileOut { cls, pos, bary, nrm, tri };
                         let walked = TileHits { pixels, directions: tile_dirs, hits, certainties };
-                        shade_tile(walked, &sight, out);
+                        in_packet_isa_where_available(
+                            #[inline(always)]
+                            || shade_tile(walked, &sight, out),
+                        );
                     });
                 },
             );
@@ -276,22 +280,10 @@ struct TileOut<'a> {
 
 /// Each pixel of a tile from its certified hit (`surface_sample`): its class, surface point,
 /// barycentrics, normal and triangle, and `u32::MAX` for a pixel whose ray hits nothing.
-/// Compiled for the packets' instruction set where the processor has one (`in_packet_isa`),
-/// everything it calls inlined: 1.02–1.06× the G-buffer's rate on the forest (docs/scale.md).
-fn shade_tile(walked: TileHits, sight: &LightSight, out: TileOut) {
-    #[cfg(target_arch = "x86_64")]
-    if let Some(isa) = crate::trace::bvh::packet_isa::packet_isa() {
-        return crate::trace::bvh::packet_isa::in_packet_isa(
-            isa,
-            #[inline(always)]
-            || shade_tile_pixels(walked, sight, out),
-        );
-    }
-    shade_tile_pixels(walked, sight, out)
-}
-
+/// Run compiled for the packets' instruction set (`in_packet_isa_where_available`), everything
+/// it calls inlined: 1.02–1.06× the G-buffer's rate on the forest (docs/scale.md).
 #[inline(always)]
-fn shade_tile_pixels(walked: TileHits, sight: &LightSight, out: TileOut) {
+fn shade_tile(walked: TileHits, sight: &LightSight, out: TileOut) {
     let TileHits { pixels, directions, hits, certainties } = walked;
     let TileOut { cls, pos, bary, nrm, tri } = out;
     for (k, &j) in pixels.iter().enumerate() {
