@@ -48,6 +48,8 @@ pub(in crate::trace) trait LaneVector: Copy {
     fn eq(self, o: Self) -> Self::Mask;
     /// The lanes whose bits are `bits`, compared as integers (a lane carrying an id).
     fn bits_equal(self, bits: u32) -> Self::Mask;
+    /// The lanes whose bits, as an unsigned integer, exceed `bits`.
+    fn bits_above(self, bits: u32) -> Self::Mask;
     /// Lane by lane, `self` where `m` holds, else `o`.
     fn select(self, m: Self::Mask, o: Self) -> Self;
     /// The least and the greatest of the lanes.
@@ -163,6 +165,16 @@ impl LaneVector for L8 {
         unsafe {
             let equal = _mm256_cmpeq_epi32(_mm256_castps_si256(self.0), _mm256_set1_epi32(bits as i32));
             M8(_mm256_castsi256_ps(equal))
+        }
+    }
+    #[inline(always)]
+    fn bits_above(self, bits: u32) -> M8 {
+        // AVX2 compares signed integers only: flipping both sign bits orders them unsigned.
+        unsafe {
+            let flip = _mm256_set1_epi32(i32::MIN);
+            let lanes = _mm256_xor_si256(_mm256_castps_si256(self.0), flip);
+            let above = _mm256_cmpgt_epi32(lanes, _mm256_set1_epi32((bits ^ 0x8000_0000) as i32));
+            M8(_mm256_castsi256_ps(above))
         }
     }
     #[inline(always)]
@@ -289,6 +301,10 @@ impl LaneVector for L16 {
         unsafe { M16(_mm512_cmpeq_epi32_mask(_mm512_castps_si512(self.0), _mm512_set1_epi32(bits as i32))) }
     }
     #[inline(always)]
+    fn bits_above(self, bits: u32) -> M16 {
+        unsafe { M16(_mm512_cmpgt_epu32_mask(_mm512_castps_si512(self.0), _mm512_set1_epi32(bits as i32))) }
+    }
+    #[inline(always)]
     fn select(self, m: M16, o: Self) -> Self {
         unsafe { L16(_mm512_mask_blend_ps(m.0, o.0, self.0)) }
     }
@@ -318,5 +334,37 @@ impl LaneMask for M16 {
     #[inline(always)]
     unsafe fn from_bits(bits: u32) -> Self {
         M16(bits as __mmask16)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{L8, L16, LaneMask, LaneVector};
+
+    /// `bits_above` orders lanes as unsigned integers in both widths, on either side of the sign
+    /// bit (which AVX2's signed comparison would misorder).
+    #[test]
+    fn bits_above_compares_as_unsigned_integers() {
+        if !super::super::node_test::wide_form_testable() {
+            return;
+        }
+        let values = [0, 1, 7, 0x7fff_ffff, 0x8000_0000, 0x8000_0001, 0xffff_fffe, u32::MAX];
+        let lanes: [f32; 16] =
+            std::array::from_fn(|k| f32::from_bits(values[k % 8].wrapping_add(k as u32 / 8)));
+        for &bits in &values {
+            let expected =
+                |n: usize| (0..n).filter(|&k| lanes[k].to_bits() > bits).fold(0, |m, k| m | 1 << k);
+            let eight: [f32; 8] = lanes[..8].try_into().expect("eight lanes");
+            // SAFETY: the processor has AVX2 (`wide_form_testable`).
+            assert_eq!(unsafe { L8::load(&eight) }.bits_above(bits).bits(), expected(8), "above {bits:#x}");
+            if is_x86_feature_detected!("avx512f") {
+                // SAFETY: the processor has AVX-512 F.
+                assert_eq!(
+                    unsafe { L16::load(&lanes) }.bits_above(bits).bits(),
+                    expected(16),
+                    "above {bits:#x}"
+                );
+            }
+        }
     }
 }

@@ -7,6 +7,7 @@
 //! shadow_search.rs); primary hits are certified too (primary_certificate.rs, with each hit's own
 //! crossing in f64, own_crossing.rs).
 
+pub(in crate::trace) mod best_hits;
 pub(in crate::trace) mod certified;
 pub(in crate::trace) mod cwbvh_convert;
 pub(in crate::trace) mod flat_tree;

@@ -30,7 +30,7 @@
 
 use super::lane_vector::{L8, LaneMask, LaneVector};
 use super::node_test::{SLACK, plane_offsets};
-use super::watertight::WatertightRay;
+use super::watertight::{RayTriangleHit, WatertightRay};
 use super::wide_bvh::{ChildRef, WideNode};
 use glam::{Vec3, Vec3A};
 use std::arch::x86_64::*;
@@ -95,9 +95,10 @@ struct Frustum {
 }
 
 impl Frustum {
+    /// The frustum of lanes whose origins span `origin_extremes` ([least, greatest] per axis).
     #[inline(always)]
     unsafe fn new<V: LaneVector>(
-        origin: &[V; 3],
+        origin_extremes: [[f32; 2]; 3],
         inv_near: &[V; 3],
         inv_far: &[V; 3],
         negative: [bool; 3],
@@ -115,7 +116,7 @@ impl Frustum {
             };
             let splat = |[lo, hi]: [f32; 2]| [_mm256_set1_ps(lo), _mm256_set1_ps(hi)];
             for axis in 0..3 {
-                let origin = splat(origin[axis].extremes());
+                let origin = splat(origin_extremes[axis]);
                 f.near_origin[axis] = origin[!negative[axis] as usize];
                 f.far_origin[axis] = origin[negative[axis] as usize];
                 f.inv_near[axis] = splat(inv_near[axis].extremes());
@@ -226,13 +227,118 @@ impl<V: LaneVector> Packet<V> {
         // SAFETY: the caller's.
         unsafe {
             let lanes = Lanes::<V>::of(rays)?;
+            let first = &rays[0];
+            // Plain arrays, not `array::map`, whose closures are not compiled for `V`'s set.
+            let [dx, dy, dz] = lanes.direction;
+            let one = V::splat(1.0);
+            let inv = [one.div(dx), one.div(dy), one.div(dz)];
+            // Rays from one point (a camera's) only: rays from scattered points (the shadow rays
+            // of neighbouring pixels) can start far apart across a silhouette, and a frustum
+            // around them keeps far more than any lane meets.
+            let one_origin = rays.iter().all(|r| r.origin == first.origin);
+            let [ox, oy, oz] = lanes.origin;
+            let origin_extremes = one_origin.then(|| [ox.extremes(), oy.extremes(), oz.extremes()]);
+            Self::of_lanes(lanes, inv, [first.kx, first.ky, first.kz], rays.len(), origin_extremes)
+        }
+    }
+
+    /// The packet of the rays from `origin` along `directions` (two to `V::LANES`, lanes past
+    /// the last repeating it), with each lane's watertight ray written to `watertight`: what
+    /// `WatertightRay::new` and `Packet::new` make of them, computed a vector at a time (making
+    /// the sixteen rays one by one, then gathering them back into lanes, took a fifth of a
+    /// primary packet's time: docs/scale.md). `None` where they cannot share a walk.
+    ///
+    /// # Safety
+    /// The processor has `V`'s instruction set, and the caller is compiled for it.
+    #[inline(always)]
+    pub(in crate::trace) unsafe fn from_origin<const N: usize>(
+        origin: Vec3,
+        directions: &[Vec3],
+        watertight: &mut [WatertightRay; N],
+    ) -> Option<Self> {
+        assert!(N == V::LANES && (1..=N).contains(&directions.len()));
+        let last = directions.len() - 1;
+        let mut d: [V::Array; 3] = Default::default();
+        for k in 0..N {
+            let direction = directions[k.min(last)];
+            for axis in 0..3 {
+                d[axis].as_mut()[k] = direction[axis];
+            }
+        }
+        // SAFETY: the caller's.
+        // Plain arrays, not `array::map`, whose closures are not compiled for `V`'s set.
+        let (direction, zero, one) =
+            unsafe { ([V::load(&d[0]), V::load(&d[1]), V::load(&d[2])], V::splat(0.0), V::splat(1.0)) };
+        // `WatertightRay::new`'s axis order, lane by lane: the main axis is x where |x| beats
+        // both others, else y where |y| beats |z|, else z; every lane must choose alike.
+        let [ax, ay, az] = [direction[0].abs(), direction[1].abs(), direction[2].abs()];
+        let x_beats_y = ax.gt(ay).bits();
+        let main_x = x_beats_y & ax.gt(az).bits();
+        let main_y = !x_beats_y & ay.gt(az).bits() & V::ALL;
+        let kz = match (main_x, main_y) {
+            (0, 0) => 2,
+            (x, 0) if x == V::ALL => 0,
+            (0, y) if y == V::ALL => 1,
+            _ => return None,
+        };
+        let below = direction[kz].lt(zero).bits();
+        if below != 0 && below != V::ALL {
+            return None;
+        }
+        let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
+        // Keep the winding of the projected triangle independent of the ray's octant.
+        if below != 0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        let inv = [one.div(direction[0]), one.div(direction[1]), one.div(direction[2])];
+        // `WatertightRay::new`'s sz = 1/d[kz], the same division, and its shear.
+        let (scale, shear) = (inv[kz], [direction[kx].mul(inv[kz]), direction[ky].mul(inv[kz])]);
+        let (mut sx, mut sy, mut sz) = Default::default();
+        shear[0].store(&mut sx);
+        shear[1].store(&mut sy);
+        scale.store(&mut sz);
+        for (k, ray) in watertight.iter_mut().enumerate() {
+            *ray = WatertightRay {
+                origin: origin.into(),
+                direction: directions[k.min(last)].into(),
+                kx,
+                ky,
+                kz,
+                sx: V::Array::as_ref(&sx)[k],
+                sy: V::Array::as_ref(&sy)[k],
+                sz: V::Array::as_ref(&sz)[k],
+            };
+        }
+        // SAFETY: the caller's.
+        let o = unsafe { [V::splat(origin.x), V::splat(origin.y), V::splat(origin.z)] };
+        let lanes = Lanes { origin: o, direction, shear, scale };
+        let extremes = [[origin.x; 2], [origin.y; 2], [origin.z; 2]];
+        // SAFETY: the caller's.
+        unsafe { Self::of_lanes(lanes, inv, [kx, ky, kz], directions.len(), Some(extremes)) }
+    }
+
+    /// The packet of `count` rays whose lanes are `lanes`, with `inv` the reciprocals of their
+    /// directions and `axes` their watertight axis order; with a frustum where they share an
+    /// origin, whose extremes per axis are then `origin_extremes` (`Frustum`).
+    ///
+    /// # Safety
+    /// The processor has `V`'s instruction set, and the caller is compiled for it.
+    #[inline(always)]
+    unsafe fn of_lanes(
+        lanes: Lanes<V>,
+        inv: [V; 3],
+        axes: [usize; 3],
+        count: usize,
+        origin_extremes: Option<[[f32; 2]; 3]>,
+    ) -> Option<Self> {
+        // SAFETY: the caller's.
+        unsafe {
             let (zero, inf) = (V::splat(0.0), V::splat(f32::INFINITY));
             let (mut inv_near, mut inv_far, mut negative) = ([zero; 3], [zero; 3], [false; 3]);
             for axis in 0..3 {
                 let d = lanes.direction[axis];
-                let inv = V::splat(1.0).div(d);
-                inv_near[axis] = inv.mul(V::splat(1.0 - SLACK));
-                inv_far[axis] = inv.mul(V::splat(1.0 + SLACK));
+                inv_near[axis] = inv[axis].mul(V::splat(1.0 - SLACK));
+                inv_far[axis] = inv[axis].mul(V::splat(1.0 + SLACK));
                 let below = d.lt(zero).bits();
                 let finite = inv_far[axis].abs().lt(inf).bits();
                 // Every lane moves along the axis, and in the same direction.
@@ -253,12 +359,8 @@ impl<V: LaneVector> Packet<V> {
                     return None;
                 }
             }
-            // Rays from one point (a camera's) only: rays from scattered points (the shadow rays of
-            // neighbouring pixels) can start far apart across a silhouette, and a frustum around
-            // them keeps far more than any lane meets.
-            let first = &rays[0];
-            let one_origin = rays.iter().all(|r| r.origin == first.origin);
-            let frustum = one_origin.then(|| Frustum::new(&origin, &inv_near, &inv_far, negative));
+            let frustum =
+                origin_extremes.map(|extremes| Frustum::new(extremes, &inv_near, &inv_far, negative));
             Some(Packet {
                 origin,
                 inv_near,
@@ -267,10 +369,10 @@ impl<V: LaneVector> Packet<V> {
                 origin_far,
                 near_offset,
                 far_offset,
-                axes: [first.kx, first.ky, first.kz],
+                axes,
                 shear: lanes.shear,
                 scale: lanes.scale,
-                lanes: (1u32 << rays.len()) - 1,
+                lanes: (1u32 << count) - 1,
                 octant: (negative[0] as usize) << 2 | (negative[1] as usize) << 1 | negative[2] as usize,
                 slack: None,
                 segment: None,
@@ -541,8 +643,9 @@ impl<V: LaneVector> Packet<V> {
 
     /// `WatertightRay::intersect` over [0, tmax] for each lane of `lanes`, with the triangle as
     /// `candidates` saw it: the same operations in the same order, lane by lane, so the same
-    /// distances and barycentrics. Lanes with an edge function exactly zero are left to the
-    /// scalar test (`LaneHits::scalar`), which settles them in f64.
+    /// distances; the barycentrics are left as the edge functions and their sum, divided once a
+    /// lane's closest hit is known (`BestHits::hits`). Lanes with an edge function exactly zero
+    /// are left to the scalar test (`LaneHits::scalar`), which settles them in f64.
     #[inline(always)]
     pub(in crate::trace) fn intersect(
         &self,
@@ -551,7 +654,7 @@ impl<V: LaneVector> Packet<V> {
         tmax: &V::Array,
     ) -> LaneHits<V> {
         // SAFETY: a `Packet<V>` exists only where the processor has `V`'s set (`Packet::new`).
-        let (tmax, zero, one) = unsafe { (V::load(tmax), V::splat(0.0), V::splat(1.0)) };
+        let (tmax, zero) = unsafe { (V::load(tmax), V::splat(0.0)) };
         let [u, v, w] = seen.edges;
         let signs = EdgeSigns::of(&seen.edges);
         let det = u.add(v).add(w);
@@ -559,21 +662,10 @@ impl<V: LaneVector> Packet<V> {
         let z = [self.scale.mul(z0), self.scale.mul(z1), self.scale.mul(z2)];
         let t_scaled = u.mul(z[0]).add(v.mul(z[1])).add(w.mul(z[2]));
         let t = t_scaled.div(det);
-        let inv_det = one.div(det);
         let within = t.ge(zero).and(t.le(tmax)).bits();
         let unsolved = signs.negative.and(signs.positive).or(det.eq(zero)).bits();
         let scalar = signs.zero.bits() & lanes;
-        let mut hits = LaneHits {
-            hit: within & !unsolved & lanes & !scalar,
-            scalar,
-            t: V::Array::default(),
-            barycentric: Default::default(),
-        };
-        t.store(&mut hits.t);
-        for (b, edge) in hits.barycentric.iter_mut().zip([u, v, w]) {
-            edge.mul(inv_det).store(b);
-        }
-        hits
+        LaneHits { hit: within & !unsolved & lanes & !scalar, scalar, t, edges: seen.edges, det }
     }
 }
 
@@ -606,13 +698,36 @@ impl<V: LaneVector> EdgeSigns<V> {
     }
 }
 
-/// What `Packet::intersect` found: the lanes that hit, with their distances and barycentrics,
-/// and the lanes the scalar test must settle.
+/// What `Packet::intersect` found: the lanes that hit, with their distances and their
+/// barycentrics as the edge functions over their sum (`det`), and the lanes the scalar test must
+/// settle.
 pub(in crate::trace) struct LaneHits<V: LaneVector = L8> {
     pub(in crate::trace) hit: u32,
     pub(in crate::trace) scalar: u32,
-    pub(in crate::trace) t: V::Array,
-    pub(in crate::trace) barycentric: [V::Array; 3],
+    pub(in crate::trace) t: V,
+    pub(in crate::trace) edges: [V; 3],
+    pub(in crate::trace) det: V,
+}
+
+impl<V: LaneVector> LaneHits<V> {
+    /// Makes lane `k` hit as the scalar test found: its barycentrics as edge functions over a
+    /// sum of 1, which the division leaves as they are (b·(1/1) = b exactly).
+    #[inline(always)]
+    pub(in crate::trace) fn set_lane(&mut self, k: usize, hit: RayTriangleHit) {
+        let set = |v: &mut V, x: f32| {
+            let mut lanes = V::Array::default();
+            v.store(&mut lanes);
+            lanes.as_mut()[k] = x;
+            // SAFETY: `v` exists, so the processor has `V`'s set.
+            *v = unsafe { V::load(&lanes) };
+        };
+        set(&mut self.t, hit.t);
+        for (edge, b) in self.edges.iter_mut().zip(hit.barycentric) {
+            set(edge, b);
+        }
+        set(&mut self.det, 1.0);
+        self.hit |= 1 << k;
+    }
 }
 
 /// Calls `f(lane)` for each lane of `lanes`, lowest first, and returns those for which it said
@@ -715,7 +830,7 @@ pub(in crate::trace) fn walk_packet<V: LaneVector, const NEAREST: bool>(
 mod tests {
     use super::{LANES, Packet};
     use crate::trace::bvh::hit::Hit;
-    use crate::trace::bvh::lane_vector::{L8, L16};
+    use crate::trace::bvh::lane_vector::{L8, L16, LaneVector};
     use crate::trace::bvh::packet_isa::{PacketQuery, packet_isa_for};
     use crate::trace::bvh::primary_certificate::PrimaryCertainty;
     use crate::trace::splitmix::SplitMix64;
@@ -866,6 +981,94 @@ mod tests {
             }
         }
         assert!(shadowed >= 64 && uncertain >= 64, "certain hits {shadowed}, doubts {uncertain}");
+    }
+
+    /// Every number of a packet, as bits, for comparing two packets.
+    fn packet_bits<V: LaneVector>(p: &Packet<V>) -> Vec<u32> {
+        let mut bits = Vec::new();
+        let mut lanes = |v: &V| {
+            let mut a = V::Array::default();
+            v.store(&mut a);
+            bits.extend(a.as_ref().iter().map(|x| x.to_bits()));
+        };
+        let vectors = [&p.origin, &p.inv_near, &p.inv_far, &p.origin_near, &p.origin_far];
+        vectors.into_iter().flatten().chain(&p.shear).chain([&p.scale]).for_each(&mut lanes);
+        let f = p.frustum.as_ref().map(|f| {
+            let wide = f.near_origin.iter().chain(&f.far_origin).chain(f.inv_near.iter().flatten());
+            // SAFETY: an __m256 is eight f32's bits.
+            let lanes = |v: &std::arch::x86_64::__m256| unsafe { std::mem::transmute::<_, [u32; 8]>(*v) };
+            wide.chain(f.inv_far.iter().flatten()).flat_map(lanes).collect::<Vec<u32>>()
+        });
+        bits.extend(f.into_iter().flatten());
+        let words =
+            [p.near_offset, p.far_offset, p.axes].into_iter().flatten().chain([p.lanes as usize, p.octant]);
+        bits.extend(words.map(|w| w as u32));
+        bits
+    }
+
+    /// A packet of rays from one origin (`Packet::from_origin`, which computes their watertight
+    /// rays a vector at a time) is the packet `Packet::new` makes of `WatertightRay::new`'s rays,
+    /// bit for bit, with the same watertight rays, and neither walks where the other does not:
+    /// directions whose components tie in magnitude (where the main axis is chosen by the
+    /// comparisons' order), change sign between lanes, or are zero.
+    #[test]
+    fn packets_from_an_origin_are_packets_of_watertight_rays() {
+        if !super::super::node_test::wide_form_testable() {
+            return;
+        }
+        fn component(rng: &mut SplitMix64) -> f32 {
+            match rng.next_u64() % 16 {
+                0 => 0.5,
+                1 => -0.5,
+                2 => 0.0,
+                3 => 1.0,
+                _ => rng.range([-1.0, 1.0]) as f32,
+            }
+        }
+        fn vector(rng: &mut SplitMix64) -> Vec3 {
+            vec3(component(rng), component(rng), component(rng))
+        }
+        fn compare<V: LaneVector, const N: usize>(rng: &mut SplitMix64) -> bool {
+            let origin = vector(rng) * 100.0;
+            let count = 2 + (rng.next_u64() % (N as u64 - 1)) as usize;
+            let shared = vector(rng);
+            let directions: Vec<Vec3> = (0..count)
+                .map(|_| match rng.next_u64() % 64 {
+                    0 => vector(rng),
+                    _ => shared + vector(rng) * 0.01,
+                })
+                .collect();
+            let mut from_origin = [WatertightRay::UNUSED; N];
+            // SAFETY: the caller checked `V`'s set.
+            let packet = unsafe { Packet::<V>::from_origin(origin, &directions, &mut from_origin) };
+            let rays: Vec<WatertightRay> = (0..N)
+                .map(|k| WatertightRay::new(origin.into(), directions[k.min(count - 1)].into()))
+                .collect();
+            // SAFETY: as above.
+            let expected = unsafe { Packet::<V>::new(&rays[..count]) };
+            assert_eq!(
+                packet.as_ref().map(packet_bits),
+                expected.as_ref().map(packet_bits),
+                "{directions:?}"
+            );
+            if packet.is_some() {
+                for (made, ray) in from_origin.iter().zip(&rays) {
+                    let ray_bits = |r: &WatertightRay| {
+                        let floats = [r.origin.to_array(), r.direction.to_array(), [r.sx, r.sy, r.sz]];
+                        (floats.map(|f| f.map(f32::to_bits)), [r.kx, r.ky, r.kz])
+                    };
+                    assert_eq!(ray_bits(made), ray_bits(ray), "{directions:?}");
+                }
+            }
+            packet.is_some()
+        }
+        let mut rng = SplitMix64::new(11);
+        let eight = (0..4000).filter(|_| compare::<L8, 8>(&mut rng)).count();
+        assert!((400..3600).contains(&eight), "{eight} of 4000 packets of eight walk");
+        if packet_isa_for(PacketQuery::SixteenLanes).is_some() {
+            let sixteen = (0..4000).filter(|_| compare::<L16, 16>(&mut rng)).count();
+            assert!((400..3600).contains(&sixteen), "{sixteen} of 4000 packets of sixteen walk");
+        }
     }
 
     /// Packets give the single-ray answers bit for bit: closest hits (triangle, distance,

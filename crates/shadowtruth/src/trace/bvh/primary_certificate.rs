@@ -426,8 +426,9 @@ impl SceneBvh {
 /// within a few ulps of t but for the most grazing hits (those beyond walk on their own).
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn look_beyond(t: f32) -> f32 {
-    t * (1.0 + 2f32.powi(-12))
+fn look_beyond<V: LaneVector>(t: V) -> V {
+    // SAFETY: `t` exists, so the processor has `V`'s set.
+    t.mul(unsafe { V::splat(1.0 + 2f32.powi(-12)) })
 }
 
 /// Each lane's certificate's search radius (`OwnCrossing::reach`).

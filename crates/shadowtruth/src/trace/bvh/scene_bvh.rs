@@ -14,6 +14,8 @@
 //!   sized to the tree's depth;
 //! - `Triangle::compute_barycentric` is wrong: barycentrics come from the watertight test.
 
+#[cfg(target_arch = "x86_64")]
+use super::best_hits::BestHits;
 use super::flat_tree::FlatTree;
 use super::hit::Hit;
 use super::instances::InstanceLevel;
@@ -28,8 +30,6 @@ use super::scratch::TraversalScratch;
 use super::shadow_ray::ShadowRay;
 use super::shadow_search::{ShadowAnswer, ShadowSearch};
 use super::walk::{ANY_ORDER, NEAREST_FIRST, WalkState, walk};
-#[cfg(target_arch = "x86_64")]
-use super::watertight::RayTriangleHit;
 use super::watertight::WatertightRay;
 use super::wide_bvh::{ChildRef, WideBvh};
 use crate::scene::Scene;
@@ -551,23 +551,11 @@ impl SceneBvh {
         watertight: &[WatertightRay; N],
         packet: &Packet<V>,
         tmax: &mut V::Array,
-        look_beyond: impl Fn(f32) -> f32,
+        look_beyond: impl Fn(V) -> V,
         mut seen: impl FnMut(usize, u32),
     ) -> [Option<Hit>; N] {
-        let mut best = [None; N];
-        let mut keep = |i: usize, k: usize, h: RayTriangleHit, tmax: &mut V::Array| {
-            let [v0, v1, v2] = self.triangles[i];
-            let hit = Hit {
-                triangle: self.scene_ids[i],
-                t: h.t,
-                barycentric: h.barycentric,
-                vertices: [v0, v1, v2],
-            };
-            if hit.beats(&best[k]) {
-                best[k] = Some(hit);
-                tmax.as_mut()[k] = look_beyond(h.t);
-            }
-        };
+        // SAFETY: `packet` exists, so the processor has `V`'s set.
+        let mut closest = unsafe { BestHits::<V>::new() };
         self.walk_flat::<V, NEAREST_FIRST>(
             scratch,
             packet,
@@ -577,22 +565,19 @@ impl SceneBvh {
             |i, candidates, triangle, tmax| {
                 seen(i, candidates);
                 // Every lane solved at once; those the f64 test must settle, one by one.
-                let solved = packet.intersect(triangle, candidates, tmax);
-                each_lane(solved.hit, |k| {
-                    let barycentric = [0, 1, 2].map(|b| solved.barycentric[b].as_ref()[k]);
-                    let h = RayTriangleHit { t: solved.t.as_ref()[k], barycentric };
-                    keep(i, k, h, tmax);
-                    false
-                });
+                let mut solved = packet.intersect(triangle, candidates, tmax);
                 each_lane(solved.scalar, |k| {
                     let [v0, v1, v2] = self.triangles[i];
                     if let Some(h) = watertight[k].intersect(v0, v1, v2, 0.0, tmax.as_ref()[k]) {
-                        keep(i, k, h, tmax);
+                        solved.set_lane(k, h);
                     }
                     false
-                })
+                });
+                closest.take(&solved, i, self.scene_ids[i], tmax, &look_beyond);
+                0
             },
         );
+        let mut best = closest.hits::<N>(|i| (self.scene_ids[i], self.triangles[i]));
         if let Some(instances) = &self.instances {
             each_lane(packet.lanes, |k| {
                 instances.closest_hit(scratch, &watertight[k], 0.0, tmax.as_ref()[k], &mut best[k]);
@@ -651,9 +636,6 @@ pub(in crate::trace) unsafe fn primary_packet<V: LaneVector, const N: usize>(
     if directions.len() < 2 || directions.len() > N || !packet_isa::wide_available() {
         return None;
     }
-    for (k, ray) in watertight.iter_mut().enumerate() {
-        *ray = WatertightRay::new(origin.into(), directions[k.min(directions.len() - 1)].into());
-    }
     // SAFETY: the processor has AVX2 and FMA (`wide_available`), and so `V`'s set (the caller's).
-    unsafe { Packet::<V>::new(&watertight[..directions.len()]) }
+    unsafe { Packet::<V>::from_origin(origin, directions, watertight) }
 }
