@@ -1,11 +1,11 @@
 //! The engine: one BVH per scene and the rays walked through it. obvhs builds the tree's shape
 //! (a CWBVH, converted by cwbvh_convert.rs); the walks run over our own 8-wide tree with exact
-//! f32 child boxes (wide_bvh.rs, walk.rs, eight rays at once in packet.rs), a conservative node
-//! test (node_test.rs, simd4.rs) and a watertight triangle test (watertight.rs); instanced meshes
-//! sit behind a second level (instances.rs). Shadow rays (shadow_ray.rs) are answered one at a
-//! time or a batch at once (shadow_batch.rs), each with a certificate (certified.rs,
-//! shadow_search.rs); primary hits are certified too (primary_certificate.rs, with each hit's own
-//! crossing in f64, own_crossing.rs).
+//! f32 child boxes (wide_bvh.rs, walk.rs; eight or sixteen rays at once in packet.rs, their
+//! closest hits kept in best_hits.rs), a conservative node test (node_test.rs, simd4.rs) and a
+//! watertight triangle test (watertight.rs); instanced meshes sit behind a second level
+//! (instances.rs). Shadow rays (shadow_ray.rs) are answered one at a time or a batch at once
+//! (shadow_batch.rs), each with a certificate (certified.rs, shadow_search.rs); primary hits are
+//! certified too (primary_certificate.rs, with each hit's own crossing in f64, own_crossing.rs).
 
 pub(in crate::trace) mod best_hits;
 pub(in crate::trace) mod certified;
