@@ -355,6 +355,13 @@ impl CertifiedRay<f32> {
     }
 }
 
+/// How far a walk looks along a segment whose exact length lies within `length_error` of
+/// `length`: its upper bound, rounded up to f32 (∞ for a ray without end).
+pub(in crate::trace) fn walk_limit(length: f64, length_error: f64) -> f32 {
+    let reach = length + length_error;
+    if reach.is_finite() { (reach as f32).next_up() } else { f32::INFINITY }
+}
+
 /// What the certified test says of the exact line and a triangle, before the segment's ends.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(in crate::trace) enum Crossing {

@@ -6,7 +6,7 @@
 //! (certified.rs) in the same order, so the same bits: on the forest at 1920×1080 this work was
 //! a fifth of the G-buffer's time.
 
-use super::certified::{CertifiedRay, Crossing};
+use super::certified::{CertifiedRay, Crossing, walk_limit};
 use super::hit::Hit;
 use super::watertight::WatertightRay;
 
@@ -26,8 +26,7 @@ impl OwnCrossing {
     /// How far the certificate looks along the ray: the exact distance's upper bound, rounded
     /// up to f32 (∞ for a miss).
     pub(in crate::trace) fn reach(&self) -> f32 {
-        let reach = self.length + self.length_error;
-        if reach.is_finite() { (reach as f32).next_up() } else { f32::INFINITY }
+        walk_limit(self.length, self.length_error)
     }
 
     /// A ray that hits nothing.

@@ -5,7 +5,7 @@
 //! surface (Shewchuk's exact orientation test, the `robust` crate) or degenerate never occludes.
 //! Whatever still remains makes the answer uncertain, unless a certain occluder turns up.
 
-use super::certified::{CertifiedRay, Verdict, in_one_plane, known_in_one_plane};
+use super::certified::{CertifiedRay, Verdict, in_one_plane, known_in_one_plane, walk_limit};
 use super::shadow_ray::ShadowRay;
 use super::watertight::WatertightRay;
 use crate::scene::is_degenerate;
@@ -75,9 +75,7 @@ impl<'r> ShadowSearch<'r> {
     /// because every box is widened by the scene's `SceneBvh::segment_margin`).
     pub(in crate::trace) fn walk_ray(ray: &ShadowRay) -> (WatertightRay, f32) {
         let walk = WatertightRay::new(ray.origin.as_vec3a(), ray.direction.as_vec3a());
-        let reach = ray.length + ray.length_error;
-        let tmax = if reach.is_finite() { (reach as f32).next_up() } else { f32::INFINITY };
-        (walk, tmax)
+        (walk, walk_limit(ray.length, ray.length_error))
     }
 
     /// Tests the scene triangle `id` with the ray's f32 test `fast` (`fast_test`); true once
