@@ -24,7 +24,7 @@
 
 use super::gbuffer::{GBuffer, PixelClass};
 use super::hard::in_groups;
-use super::sampling::{concentric_disk, concentric_polar, jittered_stratum, orthonormal_frame};
+use super::sampling::{concentric_disk, concentric_polar, disk_point, jittered_stratum, orthonormal_frame};
 use super::soft_reference::{Estimate, SoftReference, trace_evaluated};
 use crate::scene::{Light, LightKind, Scene};
 use crate::trace::bvh::in_packet_isa_where_available;
@@ -189,9 +189,9 @@ const CAP_BLOCK: usize = 16;
 /// The cap directions of samples `first..first + CAP_BLOCK` of pixel `pixel` (those past the
 /// grid's last are computed and ignored): `jittered_stratum`, `concentric_disk` and
 /// `Cap::direction`, the same operations in the same order, so the same bits, but written as
-/// loops over the block so that the compiler can take them a vector of samples at a time (only
-/// the sine and cosine stay one by one). Compiled for the packets' instruction set where the
-/// processor has one (`in_packet_isa_where_available`).
+/// loops over the block so that the compiler can take them a vector of samples at a time.
+/// Compiled for the packets' instruction set where the processor has one
+/// (`in_packet_isa_where_available`).
 fn cap_block(pixel: u64, first: u32, grid: u32, cap: &Cap, out: &mut [DVec3; CAP_BLOCK]) {
     in_packet_isa_where_available(
         #[inline(always)]
@@ -201,14 +201,14 @@ fn cap_block(pixel: u64, first: u32, grid: u32, cap: &Cap, out: &mut [DVec3; CAP
 
 #[inline(always)]
 fn cap_block_loops(pixel: u64, first: u32, grid: u32, cap: &Cap, out: &mut [DVec3; CAP_BLOCK]) {
-    let (mut r, mut phi) = ([0.0f64; CAP_BLOCK], [0.0f64; CAP_BLOCK]);
+    let (mut r, mut t, mut by_a) = ([0.0f64; CAP_BLOCK], [0.0f64; CAP_BLOCK], [false; CAP_BLOCK]);
     for j in 0..CAP_BLOCK {
         let (u, v) = jittered_stratum(pixel, first + j as u32, grid, LIGHT_SALT);
-        (r[j], phi[j]) = concentric_polar(u, v);
+        (r[j], t[j], by_a[j]) = concentric_polar(u, v);
     }
     let (mut dx, mut dy) = ([0.0f64; CAP_BLOCK], [0.0f64; CAP_BLOCK]);
     for j in 0..CAP_BLOCK {
-        (dx[j], dy[j]) = (r[j] * phi[j].cos(), r[j] * phi[j].sin());
+        (dx[j], dy[j]) = disk_point((r[j], t[j], by_a[j]));
     }
     for j in 0..CAP_BLOCK {
         out[j] = cap.direction((dx[j], dy[j]));
