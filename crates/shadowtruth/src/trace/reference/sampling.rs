@@ -48,16 +48,16 @@ pub fn concentric_disk(u: f64, v: f64) -> (f64, f64) {
 
 /// `concentric_disk`'s point in polar form (r, t, by_a): the angle φ is π/4·t where `by_a`,
 /// else π/2 − π/4·t, with t ∈ [−1, 1] (the map's ratio b/a, or a/b), and the point is
-/// (r·cos φ, r·sin φ). Both divisions are made and one kept, without a branch, so that a block
-/// of samples is computed a vector at a time (area_light.rs); the centre (a = b = 0) gives
-/// r = 0 and t = 0, so the point (0, 0).
+/// (r·cos φ, r·sin φ). The division's operands are chosen, not its result, so that a block of
+/// samples is computed a vector at a time with one division each (area_light.rs); the centre
+/// (a = b = 0) gives r = 0 and t = 0, so the point (0, 0).
 #[inline(always)]
 pub fn concentric_polar(u: f64, v: f64) -> (f64, f64, bool) {
     let (a, b) = (2.0 * u - 1.0, 2.0 * v - 1.0);
     let centre = a == 0.0 && b == 0.0;
     let by_a = a.abs() > b.abs();
-    let (r, t) = if by_a { (a, b / a) } else { (b, a / b) };
-    (r, if centre { 0.0 } else { t }, by_a)
+    let (r, other) = if by_a { (a, b) } else { (b, a) };
+    (r, if centre { 0.0 } else { other / r }, by_a)
 }
 
 /// The point (r·cos φ, r·sin φ) of `concentric_polar`'s (r, t, by_a): with (s, c) the sine and
