@@ -267,6 +267,10 @@ mod wide {
     ) {
         assert!(N.is_multiple_of(F::LANES), "lanes come {} at a time", F::LANES);
         for first in (0..N).step_by(F::LANES) {
+            // Lanes whose rays all miss (the sky) keep `OwnCrossing::MISS`.
+            if hits[first..first + F::LANES].iter().all(Option::is_none) {
+                continue;
+            }
             // SAFETY: the caller's.
             let crossings = unsafe { crossings_of_lanes::<F, N>(watertight, hits, first, axes) };
             for (j, crossing) in crossings.into_iter().take(F::LANES).enumerate() {
