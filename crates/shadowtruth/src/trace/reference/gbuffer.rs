@@ -1,6 +1,7 @@
 //! The G-buffer of one (camera, light): per pixel the primary hit of the pixel-centre ray and its
 //! class. The reference and every technique evaluate exactly these surface points.
 
+use super::pixel_buffer::zeroed_pixels;
 use crate::scene::{Camera, Film, Light, LightKind, PixelFootprint, Scene};
 use crate::trace::bvh::hit::Hit;
 use crate::trace::bvh::in_packet_isa_where_available;
@@ -9,7 +10,6 @@ use crate::trace::bvh::scene_bvh::SceneBvh;
 use crate::trace::bvh::shadow_ray::SurfacePoint;
 use crate::trace::bvh::watertight::barycentric_point;
 use crate::trace::reference::facing::{LightPlace, Plane};
-use bytemuck::zeroed_vec;
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use std::cmp::Ordering;
@@ -219,11 +219,11 @@ impl GBuffer {
         let columns = film.columns();
         let sight = LightSight::of(light);
         // Zeroed memory: a background pixel's values but its triangle, which the tiles write.
-        let mut class: Vec<PixelClass> = zeroed_vec(n);
-        let mut position: Vec<Vec3> = zeroed_vec(n);
-        let mut barycentric: Vec<[f32; 2]> = zeroed_vec(n);
-        let mut normal: Vec<Vec3> = zeroed_vec(n);
-        let mut triangle: Vec<u32> = zeroed_vec(n);
+        let mut class: Vec<PixelClass> = zeroed_pixels(n);
+        let mut position: Vec<Vec3> = zeroed_pixels(n);
+        let mut barycentric: Vec<[f32; 2]> = zeroed_pixels(n);
+        let mut normal: Vec<Vec3> = zeroed_pixels(n);
+        let mut triangle: Vec<u32> = zeroed_pixels(n);
         let band = w as usize * TILE;
         class
             .par_chunks_mut(band)
@@ -372,7 +372,7 @@ fn band_directions(film: &Film, columns: &[f64], b: usize, directions: &mut [Vec
 pub fn primary_directions(camera: &Camera) -> Vec<Vec3> {
     let (film, w) = (camera.film(), camera.width as usize);
     let columns = film.columns();
-    let mut directions: Vec<Vec3> = zeroed_vec(camera.pixel_count());
+    let mut directions: Vec<Vec3> = zeroed_pixels(camera.pixel_count());
     directions.par_chunks_mut(w).enumerate().for_each(|(y, dirs)| row_directions(&film, &columns, y, dirs));
     directions
 }
@@ -407,7 +407,7 @@ pub fn primary_hits(bvh: &SceneBvh, camera: &Camera, directions: &[Vec3]) -> Vec
     assert_eq!(directions.len(), camera.pixel_count(), "one direction per pixel of the camera");
     let w = camera.width as usize;
     // Zeroed memory, which the tiles write, as the G-buffer's.
-    let mut records: Vec<PrimaryHit> = zeroed_vec(directions.len());
+    let mut records: Vec<PrimaryHit> = zeroed_pixels(directions.len());
     records.par_chunks_mut(w * TILE).zip(directions.par_chunks(w * TILE)).for_each_init(
         || (bvh.scratch(), TileRays::new()),
         |(scratch, tile), (records, dirs)| {

@@ -9,6 +9,7 @@ pub(in crate::trace) mod facing;
 pub(in crate::trace) mod gbuffer;
 pub(in crate::trace) mod hard;
 pub(in crate::trace) mod overlap;
+mod pixel_buffer;
 pub(in crate::trace) mod sampling;
 pub(in crate::trace) mod soft_reference;
 
