@@ -204,7 +204,7 @@ fn cap_block_loops(pixel: u64, first: u32, grid: u32, cap: &Cap, out: &mut [DVec
     // Each sample's point in its stratum, in the same loop for grids of 2ⁿ and for the others:
     // told which, the compiler takes the first a vector of samples at a time, hash and all,
     // where deciding it inside the loop (or in a closure called from both) it took every sample
-    // alone: 1.02–1.07× the reference's rate on the forest (docs/scale.md).
+    // alone: 1.02–1.10× the reference's rate on the forest (docs/scale.md).
     let (mut u, mut v) = ([0.0f64; CAP_BLOCK], [0.0f64; CAP_BLOCK]);
     #[allow(clippy::if_same_then_else)]
     if grid.is_power_of_two() {
